@@ -1,0 +1,58 @@
+// mire: vision-based kinematic calibration of parallel mechanisms.
+#include "commands.hpp"
+
+#include <exception>
+#include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+int main(int argc, char** argv) {
+  using namespace mire::app;
+  CLI::App app{"mire: calibrate a camera, measure target poses, identify a parallel mechanism"};
+  app.name("mire");
+  app.set_version_flag("--version", versionString());
+  app.require_subcommand(1);
+  app.allow_extras(false);
+
+  const std::vector<std::pair<std::string, Runner>> commands = {
+      {"calibrate", addCalibrateCommand(app)}, {"measure", addMeasureCommand(app)},
+      {"identify", addIdentifyCommand(app)},   {"simulate", addSimulateCommand(app)},
+      {"demo", addDemoCommand(app)}};
+
+  // Name an unknown subcommand plainly (CLI11 would only say that one is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string word = argv[1];
+    bool known = false;
+    for (const auto& command : commands) known = known || command.first == word;
+    if (!known) {
+      std::cerr << "mire: unknown subcommand '" << word << "' (run 'mire --help' for the list)\n";
+      return kUsage;
+    }
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // One line, then a hint: scripts can grep the first line.
+    std::cerr << "mire: " << e.what() << "\n(run 'mire --help' for usage)\n";
+    return kUsage;
+  }
+
+  for (const auto& [name, run] : commands) {
+    if (!app.got_subcommand(name)) continue;
+    try {
+      return run();
+    } catch (const std::exception& e) {
+      std::cerr << "mire " << name << ": error: " << e.what() << "\n";
+      return kFailure;
+    }
+  }
+  return kUsage;
+}

@@ -1,0 +1,83 @@
+#include "mire/calibration/camera_model.hpp"
+
+#include <Eigen/LU>
+#include <ceres/jet.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <stdexcept>
+
+namespace mire::calibration {
+
+std::vector<std::string> Camera::parameterNames() const {
+  static const char* const kNames[] = {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2",
+                                       "k3", "k4", "k5", "k6", "s1", "s2", "s3", "s4"};
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < params.size() && i < std::size(kNames); ++i) names.emplace_back(kNames[i]);
+  return names;
+}
+
+std::vector<double> Camera::sigmas() const {
+  std::vector<double> result;
+  if (covariance.rows() != static_cast<Eigen::Index>(params.size())) return result;
+  for (Eigen::Index i = 0; i < covariance.rows(); ++i) result.push_back(std::sqrt(std::max(0.0, covariance(i, i))));
+  return result;
+}
+
+void Camera::validate() const {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
+  if (params.size() < kIntrinsicCount || !isSupportedDistortionCount(distortionCount()))
+    throw std::invalid_argument("distortion must have 4, 5, 8 or 12 coefficients, not " +
+                                std::to_string(distortionCount()));
+  for (const double value : params)
+    if (!std::isfinite(value)) throw std::invalid_argument("camera parameters must be finite");
+  if (!(fx() > 0.0) || !(fy() > 0.0)) throw std::invalid_argument("focal lengths must be positive");
+  if (covariance.size() != 0 &&
+      (covariance.rows() != static_cast<Eigen::Index>(params.size()) || covariance.cols() != covariance.rows()))
+    throw std::invalid_argument("covariance size does not match the parameter count");
+}
+
+bool Camera::project(const Eigen::Vector3d& point_camera, Eigen::Vector2d* pixel) const {
+  return projectPoint(params.data(), distortionCount(), point_camera.data(), pixel->data());
+}
+
+bool Camera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector2d* normalized) const {
+  // Newton on distort(x) = target in normalised coordinates, with the Jacobian from dual
+  // numbers (exact, and the same distortNormalized as projection).
+  const Eigen::Vector2d target((pixel.x() - cx()) / fx(), (pixel.y() - cy()) / fy());
+  const int count = distortionCount();
+  using Jet = ceres::Jet<double, 2>;
+  std::vector<Jet> coefficients;
+  for (int i = 0; i < count; ++i) coefficients.emplace_back(params[kIntrinsicCount + i]);
+  Eigen::Vector2d x = target;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const Jet jx(x.x(), 0), jy(x.y(), 1);
+    Jet xd, yd;
+    distortNormalized(coefficients.data(), count, jx, jy, &xd, &yd);
+    const Eigen::Vector2d residual(xd.a - target.x(), yd.a - target.y());
+    Eigen::Matrix2d jacobian;
+    jacobian << xd.v[0], xd.v[1], yd.v[0], yd.v[1];
+    const Eigen::Vector2d step = jacobian.partialPivLu().solve(residual);
+    if (!step.allFinite()) return false;
+    x -= step;
+    if (step.norm() < 1e-14 * (1.0 + x.norm())) {
+      *normalized = x;
+      return true;
+    }
+  }
+  return false;
+}
+
+Camera cameraFromOpenCV(int width, int height, double fx, double fy, double cx, double cy,
+                        const std::vector<double>& distortion) {
+  Camera camera;
+  camera.width = width;
+  camera.height = height;
+  camera.params = {fx, fy, cx, cy};
+  camera.params.insert(camera.params.end(), distortion.begin(), distortion.end());
+  camera.validate();
+  return camera;
+}
+
+}  // namespace mire::calibration

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Configures and builds mire in build/ (Release with debug info). Extra arguments go to cmake.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bash "$root/scripts/setup.sh"
+cmake -S "$root" -B "$root/build" -G Ninja "$@" >/dev/null
+cmake --build "$root/build" -j "$(nproc)"

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs mire's build dependencies from Debian's packages. Idempotent: quiet and quick
+# when everything is already present.
+set -euo pipefail
+packages=(build-essential cmake ninja-build pkg-config
+  libopencv-dev libopencv-contrib-dev libvisp-dev libapriltag-dev
+  libeigen3-dev libceres-dev libgtest-dev libcli11-dev)
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,56 @@
+#include "mire/support/atomic_file.hpp"
+
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <system_error>
+
+namespace mire::support {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temporaryBeside(const fs::path& path) {
+  std::random_device device;
+  const auto tag = std::to_string(device());
+  return path.parent_path() / (".tmp-" + tag + "-" + path.filename().string());
+}
+}  // namespace
+
+void writeAtomically(const fs::path& path, const std::function<bool(const fs::path&)>& writer) {
+  if (!path.parent_path().empty()) {
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) throw std::runtime_error(path.parent_path().string() + ": cannot create folder: " + ec.message());
+  }
+  const fs::path temporary = temporaryBeside(path);
+  bool written = false;
+  try {
+    written = writer(temporary);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw;
+  }
+  std::error_code ec;
+  if (!written || !fs::exists(temporary)) {
+    fs::remove(temporary, ec);
+    throw std::runtime_error(path.string() + ": could not be written");
+  }
+  fs::rename(temporary, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw std::runtime_error(path.string() + ": cannot replace: " + ec.message());
+  }
+}
+
+void writeFileAtomically(const fs::path& path, std::string_view contents) {
+  writeAtomically(path, [&](const fs::path& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    out.close();
+    return static_cast<bool>(out);
+  });
+}
+
+}  // namespace mire::support

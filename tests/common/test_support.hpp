@@ -1,0 +1,63 @@
+#pragma once
+// Helpers shared by the test suites.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace mire::test {
+
+// ../shared/ beside the checkout (external datasets with published results).
+inline std::filesystem::path sharedDir() { return MIRE_SHARED_DIR; }
+inline std::filesystem::path sourceDir() { return MIRE_SOURCE_DIR; }
+inline std::filesystem::path mireBinary() { return MIRE_BINARY; }
+
+// A fresh empty folder under the system's temporary directory, removed by the destructor.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline TempDir::TempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "mire";
+  for (char& c : name)
+    if (c == '/') c = '_';
+  path_ = std::filesystem::temp_directory_path() / ("mire-test-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+inline TempDir::~TempDir() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);
+}
+
+// Runs a shell command; returns its exit code (or -1 if it did not exit normally).
+int runCommand(const std::string& command);
+
+}  // namespace mire::test
+
+// Skips the current test when ../shared/<relative> is absent.
+#define MIRE_REQUIRE_SHARED(relative)                                                            \
+  do {                                                                                           \
+    if (!std::filesystem::exists(::mire::test::sharedDir() / (relative)))                       \
+      GTEST_SKIP() << "needs ../shared/" << (relative) << " (external data), absent: skipped"; \
+  } while (0)
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+
+inline int mire::test::runCommand(const std::string& command) {
+  const int status = std::system(command.c_str());
+  if (status == -1 || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
+}
