@@ -1,13 +1,269 @@
+// `mire calibrate`: camera intrinsics + distortion from a folder of target images
+// (../shared/BRIEF.md §3, §10). Detection runs in parallel on all cores; images without the
+// target are listed and skipped; bad input (empty folder, unreadable image, bad target spec,
+// too few usable views) stops with a message naming the cause and writes nothing.
 #include "commands.hpp"
 
+#include "mire/calibration/calibrate.hpp"
+#include "mire/calibration/calibration_plots.hpp"
+#include "mire/calibration/camera_io.hpp"
+#include "mire/metrology/detection.hpp"
+#include "mire/metrology/target.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+#include "mire/support/progress.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
 
 namespace mire::app {
-Runner addCalibrateCommand(CLI::App& app) {
-  app.add_subcommand("calibrate", "(not implemented yet)");
-  return [] {
-    std::cerr << "mire calibrate: not implemented yet\n";
-    return static_cast<int>(kUsage);
-  };
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CalibrateArguments {
+  std::string target_path;
+  std::string images_dir;
+  std::string model = "opencv5";
+  bool refine_target = false;
+  std::string output_path;
+  std::string report_dir;
+  int threads = 0;
+};
+
+struct ImageOutcome {
+  fs::path path;
+  bool read = false;
+  int width = 0, height = 0;
+  metrology::Detection detection;
+};
+
+bool isImageFile(const fs::path& path) {
+  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
+                                                     ".pgm", ".ppm", ".pnm", ".pbm", ".webp", ".jp2"};
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return kExtensions.count(extension) > 0;
 }
+
+std::vector<fs::path> listImages(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw std::runtime_error("image folder '" + dir.string() + "' does not exist or is not a folder");
+  std::vector<fs::path> images;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file() && isImageFile(entry.path())) images.push_back(entry.path());
+  std::sort(images.begin(), images.end());
+  if (images.empty())
+    throw std::runtime_error("image folder '" + dir.string() + "' holds no image (png, jpg, bmp, tif, pgm, ...)");
+  return images;
+}
+
+// Detection over all images on `threads` workers (an atomic work index: images differ in cost).
+std::vector<ImageOutcome> detectAll(const metrology::Target& target, const std::vector<fs::path>& images, int threads) {
+  std::vector<ImageOutcome> outcomes(images.size());
+  support::Progress progress("detecting", images.size());
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < images.size(); i = next++) {
+      ImageOutcome& outcome = outcomes[i];
+      outcome.path = images[i];
+      const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
+      if (!gray.empty()) {
+        outcome.read = true;
+        outcome.width = gray.cols;
+        outcome.height = gray.rows;
+        outcome.detection = metrology::detectTarget(target, gray);
+      }
+      progress.advance();
+    }
+  };
+  const int count = std::max(1, std::min<int>(threads, static_cast<int>(images.size())));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < count; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& thread : pool) thread.join();
+  progress.finish();
+  return outcomes;
+}
+
+std::string fixed(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
+// mire's keys beyond camera_io's (same FileStorage YAML, top level).
+std::string extraYamlKeys(const calibration::CalibrationResult& result,
+                          const calibration::ProjectionUncertaintySummary& uncertainty) {
+  std::ostringstream out;
+  out << "# mire calibrate: solution quality (see README 'mire calibrate')\n";
+  out << "distortion_model: " << calibration::distortionModelName(result.model) << "\n";
+  out << "sigma_px: " << support::formatNumber(result.sigma_px) << "\n";
+  out << "views_used: " << result.used_views << "\n";
+  out << "views_rejected: " << result.rejected_views << "\n";
+  out << "points_used: " << result.used_points << "\n";
+  out << "points_rejected: " << result.rejected_points << "\n";
+  out << "target_refined: " << (result.target_refined ? 1 : 0) << "\n";
+  out << "projection_uncertainty_distance_m: " << support::formatNumber(result.uncertainty_distance_m) << "\n";
+  out << "projection_uncertainty_px: [ " << support::formatNumber(uncertainty.centre_px) << ", "
+      << support::formatNumber(uncertainty.edge_px) << ", " << support::formatNumber(uncertainty.corner_px) << " ]\n";
+  return out.str();
+}
+
+std::string viewsCsv(const calibration::CalibrationResult& result) {
+  std::ostringstream out;
+  out << "image,used,points,inliers,rms_px,tilt_deg,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,reason\n";
+  for (const auto& view : result.views) {
+    const int inliers = static_cast<int>(std::count(view.inlier.begin(), view.inlier.end(), true));
+    out << view.name << "," << (view.used ? 1 : 0) << "," << view.ids.size() << "," << inliers << ","
+        << support::formatNumber(view.rms_px, 6) << "," << support::formatNumber(view.tilt_deg, 4);
+    for (int i = 0; i < 3; ++i) out << "," << support::formatNumber(view.translation[i], 10);
+    for (int i = 0; i < 3; ++i) out << "," << support::formatNumber(view.rotation[i], 10);
+    std::string reason = view.rejection_reason;
+    std::replace(reason.begin(), reason.end(), ',', ';');
+    out << "," << reason << "\n";
+  }
+  return out.str();
+}
+
+std::string targetCsv(const calibration::CalibrationResult& result, const std::vector<Eigen::Vector3d>& nominal) {
+  std::ostringstream out;
+  out << "# refined target points (Lavest & Dhome), target frame M, mm; gauge points " << result.gauge_points[0] << ", "
+      << result.gauge_points[1] << " fixed, z of " << result.gauge_points[2] << " fixed\n";
+  out << "id,x_mm,y_mm,z_mm,dx_mm,dy_mm,dz_mm\n";
+  for (std::size_t i = 0; i < nominal.size(); ++i) {
+    const Eigen::Vector3d p = result.target_points[i] * 1e3, d = (result.target_points[i] - nominal[i]) * 1e3;
+    out << i << "," << support::formatNumber(p.x(), 8) << "," << support::formatNumber(p.y(), 8) << ","
+        << support::formatNumber(p.z(), 8) << "," << support::formatNumber(d.x(), 6) << ","
+        << support::formatNumber(d.y(), 6) << "," << support::formatNumber(d.z(), 6) << "\n";
+  }
+  return out.str();
+}
+
+int runCalibrate(const CalibrateArguments& args) {
+  // Everything that can be checked before the long work is checked first.
+  const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
+  metrology::Target target = [&] {
+    try {
+      return metrology::Target::fromFile(args.target_path);
+    } catch (const std::exception& error) {
+      throw std::runtime_error("target spec: " + std::string(error.what()));
+    }
+  }();
+  const std::vector<fs::path> images = listImages(args.images_dir);
+  const int threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+
+  const std::vector<ImageOutcome> outcomes = detectAll(target, images, threads);
+  for (const auto& outcome : outcomes)
+    if (!outcome.read) throw std::runtime_error("cannot read image '" + outcome.path.string() + "' (not a decodable image)");
+  const int width = outcomes.front().width, height = outcomes.front().height;
+  for (const auto& outcome : outcomes)
+    if (outcome.width != width || outcome.height != height)
+      throw std::runtime_error("image '" + outcome.path.string() + "' is " + std::to_string(outcome.width) + "x" +
+                               std::to_string(outcome.height) + ", the first image is " + std::to_string(width) + "x" +
+                               std::to_string(height) + ": one camera, one size");
+
+  std::vector<calibration::CalibrationView> views;
+  int skipped = 0;
+  for (const auto& outcome : outcomes) {
+    const std::string name = outcome.path.filename().string();
+    if (!outcome.detection.found) {
+      std::cout << "skipped " << name << ": " << (outcome.detection.reason.empty() ? "target not found" : outcome.detection.reason)
+                << "\n";
+      ++skipped;
+      continue;
+    }
+    if (!outcome.detection.reason.empty()) std::cout << "note " << name << ": " << outcome.detection.reason << "\n";
+    views.push_back({name, outcome.detection.ids, outcome.detection.pixels});
+  }
+  if (views.size() < 3)
+    throw std::runtime_error("the target was found in " + std::to_string(views.size()) + " of " +
+                             std::to_string(images.size()) + " images in '" + args.images_dir +
+                             "': calibration needs at least 3 (check target.yaml's cols/rows and type)");
+
+  calibration::CalibrationOptions options;
+  options.model = model;
+  options.refine_target = args.refine_target;
+  options.num_threads = threads;
+  const calibration::CalibrationResult result =
+      calibration::calibrateCamera(target.points(), views, width, height, options);
+  const calibration::ProjectionUncertaintySummary uncertainty = calibration::summarizeProjectionUncertainty(result);
+
+  // Outputs: report first, camera.yaml last (a failure leaves no camera.yaml behind).
+  if (!args.report_dir.empty()) {
+    const fs::path dir = args.report_dir;
+    fs::create_directories(dir);
+    support::writeAtomically(dir / "residuals.png", [&](const fs::path& path) {
+      return cv::imwrite(path.string(), calibration::drawResidualMap(result));
+    });
+    support::writeAtomically(dir / "projection_uncertainty.png", [&](const fs::path& path) {
+      return cv::imwrite(path.string(), calibration::drawProjectionUncertaintyMap(result));
+    });
+    support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
+    if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
+  }
+  support::writeFileAtomically(args.output_path, calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
+
+  // Summary.
+  const auto& p = result.camera.params;
+  const auto sigma = result.camera.sigmas();
+  const auto names = result.camera.parameterNames();
+  std::cout << "calibrated from " << result.used_views << " views (" << skipped << " images without the target, "
+            << result.rejected_views << " views rejected), " << result.used_points << " points ("
+            << result.rejected_points << " rejected as outliers beyond 5 sigma)\n";
+  std::cout << "model " << calibration::distortionModelName(model) << (result.target_refined ? ", target refined" : "")
+            << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const bool pixel_unit = i < 4;
+    std::cout << "  " << names[i] << " = " << fixed(p[i], pixel_unit ? 3 : 6) << " +- "
+              << fixed(sigma.empty() ? 0.0 : sigma[i], pixel_unit ? 3 : 6) << (pixel_unit ? " px" : "") << "\n";
+  }
+  std::cout << "reprojection RMS " << fixed(result.camera.rms_px, 4) << " px (sigma " << fixed(result.sigma_px, 4)
+            << " px); per view: ";
+  for (const auto& view : result.views)
+    if (view.used) std::cout << fixed(view.rms_px, 3) << " ";
+  std::cout << "\n";
+  std::cout << "projection uncertainty (1 sigma, at " << fixed(result.uncertainty_distance_m * 1e3, 0)
+            << " mm): centre " << fixed(uncertainty.centre_px, 4) << " px, edge " << fixed(uncertainty.edge_px, 4)
+            << " px, corner " << fixed(uncertainty.corner_px, 4) << " px\n";
+  if (result.target_refined)
+    std::cout << "target deformation: out-of-plane RMS " << fixed(result.target_out_of_plane_rms_m * 1e3, 4)
+              << " mm, max " << fixed(result.target_out_of_plane_max_m * 1e3, 4) << " mm; displacement RMS "
+              << fixed(result.target_displacement_rms_m * 1e3, 4) << " mm\n";
+  for (const auto& view : result.views)
+    if (!view.used) std::cout << "rejected view " << view.name << ": " << view.rejection_reason << "\n";
+  for (const auto& warning : result.warnings) std::cout << "warning: " << warning << "\n";
+  std::cout << "wrote " << args.output_path << (args.report_dir.empty() ? "" : " and the report in " + args.report_dir)
+            << "\n";
+  return kOk;
+}
+
+}  // namespace
+
+Runner addCalibrateCommand(CLI::App& app) {
+  auto args = std::make_shared<CalibrateArguments>();
+  CLI::App* command = app.add_subcommand("calibrate", "Calibrate the camera (intrinsics + distortion) from target images");
+  command->add_option("--target", args->target_path, "target.yaml describing the board")->required();
+  command->add_option("--images", args->images_dir, "folder of calibration images")->required();
+  command->add_option("--model", args->model, "distortion model: opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational)")
+      ->check(CLI::IsMember({"opencv4", "opencv5", "opencv8"}));
+  command->add_flag("--refine-target", args->refine_target,
+                    "also estimate the target's 3D points (Lavest & Dhome) for an imperfect board");
+  command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
+  command->add_option("--report", args->report_dir, "folder for residuals.png, projection_uncertainty.png, views.csv");
+  command->add_option("--threads", args->threads, "detection/solver threads (default: all cores)");
+  return [args] { return runCalibrate(*args); };
+}
+
 }  // namespace mire::app

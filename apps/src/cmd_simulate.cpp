@@ -1,13 +1,61 @@
+// `mire simulate calibration|poses --spec SPEC.yaml -o DIR`: synthetic image sets with their
+// ground truth (issue 3). Glue only: the spec and the generation live in mire::datasets.
 #include "commands.hpp"
 
+#include "mire/datasets/simulation.hpp"
+#include "mire/support/progress.hpp"
+
+#include <filesystem>
 #include <iostream>
+#include <memory>
+#include <string>
 
 namespace mire::app {
+namespace {
+
+struct SimulateOptions {
+  std::string spec;
+  std::string output;
+};
+
+void addSpecOptions(CLI::App* command, SimulateOptions* options) {
+  command->add_option("--spec", options->spec, "Simulation spec (YAML, see datasets/specs/)")->required();
+  command->add_option("-o,--output", options->output, "Output folder (created if needed)")->required();
+}
+
+int runSimulation(const SimulateOptions& options, bool calibration) {
+  const datasets::SimulationSpec spec = datasets::readSimulationSpec(options.spec);
+  const std::size_t total = calibration ? static_cast<std::size_t>(spec.calibration.views * spec.images_per_view)
+                                        : spec.poses.size() * static_cast<std::size_t>(spec.images_per_pose);
+  support::Progress progress(calibration ? "rendering views" : "rendering poses", total);
+  const auto advance = [&](std::size_t, std::size_t) { progress.advance(); };
+  const datasets::SimulationResult result = calibration ? datasets::simulateCalibration(spec, options.output, advance)
+                                                        : datasets::simulatePoses(spec, options.output, advance);
+  progress.finish();
+  std::cout << "mire simulate " << (calibration ? "calibration" : "poses") << ": wrote " << result.images
+            << " images of " << result.views_or_poses << (calibration ? " views" : " poses") << " to "
+            << options.output << " (" << static_cast<int>(100.0 * result.visible_fraction + 0.5)
+            << " % of the features visible; truth in truth.yaml)\n";
+  return kOk;
+}
+
+}  // namespace
+
 Runner addSimulateCommand(CLI::App& app) {
-  app.add_subcommand("simulate", "(not implemented yet)");
-  return [] {
-    std::cerr << "mire simulate: not implemented yet\n";
-    return static_cast<int>(kUsage);
+  CLI::App* simulate = app.add_subcommand("simulate", "Render synthetic image sets with exact ground truth");
+  simulate->require_subcommand(1);
+  auto calibration_options = std::make_shared<SimulateOptions>();
+  auto poses_options = std::make_shared<SimulateOptions>();
+  CLI::App* calibration =
+      simulate->add_subcommand("calibration", "Calibration views: DIR/images/view_XXX.png + DIR/truth.yaml");
+  addSpecOptions(calibration, calibration_options.get());
+  CLI::App* poses = simulate->add_subcommand(
+      "poses", "Images per pose: DIR/poses/<pose_id>/img_XX.png + DIR/truth.yaml + DIR/truth_poses.csv");
+  addSpecOptions(poses, poses_options.get());
+  return [calibration, calibration_options, poses_options] {
+    const bool is_calibration = calibration->parsed();
+    return runSimulation(is_calibration ? *calibration_options : *poses_options, is_calibration);
   };
 }
+
 }  // namespace mire::app

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,22 @@ struct Detection {
   std::size_t size() const { return ids.size(); }
 };
 
-// Detects the target in an 8-bit grey image.
+// One AprilTag as AprilTag 3 reports it, converted to this library's conventions.
+struct TagDetection {
+  int id = -1;
+  int hamming = 0;               // bits corrected
+  double decision_margin = 0.0;  // AprilTag's decoding confidence
+  // Corners with OpenCV's pixel convention (AprilTag's coordinates − 0.5 px), in the target's
+  // corner order: top-left, top-right, bottom-right, bottom-left of the upright tag
+  // (AprilTag's own p[0..3] are bottom-left, bottom-right, top-right, top-left).
+  std::array<Eigen::Vector2d, 4> corners;
+};
+
+// Every tag of `family` in an 8-bit grey image (AprilTag 3, quad_decimate = 1, one
+// thread; refine_edges as asked). Throws std::invalid_argument for an unknown family.
+std::vector<TagDetection> detectAprilTags(const cv::Mat& gray, const std::string& family, bool refine_edges);
+
+// Detects the target in an 8-bit grey image (BGR is converted).
 Detection detectTarget(const Target& target, const cv::Mat& gray, const DetectionOptions& options = {});
 
 // Cheap re-detection in another image of the same scene: refines `initial`'s features in

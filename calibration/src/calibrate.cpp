@@ -1,0 +1,676 @@
+// Camera calibration by bundle adjustment (see calibrate.hpp for the pipeline).
+#include "mire/calibration/calibrate.hpp"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <opencv2/calib3d.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+
+namespace mire::calibration {
+
+int distortionCoefficientCount(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::OpenCV4: return 4;
+    case DistortionModel::OpenCV5: return 5;
+    case DistortionModel::OpenCV8: return 8;
+  }
+  return 5;
+}
+
+std::string distortionModelName(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::OpenCV4: return "opencv4";
+    case DistortionModel::OpenCV5: return "opencv5";
+    case DistortionModel::OpenCV8: return "opencv8";
+  }
+  return "opencv5";
+}
+
+DistortionModel parseDistortionModel(const std::string& name) {
+  if (name == "opencv4") return DistortionModel::OpenCV4;
+  if (name == "opencv5") return DistortionModel::OpenCV5;
+  if (name == "opencv8") return DistortionModel::OpenCV8;
+  throw std::invalid_argument("unknown distortion model '" + name + "' (expected opencv4, opencv5 or opencv8)");
+}
+
+namespace {
+
+using Pose = Eigen::Matrix<double, 6, 1>;  // angle-axis, translation (cTm)
+
+// Reprojection residual (px) of one target point in one view, through the shared templated
+// projection (camera_model.hpp) so that distortion is written once.
+template <int kDistortion>
+struct ReprojectionError {
+  explicit ReprojectionError(const Eigen::Vector2d& observed) : observed_(observed) {}
+  template <typename T>
+  bool operator()(const T* intrinsics, const T* pose, const T* point, T* residual) const {
+    T camera_point[3];
+    ceres::AngleAxisRotatePoint(pose, point, camera_point);
+    for (int i = 0; i < 3; ++i) camera_point[i] += pose[3 + i];
+    T pixel[2];
+    if (!projectPoint(intrinsics, kDistortion, camera_point, pixel)) return false;
+    residual[0] = pixel[0] - observed_.x();
+    residual[1] = pixel[1] - observed_.y();
+    return true;
+  }
+  Eigen::Vector2d observed_;
+};
+
+ceres::CostFunction* makeCost(int distortion_count, const Eigen::Vector2d& observed) {
+  switch (distortion_count) {
+    case 4: return new ceres::AutoDiffCostFunction<ReprojectionError<4>, 2, 8, 6, 3>(new ReprojectionError<4>(observed));
+    case 5: return new ceres::AutoDiffCostFunction<ReprojectionError<5>, 2, 9, 6, 3>(new ReprojectionError<5>(observed));
+    case 8: return new ceres::AutoDiffCostFunction<ReprojectionError<8>, 2, 12, 6, 3>(new ReprojectionError<8>(observed));
+    default: throw std::invalid_argument("unsupported distortion coefficient count");
+  }
+}
+
+Eigen::Vector2d projectWithPose(const std::vector<double>& params, const Pose& pose, const Eigen::Vector3d& point,
+                                bool* in_front) {
+  Eigen::Vector3d camera_point;
+  ceres::AngleAxisRotatePoint(pose.data(), point.data(), camera_point.data());
+  camera_point += pose.tail<3>();
+  Eigen::Vector2d pixel(0.0, 0.0);
+  *in_front = projectPoint(params.data(), static_cast<int>(params.size()) - kIntrinsicCount, camera_point.data(),
+                           pixel.data());
+  return pixel;
+}
+
+// The mutable state of the adjustment.
+struct State {
+  std::vector<double> params;
+  std::vector<Pose> poses;                       // one per view (meaningful when active)
+  std::vector<Eigen::Vector3d> points;           // target points (refined or nominal)
+  std::vector<bool> view_active;
+  std::vector<std::vector<bool>> inlier;         // per view, per observation
+};
+
+struct Setup {
+  const std::vector<CalibrationView>* views = nullptr;
+  std::vector<int> fixed_indices;  // into params
+  bool refine_target = false;
+  std::array<int, 3> gauge{{-1, -1, -1}};
+  std::vector<bool> point_refinable;  // seen in enough views to be an unknown
+  int num_threads = 1;
+};
+
+// Builds and solves one pass. Returns the final cost.
+void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_scale) {
+  ceres::Problem problem;
+  const int distortion_count = static_cast<int>(state->params.size()) - kIntrinsicCount;
+  double* intrinsics = state->params.data();
+  std::set<int> used_points;
+  const auto& views = *setup.views;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (!state->view_active[v]) continue;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      if (!state->inlier[v][k]) continue;
+      const int id = views[v].ids[k];
+      ceres::LossFunction* loss_function = nullptr;
+      if (loss == RobustLoss::Huber) loss_function = new ceres::HuberLoss(loss_scale);
+      if (loss == RobustLoss::Cauchy) loss_function = new ceres::CauchyLoss(loss_scale);
+      problem.AddResidualBlock(makeCost(distortion_count, views[v].pixels[k]), loss_function, intrinsics,
+                               state->poses[v].data(), state->points[id].data());
+      used_points.insert(id);
+    }
+  }
+  std::vector<int> fixed = setup.fixed_indices;
+  if (!fixed.empty()) {
+    if (static_cast<int>(fixed.size()) == static_cast<int>(state->params.size()))
+      problem.SetParameterBlockConstant(intrinsics);
+    else
+      problem.SetManifold(intrinsics, new ceres::SubsetManifold(static_cast<int>(state->params.size()), fixed));
+  }
+  for (const int id : used_points) {
+    double* point = state->points[id].data();
+    if (!setup.refine_target || !setup.point_refinable[id] || id == setup.gauge[0] || id == setup.gauge[1]) {
+      problem.SetParameterBlockConstant(point);
+    } else if (id == setup.gauge[2]) {
+      problem.SetManifold(point, new ceres::SubsetManifold(3, {2}));
+    }
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  // The robust pass only has to find the outliers: a loose stop (Huber's kink slows the
+  // final digits); the least-squares passes converge tightly (the covariance assumes it).
+  const bool robust = loss != RobustLoss::None;
+  options.max_num_iterations = robust ? 50 : 200;
+  options.function_tolerance = robust ? 1e-8 : 1e-12;
+  options.gradient_tolerance = robust ? 1e-8 : 1e-12;
+  options.parameter_tolerance = robust ? 1e-8 : 1e-12;
+  options.num_threads = setup.num_threads;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  if (std::getenv("MIRE_DEBUG_CERES")) std::fprintf(stderr, "%s\n", summary.BriefReport().c_str());
+  if (!summary.IsSolutionUsable())
+    throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
+}
+
+// Residual norms (px) of every active observation; inactive ones get NaN.
+std::vector<std::vector<Eigen::Vector2d>> residualsOf(const std::vector<CalibrationView>& views, const State& state) {
+  std::vector<std::vector<Eigen::Vector2d>> residuals(views.size());
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    residuals[v].assign(views[v].ids.size(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    if (!state.view_active[v]) continue;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      bool in_front = false;
+      const Eigen::Vector2d pixel = projectWithPose(state.params, state.poses[v], state.points[views[v].ids[k]], &in_front);
+      if (in_front) residuals[v][k] = pixel - views[v].pixels[k];
+    }
+  }
+  return residuals;
+}
+
+// σ of one residual component from the median residual norm (Rayleigh median = 1.1774 σ):
+// insensitive to the outliers that the robust pass is about to down-weight.
+double robustSigma(const std::vector<CalibrationView>& views, const State& state) {
+  const auto residuals = residualsOf(views, state);
+  std::vector<double> norms;
+  for (std::size_t v = 0; v < views.size(); ++v)
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k)
+      if (state.view_active[v] && state.inlier[v][k] && residuals[v][k].allFinite()) norms.push_back(residuals[v][k].norm());
+  if (norms.empty()) return 0.0;
+  const auto middle = norms.begin() + static_cast<std::ptrdiff_t>(norms.size() / 2);
+  std::nth_element(norms.begin(), middle, norms.end());
+  return *middle / std::sqrt(2.0 * std::log(2.0));
+}
+
+// Dense Jacobian of the final (plain least-squares) problem in tangent coordinates, with the
+// column layout [free intrinsics | 6 per active view | free target coordinates].
+struct Linearisation {
+  Eigen::MatrixXd jacobian;
+  std::vector<int> free_intrinsics;  // ambient index of each tangent intrinsic column
+  int pose_columns_begin = 0;
+  std::vector<int> active_views;
+};
+
+Linearisation linearise(const Setup& setup, State* state) {
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  const int distortion_count = static_cast<int>(state->params.size()) - kIntrinsicCount;
+  const auto& views = *setup.views;
+  Linearisation result;
+  std::set<int> used_points;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (!state->view_active[v]) continue;
+    result.active_views.push_back(static_cast<int>(v));
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      if (!state->inlier[v][k]) continue;
+      problem.AddResidualBlock(makeCost(distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
+                               state->poses[v].data(), state->points[views[v].ids[k]].data());
+      used_points.insert(views[v].ids[k]);
+    }
+  }
+  const int parameter_count = static_cast<int>(state->params.size());
+  std::vector<int> fixed = setup.fixed_indices;
+  for (int i = 0; i < parameter_count; ++i)
+    if (std::find(fixed.begin(), fixed.end(), i) == fixed.end()) result.free_intrinsics.push_back(i);
+  ceres::Problem::EvaluateOptions evaluate;
+  if (!result.free_intrinsics.empty()) {
+    if (!fixed.empty()) problem.SetManifold(state->params.data(), new ceres::SubsetManifold(parameter_count, fixed));
+    evaluate.parameter_blocks.push_back(state->params.data());
+  }
+  result.pose_columns_begin = static_cast<int>(result.free_intrinsics.size());
+  for (const int v : result.active_views) evaluate.parameter_blocks.push_back(state->poses[v].data());
+  if (setup.refine_target) {
+    for (const int id : used_points) {
+      if (!setup.point_refinable[id] || id == setup.gauge[0] || id == setup.gauge[1]) continue;
+      if (id == setup.gauge[2]) problem.SetManifold(state->points[id].data(), new ceres::SubsetManifold(3, {2}));
+      evaluate.parameter_blocks.push_back(state->points[id].data());
+    }
+  }
+  ceres::CRSMatrix crs;
+  problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs);
+  result.jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int entry = crs.rows[row]; entry < crs.rows[row + 1]; ++entry) result.jacobian(row, crs.cols[entry]) = crs.values[entry];
+  return result;
+}
+
+// (JᵀJ)⁻¹ with column equilibration (the columns mix px/rad and px/px); a rank-deficient
+// problem is reported and inverted in the least-squares (pseudo-inverse) sense.
+Eigen::MatrixXd inverseNormalMatrix(const Eigen::MatrixXd& jacobian, std::vector<std::string>* warnings) {
+  const Eigen::Index n = jacobian.cols();
+  Eigen::VectorXd scale(n);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    const double norm = jacobian.col(c).norm();
+    scale(c) = norm > 0.0 ? 1.0 / norm : 0.0;
+  }
+  const Eigen::MatrixXd scaled = jacobian * scale.asDiagonal();
+  const Eigen::MatrixXd normal = scaled.transpose() * scaled;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normal);
+  const Eigen::VectorXd values = eigen.eigenvalues();
+  const double largest = values.maxCoeff();
+  Eigen::VectorXd inverse_values(n);
+  int deficient = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (values(i) > 1e-12 * largest) {
+      inverse_values(i) = 1.0 / values(i);
+    } else {
+      inverse_values(i) = 0.0;
+      ++deficient;
+    }
+  }
+  if (deficient > 0)
+    warnings->push_back("the views leave " + std::to_string(deficient) +
+                        " parameter combination(s) unconstrained (rank-deficient Jacobian): σ unreliable");
+  else if (values.minCoeff() < 1e-9 * largest)
+    warnings->push_back("nearly singular problem (column-scaled condition number " +
+                        std::to_string(std::sqrt(largest / values.minCoeff())) + "): σ unreliable");
+  const Eigen::MatrixXd inverse = eigen.eigenvectors() * inverse_values.asDiagonal() * eigen.eigenvectors().transpose();
+  return scale.asDiagonal() * inverse * scale.asDiagonal();
+}
+
+Pose poseFromOpenCV(const cv::Vec3d& rvec, const cv::Vec3d& tvec) {
+  Pose pose;
+  pose << rvec[0], rvec[1], rvec[2], tvec[0], tvec[1], tvec[2];
+  return pose;
+}
+
+std::vector<double> initialIntrinsics(const std::vector<Eigen::Vector3d>& target_points,
+                                      const std::vector<CalibrationView>& views, const std::vector<bool>& usable,
+                                      int width, int height, int distortion_count, const CalibrationOptions& options) {
+  std::vector<double> params(static_cast<std::size_t>(kIntrinsicCount + distortion_count), 0.0);
+  if (options.initial_params) {
+    if (options.initial_params->size() != params.size())
+      throw std::invalid_argument("initial_params has " + std::to_string(options.initial_params->size()) +
+                                  " values, the model needs " + std::to_string(params.size()));
+    return *options.initial_params;
+  }
+  std::vector<std::vector<cv::Point3f>> object_points;
+  std::vector<std::vector<cv::Point2f>> image_points;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (!usable[v]) continue;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      const Eigen::Vector3d& p = target_points[views[v].ids[k]];
+      object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
+      image.emplace_back(static_cast<float>(views[v].pixels[k].x()), static_cast<float>(views[v].pixels[k].y()));
+    }
+    object_points.push_back(std::move(object));
+    image_points.push_back(std::move(image));
+  }
+  // Aspect ratio 0: fx and fy estimated separately (OpenCV's closed form from homographies).
+  const cv::Mat matrix = cv::initCameraMatrix2D(object_points, image_points, cv::Size(width, height), 0.0);
+  params[0] = matrix.at<double>(0, 0);
+  params[1] = matrix.at<double>(1, 1);
+  params[2] = matrix.at<double>(0, 2);
+  params[3] = matrix.at<double>(1, 2);
+  if (!(params[0] > 0.0) || !(params[1] > 0.0) || !std::isfinite(params[0]) || !std::isfinite(params[1])) {
+    params[0] = params[1] = std::max(width, height);
+  }
+  // A square-pixel start is closer to every real camera than two independent guesses.
+  const double mean_focal = 0.5 * (params[0] + params[1]);
+  params[0] = params[1] = mean_focal;
+  return params;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// Coverage and geometry checks: what the views do not constrain.
+void addGeometryWarnings(const std::vector<CalibrationView>& views, const State& state, int width, int height,
+                         CalibrationResult* result) {
+  // Image corners: a 4×4 grid, the four corner cells must hold points, or the distortion
+  // there is an extrapolation.
+  bool corner_seen[4] = {false, false, false, false};
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (!state.view_active[v]) continue;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      if (!state.inlier[v][k]) continue;
+      const Eigen::Vector2d& p = views[v].pixels[k];
+      const bool left = p.x() < width / 4.0, right = p.x() > 3.0 * width / 4.0;
+      const bool top = p.y() < height / 4.0, bottom = p.y() > 3.0 * height / 4.0;
+      if (left && top) corner_seen[0] = true;
+      if (right && top) corner_seen[1] = true;
+      if (left && bottom) corner_seen[2] = true;
+      if (right && bottom) corner_seen[3] = true;
+    }
+  }
+  const char* const corner_names[4] = {"top-left", "top-right", "bottom-left", "bottom-right"};
+  std::string missing;
+  for (int i = 0; i < 4; ++i)
+    if (!corner_seen[i]) missing += std::string(missing.empty() ? "" : ", ") + corner_names[i];
+  if (!missing.empty())
+    result->warnings.push_back("no target points in the image corner(s) " + missing +
+                               " (outer quarter): distortion there is extrapolated");
+  double max_tilt = 0.0;
+  for (const auto& view : result->views)
+    if (view.used) max_tilt = std::max(max_tilt, view.tilt_deg);
+  if (max_tilt < 15.0)
+    result->warnings.push_back("every view is nearly fronto-parallel (largest tilt " + std::to_string(max_tilt) +
+                               "°): focal length and principal point are poorly separated from distance; "
+                               "tilt the target by 30–45° in some views");
+}
+
+}  // namespace
+
+CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_points,
+                                  const std::vector<CalibrationView>& views, int width, int height,
+                                  const CalibrationOptions& options) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
+  if (target_points.size() < 4) throw std::invalid_argument("the target needs at least 4 points");
+  double extent = 0.0;
+  for (const auto& p : target_points) extent = std::max(extent, (p - target_points.front()).norm());
+  if (!options.initial_params)
+    for (const auto& p : target_points)
+      if (std::abs(p.z()) > 1e-9 * std::max(extent, 1e-12))
+        throw std::invalid_argument("the initialisation needs a planar target (z = 0); give initial_params otherwise");
+  const int distortion_count = distortionCoefficientCount(options.model);
+  const int parameter_count = kIntrinsicCount + distortion_count;
+
+  Camera names_camera;
+  names_camera.params.assign(static_cast<std::size_t>(parameter_count), 0.0);
+  const std::vector<std::string> names = names_camera.parameterNames();
+  Setup setup;
+  setup.views = &views;
+  setup.refine_target = options.refine_target;
+  setup.num_threads = std::max(1, options.num_threads);
+  for (const auto& name : options.fixed_parameters) {
+    const auto found = std::find(names.begin(), names.end(), name);
+    if (found == names.end())
+      throw std::invalid_argument("cannot fix '" + name + "': model " + distortionModelName(options.model) +
+                                  " has no such parameter");
+    setup.fixed_indices.push_back(static_cast<int>(found - names.begin()));
+  }
+  std::sort(setup.fixed_indices.begin(), setup.fixed_indices.end());
+  setup.fixed_indices.erase(std::unique(setup.fixed_indices.begin(), setup.fixed_indices.end()), setup.fixed_indices.end());
+
+  CalibrationResult result;
+  result.model = options.model;
+  result.fixed_parameters = options.fixed_parameters;
+  result.views.resize(views.size());
+
+  // Validate and screen views.
+  State state;
+  state.points = target_points;
+  state.view_active.assign(views.size(), false);
+  state.inlier.resize(views.size());
+  state.poses.assign(views.size(), Pose::Zero());
+  std::vector<int> observation_count(target_points.size(), 0);
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const auto& view = views[v];
+    auto& out = result.views[v];
+    out.name = view.name;
+    out.ids = view.ids;
+    out.pixels = view.pixels;
+    out.inlier.assign(view.ids.size(), false);
+    out.residuals.assign(view.ids.size(), Eigen::Vector2d::Zero());
+    if (view.ids.size() != view.pixels.size())
+      throw std::invalid_argument("view '" + view.name + "': ids and pixels differ in count");
+    for (const int id : view.ids)
+      if (id < 0 || id >= static_cast<int>(target_points.size()))
+        throw std::invalid_argument("view '" + view.name + "': target point id " + std::to_string(id) + " out of range");
+    state.inlier[v].assign(view.ids.size(), true);
+    if (static_cast<int>(view.ids.size()) < std::max(options.min_points_per_view, 4)) {
+      out.rejection_reason = "only " + std::to_string(view.ids.size()) + " points";
+      continue;
+    }
+    state.view_active[v] = true;
+  }
+  {
+    const std::vector<bool> usable = state.view_active;
+    if (std::count(usable.begin(), usable.end(), true) < 3)
+      throw std::runtime_error("only " + std::to_string(std::count(usable.begin(), usable.end(), true)) +
+                               " usable views: calibration needs at least 3");
+    state.params = initialIntrinsics(target_points, views, usable, width, height, distortion_count, options);
+  }
+  // Without a guess, a fixed principal point sits at the image centre (OpenCV's convention).
+  if (!options.initial_params)
+    for (const int index : setup.fixed_indices) {
+      if (index == 2) state.params[2] = 0.5 * (width - 1);
+      if (index == 3) state.params[3] = 0.5 * (height - 1);
+    }
+  // Initial poses: OpenCV's PnP through the initial intrinsics (IPPE for planar targets).
+  const cv::Matx33d camera_matrix(state.params[0], 0.0, state.params[2], 0.0, state.params[1], state.params[3], 0.0, 0.0, 1.0);
+  std::vector<double> initial_distortion(state.params.begin() + kIntrinsicCount, state.params.end());
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (!state.view_active[v]) continue;
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      const Eigen::Vector3d& p = target_points[views[v].ids[k]];
+      object.emplace_back(p.x(), p.y(), p.z());
+      image.emplace_back(views[v].pixels[k].x(), views[v].pixels[k].y());
+    }
+    cv::Vec3d rvec, tvec;
+    bool solved = false;
+    try {
+      solved = cv::solvePnP(object, image, camera_matrix, initial_distortion, rvec, tvec, false,
+                            options.initial_params ? cv::SOLVEPNP_ITERATIVE : cv::SOLVEPNP_IPPE);
+    } catch (const cv::Exception&) {
+      solved = false;
+    }
+    if (!solved || !std::isfinite(tvec[2]) || tvec[2] <= 0.0) {
+      state.view_active[v] = false;
+      result.views[v].rejection_reason = "initial pose (PnP) failed";
+      continue;
+    }
+    state.poses[v] = poseFromOpenCV(rvec, tvec);
+  }
+  auto activeCount = [&] { return static_cast<int>(std::count(state.view_active.begin(), state.view_active.end(), true)); };
+  if (activeCount() < 3)
+    throw std::runtime_error("only " + std::to_string(activeCount()) + " views have an initial pose: need at least 3");
+
+  // Target refinement gauge (see calibrate.hpp): first point; the farthest from it; the
+  // farthest from that line.
+  for (std::size_t v = 0; v < views.size(); ++v)
+    if (state.view_active[v])
+      for (const int id : views[v].ids) ++observation_count[id];
+  setup.point_refinable.assign(target_points.size(), false);
+  for (std::size_t i = 0; i < target_points.size(); ++i) setup.point_refinable[i] = observation_count[i] >= 3;
+  if (options.refine_target) {
+    int first = -1;
+    for (std::size_t i = 0; i < target_points.size() && first < 0; ++i)
+      if (observation_count[i] >= 3) first = static_cast<int>(i);
+    if (first < 0) throw std::runtime_error("target refinement: no point is seen in 3 views");
+    int far = first;
+    for (std::size_t i = 0; i < target_points.size(); ++i)
+      if (observation_count[i] >= 3 &&
+          (target_points[i] - target_points[first]).norm() > (target_points[far] - target_points[first]).norm())
+        far = static_cast<int>(i);
+    const Eigen::Vector3d axis = (target_points[far] - target_points[first]).normalized();
+    int side = first;
+    double best = 0.0;
+    for (std::size_t i = 0; i < target_points.size(); ++i) {
+      if (observation_count[i] < 3) continue;
+      const Eigen::Vector3d d = target_points[i] - target_points[first];
+      const double distance = (d - d.dot(axis) * axis).norm();
+      if (distance > best) {
+        best = distance;
+        side = static_cast<int>(i);
+      }
+    }
+    if (far == first || side == first) throw std::runtime_error("target refinement: the seen points are collinear");
+    setup.gauge = {{first, far, side}};
+  }
+
+  // Pass 1: plain least squares.
+  solvePass(setup, &state, RobustLoss::None, 0.0);
+
+  // Pass 2 + rejection.
+  if (options.robust_loss != RobustLoss::None) {
+    const double sigma = std::max(robustSigma(views, state), options.min_sigma_px);
+    result.robust_scale_px = options.robust_scale_sigmas * sigma;
+    solvePass(setup, &state, options.robust_loss, result.robust_scale_px);
+    const double sigma_after = std::max(robustSigma(views, state), options.min_sigma_px);
+    const double threshold = options.outlier_threshold_sigmas * sigma_after;
+    const auto residuals = residualsOf(views, state);
+    bool changed = false;
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      if (!state.view_active[v]) continue;
+      int kept = 0;
+      for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+        const bool inlier = residuals[v][k].allFinite() && residuals[v][k].norm() <= threshold;
+        if (!inlier) changed = true;
+        state.inlier[v][k] = inlier;
+        kept += inlier ? 1 : 0;
+      }
+      const int total = static_cast<int>(views[v].ids.size());
+      if (kept < options.min_points_per_view || kept < options.min_inlier_fraction * total) {
+        state.view_active[v] = false;
+        changed = true;
+        result.views[v].rejection_reason = "only " + std::to_string(kept) + " of " + std::to_string(total) +
+                                           " points within " + std::to_string(threshold) + " px";
+      }
+    }
+    if (activeCount() < 3)
+      throw std::runtime_error("only " + std::to_string(activeCount()) + " views survive outlier rejection: need at least 3");
+    // Final pass: ordinary least squares on the inliers (always run, so the estimate is the
+    // least-squares one whose covariance is computed below).
+    (void)changed;
+    solvePass(setup, &state, RobustLoss::None, 0.0);
+  }
+
+  // Results per view.
+  const auto residuals = residualsOf(views, state);
+  double ssr = 0.0;
+  int inlier_count = 0;
+  std::vector<double> distances;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    auto& out = result.views[v];
+    out.used = state.view_active[v];
+    if (!out.used) {
+      ++result.rejected_views;
+      continue;
+    }
+    out.rotation = state.poses[v].head<3>();
+    out.translation = state.poses[v].tail<3>();
+    Eigen::Vector3d normal;
+    const Eigen::Vector3d z_axis(0.0, 0.0, 1.0);
+    ceres::AngleAxisRotatePoint(out.rotation.data(), z_axis.data(), normal.data());
+    out.tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / M_PI;
+    double view_ssr = 0.0;
+    int view_count = 0;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      out.residuals[k] = residuals[v][k];
+      out.inlier[k] = state.inlier[v][k];
+      if (!out.inlier[k]) {
+        ++result.rejected_points;
+        continue;
+      }
+      view_ssr += residuals[v][k].squaredNorm();
+      ++view_count;
+    }
+    out.rms_px = std::sqrt(view_ssr / std::max(1, view_count));
+    ssr += view_ssr;
+    inlier_count += view_count;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const auto& p : target_points) centre += p;
+    centre /= static_cast<double>(target_points.size());
+    Eigen::Vector3d camera_centre;
+    ceres::AngleAxisRotatePoint(out.rotation.data(), centre.data(), camera_centre.data());
+    distances.push_back((camera_centre + out.translation).norm());
+  }
+  result.used_views = activeCount();
+  result.used_points = inlier_count;
+
+  // Covariance (see calibrate.hpp): Σ = σ² (JᵀJ)⁻¹, σ² = SSR / (2N − n_free).
+  Linearisation linear = linearise(setup, &state);
+  result.free_parameter_count = static_cast<int>(linear.jacobian.cols());
+  const int dof = 2 * inlier_count - result.free_parameter_count;
+  if (dof <= 0) throw std::runtime_error("more unknowns (" + std::to_string(result.free_parameter_count) +
+                                         ") than measurements (" + std::to_string(2 * inlier_count) + ")");
+  result.sigma_px = std::sqrt(ssr / dof);
+  const Eigen::MatrixXd tangent_covariance =
+      result.sigma_px * result.sigma_px * inverseNormalMatrix(linear.jacobian, &result.warnings);
+  const int view_count = static_cast<int>(linear.active_views.size());
+  const int state_size = parameter_count + 6 * view_count;
+  // Tangent → ambient: column c of the tangent intrinsics is ambient index free_intrinsics[c];
+  // fixed parameters get zero rows/columns.
+  std::vector<int> ambient_of_tangent;
+  for (const int index : linear.free_intrinsics) ambient_of_tangent.push_back(index);
+  for (int i = 0; i < 6 * view_count; ++i) ambient_of_tangent.push_back(parameter_count + i);
+  result.state_covariance = Eigen::MatrixXd::Zero(state_size, state_size);
+  const int tangent_state = static_cast<int>(ambient_of_tangent.size());
+  for (int r = 0; r < tangent_state; ++r)
+    for (int c = 0; c < tangent_state; ++c)
+      result.state_covariance(ambient_of_tangent[r], ambient_of_tangent[c]) = tangent_covariance(r, c);
+  result.state_view_index = linear.active_views;
+
+  result.camera.width = width;
+  result.camera.height = height;
+  result.camera.params = state.params;
+  result.camera.rms_px = std::sqrt(ssr / std::max(1, inlier_count));
+  result.camera.covariance = result.state_covariance.topLeftCorner(parameter_count, parameter_count);
+
+  // Target.
+  result.target_points = state.points;
+  result.target_refined = options.refine_target;
+  result.gauge_points = setup.gauge;
+  if (options.refine_target) {
+    std::vector<Eigen::Vector3d> refined;
+    double displacement = 0.0;
+    for (std::size_t i = 0; i < state.points.size(); ++i) {
+      if (!setup.point_refinable[i]) continue;
+      refined.push_back(state.points[i]);
+      displacement += (state.points[i] - target_points[i]).squaredNorm();
+    }
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto& p : refined) centroid += p;
+    centroid /= static_cast<double>(refined.size());
+    Eigen::MatrixXd centred(3, refined.size());
+    for (std::size_t i = 0; i < refined.size(); ++i) centred.col(static_cast<Eigen::Index>(i)) = refined[i] - centroid;
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinU);
+    const Eigen::Vector3d normal = svd.matrixU().col(2);
+    double sum = 0.0, worst = 0.0;
+    for (const auto& p : refined) {
+      const double off = normal.dot(p - centroid);
+      sum += off * off;
+      worst = std::max(worst, std::abs(off));
+    }
+    result.target_out_of_plane_rms_m = std::sqrt(sum / refined.size());
+    result.target_out_of_plane_max_m = worst;
+    result.target_displacement_rms_m = std::sqrt(displacement / refined.size());
+  }
+
+  result.uncertainty_distance_m = options.uncertainty_distance_m > 0.0 ? options.uncertainty_distance_m : median(distances);
+  addGeometryWarnings(views, state, width, height, &result);
+  return result;
+}
+
+CalibrationResult calibrateCamera(const std::vector<std::vector<Eigen::Vector3d>>& object_points,
+                                  const std::vector<std::vector<Eigen::Vector2d>>& image_points, int width,
+                                  int height, const CalibrationOptions& options) {
+  if (object_points.size() != image_points.size())
+    throw std::invalid_argument("object_points and image_points differ in view count");
+  // Identical object points are one target point: lexicographic map on exact coordinates.
+  auto less = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+  };
+  std::map<Eigen::Vector3d, int, decltype(less)> index(less);
+  std::vector<Eigen::Vector3d> target_points;
+  std::vector<CalibrationView> views(object_points.size());
+  for (std::size_t v = 0; v < object_points.size(); ++v) {
+    if (object_points[v].size() != image_points[v].size())
+      throw std::invalid_argument("view " + std::to_string(v) + ": object and image point counts differ");
+    views[v].name = "view " + std::to_string(v);
+    for (std::size_t k = 0; k < object_points[v].size(); ++k) {
+      const auto inserted = index.emplace(object_points[v][k], static_cast<int>(target_points.size()));
+      if (inserted.second) target_points.push_back(object_points[v][k]);
+      views[v].ids.push_back(inserted.first->second);
+      views[v].pixels.push_back(image_points[v][k]);
+    }
+  }
+  return calibrateCamera(target_points, views, width, height, options);
+}
+
+}  // namespace mire::calibration

@@ -1,0 +1,61 @@
+#pragma once
+// The paper's experiment in simulation (paper §5–6, BRIEF §9): a simulated true H4 carrying a
+// target, seen by the reference camera. Generates, deterministically for a seed, everything a
+// user would have recorded on the real robot, as files in the formats of BRIEF §10:
+//   <dir>/target.yaml                      the target
+//   <dir>/calibration/images/view_XXX.png  calibration images of the reference camera
+//   <dir>/poses/<pose_id>/img_XX.png       81 poses × N images of the target on the effector
+//   <dir>/joints.csv                       encoder readings at the 81 poses
+//   <dir>/lines.csv                        encoder readings along the two straight lines (V3)
+// and, kept apart for scoring only (never read by the pipeline):
+//   <dir>/truth/...                        true camera, true robot geometry, true poses
+#include "mire/datasets/h4_true_robot.hpp"
+#include "mire/datasets/render.hpp"
+#include "mire/datasets/simulation.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace mire::datasets {
+
+struct H4CampaignSpec {
+  std::filesystem::path camera_file;  // true camera (camera.yaml); default: the reference camera
+  std::filesystem::path target_file;  // default: datasets/specs/target_h4.yaml
+  int calibration_views = 25;
+  int images_per_pose = 10;           // BRIEF §3
+  int line_points = 20;               // per straight line (V3)
+  H4ProtocolGrid grid;                // the 81-pose protocol (BRIEF §9)
+  H4ErrorSizes errors;                // manufacturing errors and unmodelled defects
+  double encoder_noise_rad = 2e-5;
+  RenderOptions render;
+  NoiseOptions noise;
+  std::uint64_t seed = 2004;
+
+  // The defaults above with realistic optics: slight defocus and sensor noise.
+  static H4CampaignSpec reference();
+};
+
+// What was generated: the true robot and mounting (for scoring), and where the files are.
+struct H4Campaign {
+  H4TrueRobot robot;
+  calibration::Camera camera;  // true camera (scoring only)
+  std::vector<H4Pose> poses;   // true effector poses, in pose-id order
+  std::vector<std::string> pose_ids;
+  std::array<std::vector<H4Pose>, 2> lines;  // commanded line motions (for reference)
+
+  std::filesystem::path directory;
+  std::filesystem::path target_file() const { return directory / "target.yaml"; }
+  std::filesystem::path calibration_images() const { return directory / "calibration" / "images"; }
+  std::filesystem::path pose_images() const { return directory / "poses"; }
+  std::filesystem::path joints_file() const { return directory / "joints.csv"; }
+  std::filesystem::path lines_file() const { return directory / "lines.csv"; }
+};
+
+// Generates the campaign under `directory` (created; existing files are replaced atomically).
+// `progress` is called after each image written.
+H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const std::filesystem::path& directory,
+                              const ProgressCallback& progress = {});
+
+}  // namespace mire::datasets

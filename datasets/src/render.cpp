@@ -1,0 +1,247 @@
+// Inverse-mapping renderer of a planar target through a distorted camera (render.hpp).
+#include "mire/datasets/render.hpp"
+
+#include "target_albedo.hpp"
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mire::datasets {
+namespace {
+
+constexpr float kOffPaper = -1.0f;
+
+// Random shapes behind the target (a "cluttered" scene), drawn antialiased once per renderer.
+cv::Mat clutteredBackground(int width, int height, double level, std::uint64_t seed) {
+  cv::Mat canvas(height, width, CV_8U, cv::Scalar(std::clamp(level, 0.0, 255.0)));
+  cv::RNG rng(seed);
+  const int count = 60;
+  const int size = std::max(width, height);
+  for (int n = 0; n < count; ++n) {
+    const cv::Scalar grey(rng.uniform(20, 236));
+    const cv::Point2f centre(rng.uniform(0.0f, static_cast<float>(width)), rng.uniform(0.0f, static_cast<float>(height)));
+    const float extent = rng.uniform(0.02f, 0.15f) * static_cast<float>(size);
+    switch (rng.uniform(0, 3)) {
+      case 0:
+        cv::circle(canvas, centre, static_cast<int>(extent / 2), grey, cv::FILLED, cv::LINE_AA);
+        break;
+      case 1: {
+        const cv::RotatedRect rect(centre, cv::Size2f(extent, extent * rng.uniform(0.2f, 1.0f)), rng.uniform(0.0f, 180.0f));
+        cv::Point2f corners[4];
+        rect.points(corners);
+        std::vector<cv::Point> polygon;
+        for (const auto& corner : corners) polygon.emplace_back(cvRound(corner.x), cvRound(corner.y));
+        cv::fillConvexPoly(canvas, polygon, grey, cv::LINE_AA);
+        break;
+      }
+      default: {
+        std::vector<cv::Point> triangle;
+        for (int k = 0; k < 3; ++k)
+          triangle.emplace_back(cvRound(centre.x + rng.uniform(-extent, extent)), cvRound(centre.y + rng.uniform(-extent, extent)));
+        cv::fillConvexPoly(canvas, triangle, grey, cv::LINE_AA);
+        break;
+      }
+    }
+  }
+  cv::Mat background;
+  canvas.convertTo(background, CV_32F);
+  return background;
+}
+
+cv::Mat vignettingGain(const calibration::Camera& camera, const RayGrid& rays, const RenderOptions& options) {
+  if (options.vignetting == Vignetting::None) return {};
+  cv::Mat gain(camera.height, camera.width, CV_32F);
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      double value = 1.0;
+      if (options.vignetting == Vignetting::Cos4) {
+        const Eigen::Vector2d ray = rays.interpolate(u, v);
+        const double cos2 = 1.0 / (1.0 + ray.squaredNorm());
+        value = std::isfinite(cos2) ? cos2 * cos2 : 0.0;
+      } else {
+        const double x = (u - camera.cx()) / camera.fx(), y = (v - camera.cy()) / camera.fy();
+        const double r2 = x * x + y * y;
+        double power = r2;
+        for (const double coefficient : options.vignetting_coefficients) value += coefficient * power, power *= r2;
+      }
+      gain.at<float>(v, u) = static_cast<float>(std::max(0.0, value));
+    }
+  }
+  return gain;
+}
+
+}  // namespace
+
+std::size_t FeatureTruth::visibleCount() const {
+  return static_cast<std::size_t>(std::count(visible.begin(), visible.end(), true));
+}
+
+FeatureTruth projectFeatures(const calibration::Camera& camera, const metrology::Target& target,
+                             const Eigen::Isometry3d& camera_T_target) {
+  FeatureTruth truth;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Eigen::Vector3d& point : target.points()) {
+    const Eigen::Vector3d in_camera = camera_T_target * point;
+    Eigen::Vector2d pixel(nan, nan);
+    bool visible = camera.project(in_camera, &pixel);
+    if (!visible) pixel = Eigen::Vector2d(nan, nan);
+    visible = visible && pixel.x() >= -0.5 && pixel.x() <= camera.width - 0.5 && pixel.y() >= -0.5 &&
+              pixel.y() <= camera.height - 0.5;
+    if (visible) {
+      // Beyond the lens's monotonic range a far-off point can fold back into the image:
+      // it is visible only if undistorting its pixel gives its own ray back.
+      Eigen::Vector2d ray;
+      visible = camera.unproject(pixel, &ray) &&
+                (ray - in_camera.head<2>() / in_camera.z()).norm() < 1e-9 * (1.0 + ray.norm());
+    }
+    truth.pixels.push_back(pixel);
+    truth.visible.push_back(visible);
+  }
+  return truth;
+}
+
+Renderer::Renderer(calibration::Camera camera, metrology::Target target, RenderOptions options)
+    : camera_(std::move(camera)), target_(std::move(target)), options_(std::move(options)) {
+  camera_.validate();
+  if (options_.supersampling < 1 || options_.supersampling > 16)
+    throw std::invalid_argument("supersampling must be between 1 and 16, not " + std::to_string(options_.supersampling));
+  if (!(options_.blur_sigma_px >= 0.0)) throw std::invalid_argument("blur_sigma_px must be >= 0");
+  rays_ = std::make_unique<RayGrid>(camera_);
+  albedo_ = std::make_unique<TargetAlbedo>(target_, static_cast<float>(options_.dark_level),
+                                           static_cast<float>(options_.light_level));
+  background_ = options_.cluttered_background
+                    ? clutteredBackground(camera_.width, camera_.height, options_.background_level, options_.seed)
+                    : cv::Mat(camera_.height, camera_.width, CV_32F, cv::Scalar(options_.background_level));
+  vignetting_ = vignettingGain(camera_, *rays_, options_);
+}
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target) const {
+  const int width = camera_.width, height = camera_.height;
+  // A ray (x, y, 1) meets the plane z_M = 0 at (X, Y) with s·(x, y, 1) = [r1 r2 t]·(X, Y, 1):
+  // (X, Y, 1)/s = [r1 r2 t]^-1 (x, y, 1), in front of the camera when 1/s > 0.
+  Eigen::Matrix3d plane_to_ray;
+  plane_to_ray << camera_T_target.linear().col(0), camera_T_target.linear().col(1), camera_T_target.translation();
+  const Eigen::Matrix3d ray_to_plane = plane_to_ray.inverse();
+  const TargetAlbedo& albedo = *albedo_;
+  const auto sample = [&](const Eigen::Vector2d& ray) -> float {
+    if (!ray.allFinite()) return kOffPaper;
+    const Eigen::Vector3d q = ray_to_plane * Eigen::Vector3d(ray.x(), ray.y(), 1.0);
+    if (!(q.z() > 0.0)) return kOffPaper;
+    return albedo(q.x() / q.z(), q.y() / q.z());
+  };
+
+  // Pass 1: one exact sample at every pixel corner.
+  cv::Mat corner_level(height + 1, width + 1, CV_32F);
+  cv::parallel_for_(cv::Range(0, height + 1), [&](const cv::Range& range) {
+    for (int j = range.start; j < range.end; ++j) {
+      float* row = corner_level.ptr<float>(j);
+      for (int i = 0; i <= width; ++i) row[i] = sample(rays_->corner(i, j));
+    }
+  });
+
+  // Pixels whose corners disagree hold an edge; their 8 neighbours too may hold a small
+  // piece of a feature (e.g. a square's corner) that misses every corner, so dilate.
+  cv::Mat edge(height, width, CV_8U);
+  for (int j = 0; j < height; ++j) {
+    const float* top = corner_level.ptr<float>(j);
+    const float* bottom = corner_level.ptr<float>(j + 1);
+    auto* out = edge.ptr<std::uint8_t>(j);
+    for (int i = 0; i < width; ++i)
+      out[i] = (top[i] != top[i + 1] || top[i] != bottom[i] || top[i] != bottom[i + 1]) ? 255 : 0;
+  }
+  cv::Mat supersample = edge;
+  if (options_.adaptive)
+    cv::dilate(edge, supersample, cv::Mat());
+  else
+    supersample.setTo(255);
+
+  // Pass 2: uniform pixels take their corners' level; the others average n x n sub-samples
+  // at ((k + 0.5)/n) inside the pixel, rays interpolated bilinearly between the corners.
+  Rendering result;
+  result.radiance.create(height, width, CV_32F);
+  const int n = options_.supersampling;
+  std::vector<int> counts(static_cast<std::size_t>(height), 0);
+  cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& range) {
+    for (int j = range.start; j < range.end; ++j) {
+      float* out = result.radiance.ptr<float>(j);
+      const float* background = background_.ptr<float>(j);
+      const auto* flags = supersample.ptr<std::uint8_t>(j);
+      for (int i = 0; i < width; ++i) {
+        if (!flags[i]) {
+          const float level = corner_level.at<float>(j, i);
+          out[i] = level < 0.0f ? background[i] : level;
+          continue;
+        }
+        ++counts[static_cast<std::size_t>(j)];
+        const Eigen::Vector2d& c00 = rays_->corner(i, j);
+        const Eigen::Vector2d& c10 = rays_->corner(i + 1, j);
+        const Eigen::Vector2d& c01 = rays_->corner(i, j + 1);
+        const Eigen::Vector2d& c11 = rays_->corner(i + 1, j + 1);
+        double sum = 0.0;
+        for (int sv = 0; sv < n; ++sv) {
+          const double b = (sv + 0.5) / n;
+          const Eigen::Vector2d left = (1.0 - b) * c00 + b * c01;
+          const Eigen::Vector2d right = (1.0 - b) * c10 + b * c11;
+          for (int su = 0; su < n; ++su) {
+            const double a = (su + 0.5) / n;
+            const float level = sample((1.0 - a) * left + a * right);
+            sum += level < 0.0f ? background[i] : level;
+          }
+        }
+        out[i] = static_cast<float>(sum / (n * n));
+      }
+    }
+  });
+  for (const int count : counts) result.supersampled_pixels += count;
+
+  if (options_.blur_sigma_px > 0.0)
+    cv::GaussianBlur(result.radiance, result.radiance, cv::Size(), options_.blur_sigma_px, options_.blur_sigma_px,
+                     cv::BORDER_REFLECT);
+  if (!vignetting_.empty()) cv::multiply(result.radiance, vignetting_, result.radiance);
+  result.image = quantize(result.radiance);
+  result.truth = projectFeatures(camera_, target_, camera_T_target);
+  return result;
+}
+
+cv::Mat quantize(const cv::Mat& radiance) {
+  cv::Mat image;
+  radiance.convertTo(image, CV_8U);  // rounds to nearest and saturates to [0, 255]
+  return image;
+}
+
+cv::Mat addNoise(const cv::Mat& radiance, const NoiseOptions& noise, std::uint64_t seed) {
+  if (radiance.type() != CV_32F) throw std::invalid_argument("addNoise expects a CV_32F radiance image");
+  if (!(noise.gaussian_sigma >= 0.0) || !(noise.shot_noise_gain >= 0.0))
+    throw std::invalid_argument("noise sigma and gain must be >= 0");
+  cv::RNG rng(seed);
+  cv::Mat noisy = radiance.clone();
+  if (noise.gaussian_sigma > 0.0) {
+    cv::Mat read_noise(radiance.size(), CV_32F);
+    rng.fill(read_noise, cv::RNG::NORMAL, 0.0, noise.gaussian_sigma);
+    noisy += read_noise;
+  }
+  if (noise.shot_noise_gain > 0.0) {
+    // Poisson(I·g)/g has mean I and variance I/g; at these signal levels its Gaussian
+    // approximation is indistinguishable.
+    cv::Mat shot(radiance.size(), CV_32F);
+    rng.fill(shot, cv::RNG::NORMAL, 0.0, 1.0);
+    cv::Mat sigma;
+    cv::max(radiance, 0.0, sigma);
+    cv::sqrt(sigma / noise.shot_noise_gain, sigma);
+    noisy += shot.mul(sigma);
+  }
+  return quantize(noisy);
+}
+
+}  // namespace mire::datasets

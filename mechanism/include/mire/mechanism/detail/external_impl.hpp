@@ -1,0 +1,106 @@
+#pragma once
+// Templated pose chain of ExternalParameterization (eq. 3), usable with ceres::Jet.
+#include <ceres/rotation.h>
+
+#include <cmath>
+
+namespace mire::mechanism {
+
+namespace detail {
+
+// out = a · b for column-major 3x3 matrices.
+template <class T, class U, class V>
+void multiply3(const U* a, const V* b, T* out) {
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      out[3 * c + r] = a[r] * b[3 * c] + a[3 + r] * b[3 * c + 1] + a[6 + r] * b[3 * c + 2];
+}
+
+// out = m · v for a column-major 3x3 matrix.
+template <class T, class U, class V>
+void apply3(const U* m, const V* v, T* out) {
+  for (int r = 0; r < 3; ++r) out[r] = m[r] * v[0] + m[3 + r] * v[1] + m[6 + r] * v[2];
+}
+
+// Column-major Rz(angle).
+template <class T>
+void rotationZ(const T& angle, T* out) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(angle), s = sin(angle);
+  out[0] = c;    out[1] = s;    out[2] = T(0);
+  out[3] = -s;   out[4] = c;    out[5] = T(0);
+  out[6] = T(0); out[7] = T(0); out[8] = T(1);
+}
+
+}  // namespace detail
+
+template <class T>
+void ExternalParameterization::effectorInBase(const T* external, const T* cTm, T* R, T* t) const {
+  T cRm[9];
+  ceres::AngleAxisToRotationMatrix(cTm + 3, ceres::ColumnMajorAdapter3x3(cRm));
+  chain(external, cRm, cTm, R, t);
+}
+
+template <class T>
+void ExternalParameterization::effectorInBaseFromMeasured(const T* external, const double* cRm,
+                                                          const double* ctm, T* R, T* t) const {
+  chain(external, cRm, ctm, R, t);
+}
+
+template <class T, class S>
+void ExternalParameterization::chain(const T* external, const S* cRm, const S* ctm, T* R,
+                                     T* t) const {
+  // camera_ / target_ hold Ac, Am column-major (see external.cpp).
+  if (form_ == ExternalForm::Full) {
+    // bTe = cTb⁻¹ · cTm · eTm⁻¹ with cTb = (Rcb, tcb), eTm = (Rem, tem).
+    T Rcb[9], Rem[9];
+    ceres::AngleAxisToRotationMatrix(external + 3, ceres::ColumnMajorAdapter3x3(Rcb));
+    ceres::AngleAxisToRotationMatrix(external + 9, ceres::ColumnMajorAdapter3x3(Rem));
+    T Rbc[9], Rme[9];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        Rbc[3 * c + r] = Rcb[3 * r + c];
+        Rme[3 * c + r] = Rem[3 * r + c];
+      }
+    T tme[3];  // −Remᵀ tem
+    detail::apply3(Rme, external + 6, tme);
+    for (T& v : tme) v = -v;
+    T Rce[9], tce[3];
+    detail::multiply3(cRm, Rme, Rce);
+    detail::apply3(cRm, tme, tce);
+    for (int k = 0; k < 3; ++k) tce[k] += ctm[k] - external[k];  // cTe translation − tcb
+    detail::multiply3(Rbc, Rce, R);
+    detail::apply3(Rbc, tce, t);
+    return;
+  }
+
+  // Aligned forms: mTe = [Am·Rz(psi_ME), Am·(x_ME, y_ME, z_ME)].
+  const T* me = form_ == ExternalForm::AxisAligned ? external + 4 : external;
+  T Rz_me[9], Rme[9], tme[3];
+  detail::rotationZ(me[3], Rz_me);
+  detail::multiply3(target_, Rz_me, Rme);
+  detail::apply3(target_, me, tme);
+  T Rce[9], tce[3];
+  detail::multiply3(cRm, Rme, Rce);
+  detail::apply3(cRm, tme, tce);
+  for (int k = 0; k < 3; ++k) tce[k] += ctm[k];
+
+  // bTc rotation: Rz(psi_BC)·Acᵀ (AxisAligned) or Acᵀ (CameraFrame).
+  T AcT[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) AcT[3 * c + r] = T(camera_[3 * r + c]);
+  if (form_ == ExternalForm::AxisAligned) {
+    T Rz_bc[9], Rbc[9];
+    detail::rotationZ(external[3], Rz_bc);
+    detail::multiply3(Rz_bc, AcT, Rbc);
+    detail::multiply3(Rbc, Rce, R);
+    detail::apply3(Rbc, tce, t);
+    for (int k = 0; k < 3; ++k) t[k] += external[k];
+  } else {
+    detail::multiply3(AcT, Rce, R);
+    detail::apply3(AcT, tce, t);
+  }
+}
+
+}  // namespace mire::mechanism

@@ -1,0 +1,117 @@
+#pragma once
+// External parameters ξe (paper §4, BRIEF §6): the pose chain bTe = bTc · cTm · mTe (eq. 3)
+// that turns the measured target pose cTm into the effector pose X.
+//
+// Three forms:
+//  - AxisAligned (paper §4.1, 8 parameters, z_ME fixed by default -> 7 free):
+//      bTc = [Rz(psi_BC) · Acᵀ , (x_BC, y_BC, z_BC)]        (camera centre in B, metres)
+//      mTe = [Am · Rz(psi_ME)  , Am · (x_ME, y_ME, z_ME)]    (effector origin in M)
+//    Ac, Am (AxisAlignment) are fixed rotations estimated from the data: their third columns
+//    are the effector rotation axis z_B seen in the camera frame and in the target frame
+//    (all relative rotations cRm(j)·cRm(0)ᵀ share that axis). z_ME is fixed because only
+//    z_BC + z_ME is identifiable (eq. 24).
+//  - Full (12 parameters, none fixed): both transforms fully parameterised as in eq. 24,
+//      cTb = [exp(rx_CB, ry_CB, rz_CB), (tx_CB, ty_CB, tz_CB)],
+//      eTm = [exp(rx_EM, ry_EM, rz_EM), (tx_EM, ty_EM, tz_EM)]    (rotation vectors),
+//      bTe = cTb⁻¹ · cTm · eTm⁻¹.
+//    Left to the identifiability analysis, which names the unidentifiable combinations
+//    (for a 1-rotation mechanism: tx_CB + r13·tz_EM, ... (eq. 24) and the effector tilt).
+//  - CameraFrame (model 31 rewritten in the camera frame, eq. 25–26; 4 parameters, z_ME
+//    fixed -> 3 free): the base frame is the axis-aligned camera frame,
+//      bTc = [Acᵀ, 0],  mTe = [Am · Rz(psi_ME), Am · (x_ME, y_ME, z_ME)].
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/parameter_set.hpp"
+#include "mire/mechanism/pose.hpp"
+
+namespace mire::mechanism {
+
+class Mechanism;
+
+enum class ExternalForm { AxisAligned, Full, CameraFrame };
+
+std::string externalFormName(ExternalForm form);  // "axis-aligned", "full", "camera-frame"
+
+// Fixed pre-alignment rotations: camera = Ac (columns: aligned frame axes in camera
+// coordinates, column 2 = rotation axis), target = Am (same in target coordinates).
+struct AxisAlignment {
+  Eigen::Matrix3d camera = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d target = Eigen::Matrix3d::Identity();
+  // Covariance [rad²] of the estimated tilts (camera about its aligned x, y; target about
+  // its aligned x, y), i.e. Ac·exp([δ1, δ2, 0]), Am·exp([δ3, δ4, 0]). Zero when the alignment
+  // is exact or unknown. identify() propagates it into the parameter covariance.
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+};
+
+// The alignment tilted by δ (see AxisAlignment::covariance); the covariance is kept.
+AxisAlignment tiltAlignment(const AxisAlignment& alignment, const Eigen::Vector4d& delta);
+
+class ExternalParameterization {
+ public:
+  explicit ExternalParameterization(ExternalForm form, AxisAlignment alignment = {});
+
+  ExternalForm form() const { return form_; }
+  const AxisAlignment& alignment() const { return alignment_; }
+  static int size(ExternalForm form);  // 8, 12, 4
+  int size() const { return size(form_); }
+
+  // Names, units, zero values and default fixed flags (z_ME fixed in AxisAligned and
+  // CameraFrame; nothing fixed in Full).
+  ParameterSet parameters() const;
+
+  // bTc, mTe and bTe = bTc · cTm · mTe (eq. 3) for the given external values.
+  Eigen::Isometry3d baseFromCamera(const Eigen::VectorXd& external) const;
+  Eigen::Isometry3d targetFromEffector(const Eigen::VectorXd& external) const;
+  Eigen::Isometry3d effectorInBase(const Eigen::VectorXd& external, const PoseVector& cTm) const;
+
+  // The values of this form closest to the given transforms (exact for Full; for the
+  // aligned forms the rotations are projected onto rotations about the aligned z axis).
+  Eigen::VectorXd valuesFrom(const Eigen::Isometry3d& bTc, const Eigen::Isometry3d& mTe) const;
+
+  // Templated chain for autodiff (eq. 3). cTm is a PoseVector-like array of 6 T; R is
+  // column-major 3x3 and t a 3-vector of bTe.
+  template <class T>
+  void effectorInBase(const T* external, const T* cTm, T* R, T* t) const;
+  // Same with the measured cTm given as a column-major rotation matrix and a translation
+  // (constants: cheaper under autodiff).
+  template <class T>
+  void effectorInBaseFromMeasured(const T* external, const double* cRm, const double* ctm, T* R,
+                                  T* t) const;
+
+ private:
+  template <class T, class S>
+  void chain(const T* external, const S* cRm, const S* ctm, T* R, T* t) const;
+
+  ExternalForm form_;
+  AxisAlignment alignment_;
+  // Column-major copies of Ac, Am for the templated code.
+  double camera_[9];
+  double target_[9];
+};
+
+// The effector rotation axis in the camera and target frames, from the measured
+// orientations (least-squares common axis of all relative rotations cRm(j)·cRm(0)ᵀ),
+// refined by maximum likelihood over the poses' rotations (weighted by their covariances
+// when all poses have one), with the covariance of the tilts (AxisAlignment::covariance).
+// The axis sign is arbitrary here; estimateExternal() orients it to agree with θ.
+// Throws std::invalid_argument when the poses span less than 2° of rotation.
+AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses);
+
+// Initial external values from the data, never typed by users (BRIEF §6): the effector
+// poses are computed with the FKM at `geometric` (nominal) and the encoder readings, then
+// bTc, mTe are solved in closed form (rotation-axis alignment, then a linear least-squares
+// fit of ψ_BC and the translations in the plane; z_BC from the mean with z_ME = `z_ME`).
+// Returns the form's ParameterSet with values and default fixed flags. The returned
+// parameterisation (with its alignment) is written to `parameterization`.
+// Throws std::runtime_error naming the pose ids where the FKM does not converge.
+ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
+                              const std::vector<PoseObservation>& poses, ExternalForm form,
+                              ExternalParameterization& parameterization, double z_ME = 0.0);
+
+}  // namespace mire::mechanism
+
+#include "mire/mechanism/detail/external_impl.hpp"

@@ -1,0 +1,107 @@
+#pragma once
+// The mechanism interface (BRIEF §1, paper §2.1): a closed-form inverse kinematic model
+// (IKM) q = f(X, ξg) (eq. 1), a numerical forward model (FKM) built on it, and a factory of
+// Ceres cost functions for the identification residual ε = q̄ − f(X(ξe), ξg) (eq. 4).
+//
+// A new mechanism (Delta, Gough–Stewart, ...) does not implement this class by hand: it
+// writes a small "kinematics" struct with a templated IKM and wraps it in
+// MechanismAdapter<Kinematics> (mechanism_adapter.hpp), which provides autodiff cost
+// functions, pose Jacobians and the FKM. The identification core only sees Mechanism.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/external.hpp"
+#include "mire/mechanism/parameter_set.hpp"
+#include "mire/mechanism/pose.hpp"
+
+namespace ceres {
+class CostFunction;
+}
+
+namespace mire::mechanism {
+
+// Result of an IKM evaluation. An unreachable pose (e.g. |c| > ρ on an H4 leg) lists the
+// failing joints: their entries in `joints` are NaN and must never be used silently.
+struct IkmResult {
+  Eigen::VectorXd joints;                // q [rad or m], size jointCount()
+  std::vector<int> unreachable_joints;   // 0-based joint indices
+  bool reachable() const { return unreachable_joints.empty(); }
+};
+
+struct FkmOptions {
+  int max_iterations = 50;
+  double joint_tolerance = 1e-10;  // converged when every |q(X) − q̄| is below this [rad]
+};
+
+// Numerical FKM (Levenberg–Marquardt on the IKM, Ceres): the pose X whose IKM gives q̄.
+struct FkmResult {
+  Eigen::VectorXd pose;                    // X, size poseDof(), mechanism's pose components
+  Eigen::Isometry3d bTe = Eigen::Isometry3d::Identity();
+  bool converged = false;
+  int iterations = 0;
+  double max_joint_error = 0.0;            // max |q(X) − q̄| at the returned pose
+  std::string message;                     // why it did not converge, when it did not
+};
+
+class Mechanism {
+ public:
+  virtual ~Mechanism() = default;
+
+  virtual std::string name() const = 0;
+  virtual int jointCount() const = 0;
+  // Number of effector degrees of freedom and their names/units (H4: x, y, z [m], theta [rad]).
+  virtual int poseDof() const = 0;
+  virtual std::vector<std::string> poseComponentNames() const = 0;
+  virtual std::vector<Unit> poseComponentUnits() const = 0;
+
+  // Geometric parameters ξg with nominal values, units and default fixed flags
+  // (e.g. d is fixed in H4 model 12 because it has no influence).
+  virtual ParameterSet nominal() const = 0;
+  int geometricCount() const { return static_cast<int>(nominal().size()); }
+
+  // Pose components <-> effector transform bTe in the base frame.
+  virtual Eigen::Isometry3d poseToTransform(const Eigen::VectorXd& pose) const = 0;
+  virtual Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const = 0;
+
+  // A pose inside the workspace for these parameters: the FKM's default starting point.
+  virtual Eigen::VectorXd referencePose(const Eigen::VectorXd& geometric) const = 0;
+
+  // IKM (eq. 1) at the effector transform bTe; `geometric` in nominal()'s order.
+  virtual IkmResult inverseKinematics(const Eigen::VectorXd& geometric,
+                                      const Eigen::Isometry3d& bTe) const = 0;
+
+  // FKM by Levenberg–Marquardt on the IKM from `initial_pose` (poseDof() values).
+  // Non-convergence (or an unreachable start) is reported in the result, never thrown.
+  virtual FkmResult forwardKinematics(const Eigen::VectorXd& geometric,
+                                      const Eigen::VectorXd& joints,
+                                      const Eigen::VectorXd& initial_pose,
+                                      const FkmOptions& options = {}) const = 0;
+
+  // IKM from a measured target pose through the external parameters (eq. 3 then eq. 1).
+  virtual IkmResult predictJoints(const ExternalParameterization& external,
+                                  const Eigen::VectorXd& geometric,
+                                  const Eigen::VectorXd& external_values,
+                                  const PoseVector& cTm) const = 0;
+
+  // ∂f/∂cTm (jointCount() x 6), to propagate a pose covariance: Σq = J Σ_X Jᵀ.
+  virtual Eigen::MatrixXd jointJacobianWrtPose(const ExternalParameterization& external,
+                                               const Eigen::VectorXd& geometric,
+                                               const Eigen::VectorXd& external_values,
+                                               const PoseVector& cTm) const = 0;
+
+  // Ceres cost for one pose: residual W·(q̄ − f(X(ξe, cTm), ξg)) (jointCount() values) over two
+  // parameter blocks [ξg (geometricCount()), ξe (ExternalParameterization::size())].
+  // `whitening` W is jointCount() x jointCount() (identity, 1/σ, or L⁻¹ with Σq = L Lᵀ).
+  // The cost returns false (Ceres rejects the step) where the pose is unreachable.
+  virtual std::unique_ptr<ceres::CostFunction> makeJointResidual(
+      const ExternalParameterization& external, const PoseVector& cTm,
+      const Eigen::VectorXd& measured_joints, const Eigen::MatrixXd& whitening) const = 0;
+
+  virtual std::unique_ptr<Mechanism> clone() const = 0;
+};
+
+}  // namespace mire::mechanism

@@ -1,0 +1,293 @@
+#pragma once
+// MechanismAdapter<Kinematics>: turns a small templated kinematics struct into a Mechanism
+// with autodiff Ceres cost functions, pose Jacobians and a numerical FKM. A new mechanism
+// only writes the struct:
+//
+//   struct MyKinematics {
+//     static constexpr int kGeometric = ...;  // geometric parameter count
+//     static constexpr int kJoints = ...;     // actuated joints
+//     static constexpr int kPoseDof = ...;    // effector degrees of freedom
+//     std::string name() const;
+//     std::vector<std::string> poseComponentNames() const;
+//     std::vector<Unit> poseComponentUnits() const;
+//     Eigen::VectorXd referencePose(const Eigen::VectorXd& geometric) const;
+//     Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const;
+//     template <class T> void poseToTransform(const T* pose, T* R, T* t) const;  // R col-major
+//     // IKM at bTe = (R, t); returns a bit mask of unreachable joints (0: all reachable).
+//     template <class T> int inverseKinematics(const T* geometric, const T* R, const T* t,
+//                                              T* joints) const;
+//   };
+//   auto mechanism = std::make_unique<MechanismAdapter<MyKinematics>>(MyKinematics{}, nominal);
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/ceres.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mire/mechanism/external.hpp"
+#include "mire/mechanism/mechanism.hpp"
+
+namespace mire::mechanism {
+
+namespace detail {
+
+inline std::vector<int> unreachableList(int mask, int joints) {
+  std::vector<int> list;
+  for (int i = 0; i < joints; ++i)
+    if (mask & (1 << i)) list.push_back(i);
+  return list;
+}
+
+// Residual W·(q̄ − f(X(ξe, cTm), ξg)) of one pose (eq. 4), parameter blocks [ξg, ξe].
+template <class K>
+struct JointResidualFunctor {
+  K kinematics;
+  ExternalParameterization external;
+  Eigen::Matrix3d cRm;  // measured cTm, precomputed once (constant under autodiff)
+  Eigen::Vector3d ctm;
+  Eigen::Matrix<double, K::kJoints, 1> joints;
+  Eigen::Matrix<double, K::kJoints, K::kJoints> whitening;
+
+  template <class T>
+  bool operator()(const T* geometric, const T* ext, T* residual) const {
+    T R[9], t[3], q[K::kJoints];
+    external.effectorInBaseFromMeasured(ext, cRm.data(), ctm.data(), R, t);
+    if (kinematics.inverseKinematics(geometric, R, t, q) != 0) return false;
+    T error[K::kJoints];
+    for (int i = 0; i < K::kJoints; ++i) error[i] = T(joints[i]) - q[i];
+    for (int r = 0; r < K::kJoints; ++r) {
+      residual[r] = T(0);
+      for (int c = 0; c < K::kJoints; ++c) residual[r] += whitening(r, c) * error[c];
+    }
+    return true;
+  }
+};
+
+// f(X(ξe, cTm), ξg) as a function of cTm only, for ∂f/∂cTm.
+template <class K>
+struct PoseJointFunctor {
+  K kinematics;
+  ExternalParameterization external;
+  Eigen::VectorXd geometric;
+  Eigen::VectorXd ext;
+
+  template <class T>
+  bool operator()(const T* pose, T* q) const {
+    T g[K::kGeometric];
+    for (int k = 0; k < K::kGeometric; ++k) g[k] = T(geometric[k]);
+    std::vector<T> e(static_cast<std::size_t>(ext.size()));
+    for (Eigen::Index k = 0; k < ext.size(); ++k) e[static_cast<std::size_t>(k)] = T(ext[k]);
+    T R[9], t[3];
+    external.effectorInBase(e.data(), pose, R, t);
+    return kinematics.inverseKinematics(g, R, t, q) == 0;
+  }
+};
+
+// q(X) − q̄ for the FKM.
+template <class K>
+struct FkmFunctor {
+  K kinematics;
+  Eigen::Matrix<double, K::kGeometric, 1> geometric;
+  Eigen::Matrix<double, K::kJoints, 1> joints;
+
+  template <class T>
+  bool operator()(const T* pose, T* residual) const {
+    T g[K::kGeometric];
+    for (int k = 0; k < K::kGeometric; ++k) g[k] = T(geometric[k]);
+    T R[9], t[3], q[K::kJoints];
+    kinematics.poseToTransform(pose, R, t);
+    if (kinematics.inverseKinematics(g, R, t, q) != 0) return false;
+    for (int i = 0; i < K::kJoints; ++i) residual[i] = q[i] - T(joints[i]);
+    return true;
+  }
+};
+
+}  // namespace detail
+
+template <class K>
+class MechanismAdapter final : public Mechanism {
+ public:
+  MechanismAdapter(K kinematics, ParameterSet nominal)
+      : kinematics_(std::move(kinematics)), nominal_(std::move(nominal)) {
+    if (static_cast<int>(nominal_.size()) != K::kGeometric)
+      throw std::invalid_argument(kinematics_.name() + ": nominal parameter count " +
+                                  std::to_string(nominal_.size()) + " != " +
+                                  std::to_string(K::kGeometric));
+  }
+
+  const K& kinematics() const { return kinematics_; }
+
+  std::string name() const override { return kinematics_.name(); }
+  int jointCount() const override { return K::kJoints; }
+  int poseDof() const override { return K::kPoseDof; }
+  std::vector<std::string> poseComponentNames() const override {
+    return kinematics_.poseComponentNames();
+  }
+  std::vector<Unit> poseComponentUnits() const override { return kinematics_.poseComponentUnits(); }
+  ParameterSet nominal() const override { return nominal_; }
+
+  Eigen::Isometry3d poseToTransform(const Eigen::VectorXd& pose) const override {
+    checkSize(pose, K::kPoseDof, "pose");
+    double R[9], t[3];
+    kinematics_.poseToTransform(pose.data(), R, t);
+    Eigen::Isometry3d bTe = Eigen::Isometry3d::Identity();
+    bTe.linear() = Eigen::Map<const Eigen::Matrix3d>(R);
+    bTe.translation() = Eigen::Map<const Eigen::Vector3d>(t);
+    return bTe;
+  }
+  Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const override {
+    return kinematics_.transformToPose(bTe);
+  }
+  Eigen::VectorXd referencePose(const Eigen::VectorXd& geometric) const override {
+    checkSize(geometric, K::kGeometric, "geometric parameter vector");
+    return kinematics_.referencePose(geometric);
+  }
+
+  IkmResult inverseKinematics(const Eigen::VectorXd& geometric,
+                              const Eigen::Isometry3d& bTe) const override {
+    checkSize(geometric, K::kGeometric, "geometric parameter vector");
+    const Eigen::Matrix3d R = bTe.linear();
+    const Eigen::Vector3d t = bTe.translation();
+    IkmResult result;
+    result.joints.resize(K::kJoints);
+    const int mask = kinematics_.inverseKinematics(geometric.data(), R.data(), t.data(),
+                                                   result.joints.data());
+    markUnreachable(mask, result);
+    return result;
+  }
+
+  FkmResult forwardKinematics(const Eigen::VectorXd& geometric, const Eigen::VectorXd& joints,
+                              const Eigen::VectorXd& initial_pose,
+                              const FkmOptions& options) const override {
+    checkSize(geometric, K::kGeometric, "geometric parameter vector");
+    checkSize(joints, K::kJoints, "joint vector");
+    checkSize(initial_pose, K::kPoseDof, "initial pose");
+    FkmResult result;
+    result.pose = initial_pose;
+    auto functor = std::make_unique<detail::FkmFunctor<K>>();
+    functor->kinematics = kinematics_;
+    functor->geometric = geometric;
+    functor->joints = joints;
+    {
+      double residual[K::kJoints];
+      if (!(*functor)(result.pose.data(), residual)) {
+        result.message = "the IKM is unreachable at the initial pose";
+        result.max_joint_error = std::numeric_limits<double>::infinity();
+        return result;
+      }
+    }
+    ceres::Problem problem;
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<detail::FkmFunctor<K>, K::kJoints, K::kPoseDof>(
+            functor.release()),
+        nullptr, result.pose.data());
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.max_num_iterations = options.max_iterations;
+    solver_options.function_tolerance = 1e-16;
+    solver_options.gradient_tolerance = 1e-16;
+    solver_options.parameter_tolerance = 1e-14;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+    result.iterations = static_cast<int>(summary.iterations.size());
+    const IkmResult check = inverseKinematics(geometric, poseToTransform(result.pose));
+    if (!check.reachable()) {
+      result.message = "the IKM is unreachable at the final pose";
+      result.max_joint_error = std::numeric_limits<double>::infinity();
+      return result;
+    }
+    result.max_joint_error = (check.joints - joints).cwiseAbs().maxCoeff();
+    result.bTe = poseToTransform(result.pose);
+    result.converged = result.max_joint_error < options.joint_tolerance;
+    if (!result.converged)
+      result.message = "no pose reproduces the joints (max joint error " +
+                       std::to_string(result.max_joint_error) + " rad after " +
+                       std::to_string(result.iterations) + " iterations)";
+    return result;
+  }
+
+  IkmResult predictJoints(const ExternalParameterization& external,
+                          const Eigen::VectorXd& geometric, const Eigen::VectorXd& external_values,
+                          const PoseVector& cTm) const override {
+    checkSize(external_values, external.size(), "external parameter vector");
+    return inverseKinematics(geometric, external.effectorInBase(external_values, cTm));
+  }
+
+  Eigen::MatrixXd jointJacobianWrtPose(const ExternalParameterization& external,
+                                       const Eigen::VectorXd& geometric,
+                                       const Eigen::VectorXd& external_values,
+                                       const PoseVector& cTm) const override {
+    checkSize(geometric, K::kGeometric, "geometric parameter vector");
+    checkSize(external_values, external.size(), "external parameter vector");
+    auto functor = std::make_unique<detail::PoseJointFunctor<K>>(
+        detail::PoseJointFunctor<K>{kinematics_, external, geometric, external_values});
+    ceres::AutoDiffCostFunction<detail::PoseJointFunctor<K>, K::kJoints, 6> cost(
+        functor.release());
+    double q[K::kJoints];
+    Eigen::Matrix<double, K::kJoints, 6, Eigen::RowMajor> jacobian;
+    double* jacobians[1] = {jacobian.data()};
+    const double* parameters[1] = {cTm.data()};
+    if (!cost.Evaluate(parameters, q, jacobians))
+      throw std::runtime_error(name() + ": pose unreachable while propagating its covariance");
+    return jacobian;
+  }
+
+  std::unique_ptr<ceres::CostFunction> makeJointResidual(
+      const ExternalParameterization& external, const PoseVector& cTm,
+      const Eigen::VectorXd& measured_joints, const Eigen::MatrixXd& whitening) const override {
+    checkSize(measured_joints, K::kJoints, "joint vector");
+    if (whitening.rows() != K::kJoints || whitening.cols() != K::kJoints)
+      throw std::invalid_argument(name() + ": whitening matrix must be " +
+                                  std::to_string(K::kJoints) + "x" + std::to_string(K::kJoints));
+    const Eigen::Isometry3d measured = toIsometry(cTm);
+    auto functor = std::make_unique<detail::JointResidualFunctor<K>>(detail::JointResidualFunctor<K>{
+        kinematics_, external, measured.linear(), measured.translation(), measured_joints, whitening});
+    switch (external.form()) {
+      case ExternalForm::AxisAligned:
+        return make<8>(std::move(functor));
+      case ExternalForm::Full:
+        return make<12>(std::move(functor));
+      case ExternalForm::CameraFrame:
+        return make<4>(std::move(functor));
+    }
+    throw std::logic_error("unknown external form");
+  }
+
+  std::unique_ptr<Mechanism> clone() const override {
+    return std::make_unique<MechanismAdapter<K>>(*this);
+  }
+
+ private:
+  template <int kExternal>
+  static std::unique_ptr<ceres::CostFunction> make(
+      std::unique_ptr<detail::JointResidualFunctor<K>> functor) {
+    return std::make_unique<ceres::AutoDiffCostFunction<detail::JointResidualFunctor<K>,
+                                                        K::kJoints, K::kGeometric, kExternal>>(
+        functor.release());
+  }
+
+  void checkSize(const Eigen::VectorXd& v, int expected, const char* what) const {
+    if (v.size() != expected)
+      throw std::invalid_argument(name() + ": " + what + " has " + std::to_string(v.size()) +
+                                  " values, expected " + std::to_string(expected));
+    if (!v.allFinite())
+      throw std::invalid_argument(name() + ": " + what + " has a non-finite value");
+  }
+
+  static void markUnreachable(int mask, IkmResult& result) {
+    result.unreachable_joints = detail::unreachableList(mask, K::kJoints);
+    for (int i : result.unreachable_joints)
+      result.joints[i] = std::numeric_limits<double>::quiet_NaN();
+  }
+
+  K kinematics_;
+  ParameterSet nominal_;
+};
+
+}  // namespace mire::mechanism

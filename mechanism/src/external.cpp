@@ -1,0 +1,439 @@
+// External parameters (paper §4, BRIEF §6): forms of bTc, mTe, the rotation-axis
+// pre-alignment and the closed-form initial estimate from the data.
+#include "mire/mechanism/external.hpp"
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <cmath>
+#include <algorithm>
+#include <complex>
+#include <stdexcept>
+
+#include "mire/mechanism/mechanism.hpp"
+
+namespace mire::mechanism {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Matrix3d rotZ(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
+
+Eigen::Vector3d rotationVector(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.axis() * aa.angle();
+}
+
+Eigen::Matrix3d fromRotationVector(const Eigen::Vector3d& r) {
+  const double angle = r.norm();
+  return angle > 0.0 ? Eigen::AngleAxisd(angle, r / angle).toRotationMatrix()
+                     : Eigen::Matrix3d::Identity();
+}
+
+double angleAboutZ(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+
+double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+
+// A rotation whose third column is `axis` (the minimal rotation from z).
+Eigen::Matrix3d alignZ(const Eigen::Vector3d& axis) {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized())
+      .toRotationMatrix();
+}
+
+Parameter length(const std::string& name, const std::string& description, bool fixed = false) {
+  return Parameter{name, 0.0, Unit::Metre, fixed, description};
+}
+Parameter angle(const std::string& name, const std::string& description) {
+  return Parameter{name, 0.0, Unit::Radian, false, description};
+}
+
+// Maximum-likelihood refinement of the axis alignment: cRm(j) = Ac·Rz(φ_j)·Amᵀ·exp(noise).
+// Unknowns: small tilts of Ac and Am about their x, y axes, and one angle per pose. The
+// residual is the rotation vector of (Ac·Rz(φ)·Amᵀ)ᵀ·cRm.
+template <class T>
+void axisResidual(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0, const T* tilt_c,
+                  const T* tilt_m, const T* phi, const Eigen::Matrix<T, 3, 3>& cRm, T* residual) {
+  T rc[3] = {tilt_c[0], tilt_c[1], T(0)}, rm[3] = {tilt_m[0], tilt_m[1], T(0)};
+  Eigen::Matrix<T, 3, 3> Dc, Dm;
+  ceres::AngleAxisToRotationMatrix(rc, ceres::ColumnMajorAdapter3x3(Dc.data()));
+  ceres::AngleAxisToRotationMatrix(rm, ceres::ColumnMajorAdapter3x3(Dm.data()));
+  const Eigen::Matrix<T, 3, 3> Ac = Ac0.cast<T>() * Dc, Am = Am0.cast<T>() * Dm;
+  Eigen::Matrix<T, 3, 3> Rz;
+  using std::cos;
+  using std::sin;
+  Rz << cos(phi[0]), -sin(phi[0]), T(0), sin(phi[0]), cos(phi[0]), T(0), T(0), T(0), T(1);
+  const Eigen::Matrix<T, 3, 3> E = (Ac * Rz * Am.transpose()).transpose() * cRm;
+  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(E.data()), residual);
+}
+
+struct AxisResidual {
+  Eigen::Matrix3d Ac0, Am0, cRm, whitening;
+  template <class T>
+  bool operator()(const T* tilt_c, const T* tilt_m, const T* phi, T* residual) const {
+    T e[3];
+    axisResidual(Ac0, Am0, tilt_c, tilt_m, phi, Eigen::Matrix<T, 3, 3>(cRm.cast<T>()), e);
+    for (int r = 0; r < 3; ++r) residual[r] = whitening(r, 0) * e[0] + whitening(r, 1) * e[1] + whitening(r, 2) * e[2];
+    return true;
+  }
+};
+
+// The same residual as a function of the measured rotation vector (to map its covariance).
+struct AxisResidualWrtMeasurement {
+  Eigen::Matrix3d Ac0, Am0;
+  double phi;
+  template <class T>
+  bool operator()(const T* rotation_vector, T* residual) const {
+    Eigen::Matrix<T, 3, 3> cRm;
+    ceres::AngleAxisToRotationMatrix(rotation_vector, ceres::ColumnMajorAdapter3x3(cRm.data()));
+    const T zero[2] = {T(0), T(0)};
+    const T angle[1] = {T(phi)};
+    axisResidual(Ac0, Am0, zero, zero, angle, cRm, residual);
+    return true;
+  }
+};
+
+Eigen::Matrix3d tiltXY(double x, double y) { return fromRotationVector(Eigen::Vector3d(x, y, 0.0)); }
+
+}  // namespace
+
+std::string externalFormName(ExternalForm form) {
+  switch (form) {
+    case ExternalForm::AxisAligned: return "axis-aligned";
+    case ExternalForm::Full: return "full";
+    case ExternalForm::CameraFrame: return "camera-frame";
+  }
+  return "?";
+}
+
+ExternalParameterization::ExternalParameterization(ExternalForm form, AxisAlignment alignment)
+    : form_(form), alignment_(std::move(alignment)) {
+  for (const Eigen::Matrix3d* m : {&alignment_.camera, &alignment_.target})
+    if (!m->allFinite() || !(m->transpose() * *m).isApprox(Eigen::Matrix3d::Identity(), 1e-9) ||
+        m->determinant() < 0.0)
+      throw std::invalid_argument("axis alignment is not a rotation matrix");
+  Eigen::Map<Eigen::Matrix3d>{camera_} = alignment_.camera;
+  Eigen::Map<Eigen::Matrix3d>{target_} = alignment_.target;
+}
+
+int ExternalParameterization::size(ExternalForm form) {
+  switch (form) {
+    case ExternalForm::AxisAligned: return 8;
+    case ExternalForm::Full: return 12;
+    case ExternalForm::CameraFrame: return 4;
+  }
+  return 0;
+}
+
+ParameterSet ExternalParameterization::parameters() const {
+  ParameterSet set;
+  const auto addTargetPart = [&set] {
+    set.add(length("x_ME", "effector origin in the axis-aligned target frame, x"));
+    set.add(length("y_ME", "effector origin in the axis-aligned target frame, y"));
+    set.add(length("z_ME", "effector origin along the rotation axis (fixed: eq. 24)", true));
+    set.add(angle("psi_ME", "target -> effector rotation about the rotation axis"));
+  };
+  switch (form_) {
+    case ExternalForm::AxisAligned:
+      set.add(length("x_BC", "camera centre in the base frame, x"));
+      set.add(length("y_BC", "camera centre in the base frame, y"));
+      set.add(length("z_BC", "camera centre in the base frame, z"));
+      set.add(angle("psi_BC", "base <- axis-aligned camera rotation about z_B"));
+      addTargetPart();
+      break;
+    case ExternalForm::Full:
+      set.add(length("tx_CB", "base origin in the camera frame, x (cTb)"));
+      set.add(length("ty_CB", "base origin in the camera frame, y (cTb)"));
+      set.add(length("tz_CB", "base origin in the camera frame, z (cTb)"));
+      set.add(angle("rx_CB", "cTb rotation vector, x"));
+      set.add(angle("ry_CB", "cTb rotation vector, y"));
+      set.add(angle("rz_CB", "cTb rotation vector, z"));
+      set.add(length("tx_EM", "target origin in the effector frame, x (eTm)"));
+      set.add(length("ty_EM", "target origin in the effector frame, y (eTm)"));
+      set.add(length("tz_EM", "target origin in the effector frame, z (eTm)"));
+      set.add(angle("rx_EM", "eTm rotation vector, x"));
+      set.add(angle("ry_EM", "eTm rotation vector, y"));
+      set.add(angle("rz_EM", "eTm rotation vector, z"));
+      break;
+    case ExternalForm::CameraFrame:
+      addTargetPart();
+      break;
+  }
+  return set;
+}
+
+Eigen::Isometry3d ExternalParameterization::baseFromCamera(const Eigen::VectorXd& e) const {
+  if (e.size() != size()) throw std::invalid_argument("external parameter vector has the wrong size");
+  Eigen::Isometry3d bTc = Eigen::Isometry3d::Identity();
+  switch (form_) {
+    case ExternalForm::AxisAligned:
+      bTc.linear() = rotZ(e[3]) * alignment_.camera.transpose();
+      bTc.translation() = e.head<3>();
+      break;
+    case ExternalForm::Full: {
+      Eigen::Isometry3d cTb = Eigen::Isometry3d::Identity();
+      cTb.linear() = fromRotationVector(e.segment<3>(3));
+      cTb.translation() = e.head<3>();
+      bTc = cTb.inverse();
+      break;
+    }
+    case ExternalForm::CameraFrame:
+      bTc.linear() = alignment_.camera.transpose();
+      break;
+  }
+  return bTc;
+}
+
+Eigen::Isometry3d ExternalParameterization::targetFromEffector(const Eigen::VectorXd& e) const {
+  if (e.size() != size()) throw std::invalid_argument("external parameter vector has the wrong size");
+  Eigen::Isometry3d mTe = Eigen::Isometry3d::Identity();
+  if (form_ == ExternalForm::Full) {
+    Eigen::Isometry3d eTm = Eigen::Isometry3d::Identity();
+    eTm.linear() = fromRotationVector(e.segment<3>(9));
+    eTm.translation() = e.segment<3>(6);
+    return eTm.inverse();
+  }
+  const Eigen::Vector4d me = form_ == ExternalForm::AxisAligned ? Eigen::Vector4d(e.segment<4>(4))
+                                                                : Eigen::Vector4d(e.head<4>());
+  mTe.linear() = alignment_.target * rotZ(me[3]);
+  mTe.translation() = alignment_.target * me.head<3>();
+  return mTe;
+}
+
+Eigen::Isometry3d ExternalParameterization::effectorInBase(const Eigen::VectorXd& e,
+                                                           const PoseVector& cTm) const {
+  if (e.size() != size()) throw std::invalid_argument("external parameter vector has the wrong size");
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  effectorInBase(e.data(), cTm.data(), R.data(), t.data());
+  Eigen::Isometry3d bTe = Eigen::Isometry3d::Identity();
+  bTe.linear() = R;
+  bTe.translation() = t;
+  return bTe;
+}
+
+Eigen::VectorXd ExternalParameterization::valuesFrom(const Eigen::Isometry3d& bTc,
+                                                     const Eigen::Isometry3d& mTe) const {
+  Eigen::VectorXd e(size());
+  if (form_ == ExternalForm::Full) {
+    const Eigen::Isometry3d cTb = bTc.inverse(), eTm = mTe.inverse();
+    e << cTb.translation(), rotationVector(cTb.linear()), eTm.translation(),
+        rotationVector(eTm.linear());
+    return e;
+  }
+  const Eigen::Vector3d me = alignment_.target.transpose() * mTe.translation();
+  const double psi_me = angleAboutZ(alignment_.target.transpose() * mTe.linear());
+  if (form_ == ExternalForm::AxisAligned) {
+    e << bTc.translation(), angleAboutZ(bTc.linear() * alignment_.camera), me, psi_me;
+  } else {
+    e << me, psi_me;
+  }
+  return e;
+}
+
+AxisAlignment tiltAlignment(const AxisAlignment& alignment, const Eigen::Vector4d& delta) {
+  AxisAlignment out = alignment;
+  out.camera = alignment.camera * tiltXY(delta[0], delta[1]);
+  out.target = alignment.target * tiltXY(delta[2], delta[3]);
+  return out;
+}
+
+AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
+  if (poses.size() < 2) throw std::invalid_argument("the rotation axis needs at least 2 poses");
+  std::vector<Eigen::Matrix3d> R;
+  for (const PoseObservation& p : poses) R.push_back(toIsometry(p.cTm).linear());
+  // Every relative rotation is about the common axis: principal direction of their
+  // rotation vectors (all pairs; small rotations weigh little).
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double largest = 0.0;
+  for (std::size_t i = 0; i < R.size(); ++i)
+    for (std::size_t j = i + 1; j < R.size(); ++j) {
+      const Eigen::Vector3d w = rotationVector(R[j] * R[i].transpose());
+      scatter += w * w.transpose();
+      largest = std::max(largest, w.norm());
+    }
+  if (largest < 2.0 * kPi / 180.0)
+    throw std::invalid_argument(
+        "the measured orientations span less than 2 deg: the rotation axis is undetermined");
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  const Eigen::Vector3d axis_c = eigen.eigenvectors().col(2);
+  Eigen::Vector3d axis_m = Eigen::Vector3d::Zero();
+  for (const Eigen::Matrix3d& r : R) axis_m += r.transpose() * axis_c;
+
+  const Eigen::Matrix3d Ac0 = alignZ(axis_c), Am0 = alignZ(axis_m);
+  const std::size_t n = R.size();
+  std::vector<double> phi(n);
+  for (std::size_t j = 0; j < n; ++j) phi[j] = angleAboutZ(Ac0.transpose() * R[j] * Am0);
+
+  // Residual covariance Cj = Jr·Σr·Jrᵀ from each pose's rotation-vector covariance.
+  bool weighted = true;
+  for (const PoseObservation& p : poses) weighted = weighted && p.covariance.has_value();
+  std::vector<Eigen::Matrix3d> whitening(n, Eigen::Matrix3d::Identity());
+  if (weighted)
+    for (std::size_t j = 0; j < n; ++j) {
+      ceres::AutoDiffCostFunction<AxisResidualWrtMeasurement, 3, 3> cost(
+          new AxisResidualWrtMeasurement{Ac0, Am0, phi[j]});
+      const double* parameters[1] = {poses[j].cTm.data() + 3};
+      Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Jr;
+      double* jacobians[1] = {Jr.data()};
+      Eigen::Vector3d e;
+      cost.Evaluate(parameters, e.data(), jacobians);
+      const Eigen::Matrix3d C = Jr * poses[j].covariance->bottomRightCorner<3, 3>() * Jr.transpose();
+      const Eigen::LLT<Eigen::Matrix3d> llt(C);
+      if (llt.info() != Eigen::Success) {
+        weighted = false;
+        break;
+      }
+      whitening[j] = llt.matrixL().solve(Eigen::Matrix3d::Identity());
+    }
+  if (!weighted) std::fill(whitening.begin(), whitening.end(), Eigen::Matrix3d::Identity());
+
+  double tilt_c[2] = {0.0, 0.0}, tilt_m[2] = {0.0, 0.0};
+  ceres::Problem problem;
+  std::vector<ceres::CostFunction*> costs;
+  for (std::size_t j = 0; j < n; ++j) {
+    costs.push_back(new ceres::AutoDiffCostFunction<AxisResidual, 3, 2, 2, 1>(
+        new AxisResidual{Ac0, Am0, R[j], whitening[j]}));
+    problem.AddResidualBlock(costs.back(), nullptr, tilt_c, tilt_m, &phi[j]);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.logging_type = ceres::SILENT;
+  options.max_num_iterations = 30;
+  options.function_tolerance = 1e-12;
+  options.parameter_tolerance = 1e-12;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+
+  // Covariance of the 4 tilts: Schur complement of the per-pose angles in JᵀJ.
+  Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
+  double chi2 = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double* parameters[3] = {tilt_c, tilt_m, &phi[j]};
+    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> Jc, Jm;
+    Eigen::Vector3d Jp, e;
+    double* jacobians[3] = {Jc.data(), Jm.data(), Jp.data()};
+    costs[j]->Evaluate(parameters, e.data(), jacobians);
+    chi2 += e.squaredNorm();
+    Eigen::Matrix<double, 3, 4> Jt;
+    Jt << Jc, Jm;
+    information += Jt.transpose() * Jt - Jt.transpose() * Jp * Jp.transpose() * Jt / Jp.squaredNorm();
+  }
+  AxisAlignment alignment;
+  alignment.camera = Ac0 * tiltXY(tilt_c[0], tilt_c[1]);
+  alignment.target = Am0 * tiltXY(tilt_m[0], tilt_m[1]);
+  const Eigen::FullPivLU<Eigen::Matrix4d> lu(information);
+  if (lu.isInvertible()) {
+    alignment.covariance = lu.inverse();
+    const int dof = static_cast<int>(3 * n) - static_cast<int>(n) - 4;
+    if (!weighted && dof > 0) alignment.covariance *= chi2 / dof;  // σ² from the fit
+  }
+  return alignment;
+}
+
+ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
+                              const std::vector<PoseObservation>& poses, ExternalForm form,
+                              ExternalParameterization& parameterization, double z_ME) {
+  validatePoses(poses, mechanism.jointCount());
+  if (!std::isfinite(z_ME)) throw std::invalid_argument("z_ME is not finite");
+  AxisAlignment alignment = estimateAxisAlignment(poses);
+
+  // Effector poses from the encoders through the FKM at the nominal geometry.
+  const Eigen::VectorXd start = mechanism.referencePose(geometric);
+  std::vector<Eigen::Isometry3d> bTe;
+  std::string failed;
+  for (const PoseObservation& p : poses) {
+    const FkmResult fkm = mechanism.forwardKinematics(geometric, p.joints, start);
+    if (!fkm.converged) failed += (failed.empty() ? "" : ", ") + p.id;
+    bTe.push_back(fkm.bTe);
+  }
+  if (!failed.empty())
+    throw std::runtime_error("initial external parameters: the FKM did not converge for pose(s) " +
+                             failed);
+
+  const std::size_t n = poses.size();
+  std::vector<double> phi(n), theta(n);
+  const auto computePhi = [&] {
+    for (std::size_t j = 0; j < n; ++j)
+      phi[j] = angleAboutZ(alignment.camera.transpose() * toIsometry(poses[j].cTm).linear() *
+                           alignment.target);
+  };
+  computePhi();
+  for (std::size_t j = 0; j < n; ++j) theta[j] = angleAboutZ(bTe[j].linear());
+  // Orient the axis so that the measured rotation follows θ (z_B up).
+  double agreement = 0.0;
+  for (std::size_t j = 0; j < n; ++j) agreement += wrap(phi[j] - phi[0]) * wrap(theta[j] - theta[0]);
+  if (agreement < 0.0) {
+    const Eigen::Matrix3d flip = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+    alignment.camera = alignment.camera * flip;
+    alignment.target = alignment.target * flip;
+    // Tilts about the flipped frames: (δx, δy) -> (δx, −δy).
+    const Eigen::Matrix4d G = Eigen::Vector4d(1.0, -1.0, 1.0, -1.0).asDiagonal();
+    alignment.covariance = G * alignment.covariance * G;
+    computePhi();
+  }
+
+  std::complex<double> psi_sum(0.0, 0.0);
+  for (std::size_t j = 0; j < n; ++j) psi_sum += std::polar(1.0, theta[j] - phi[j]);
+  const double psi_total = std::arg(psi_sum);  // ψ_BC + ψ_ME
+
+  // v_j = Acᵀ·c t_m(j); positions p_j = Rz(ψ_BC)(Rz(φ_j) u + v_j) + t_bc.
+  std::vector<Eigen::Vector3d> v(n), p(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    v[j] = alignment.camera.transpose() * poses[j].cTm.head<3>();
+    p[j] = bTe[j].translation();
+  }
+  using cd = std::complex<double>;
+  double psi_bc = 0.0;
+  cd u(0.0, 0.0), t(0.0, 0.0);
+  double t_z = 0.0, u_z = z_ME;
+  if (form == ExternalForm::CameraFrame) {
+    // Base = axis-aligned camera frame: p_j − v_j = Rz(φ_j)·u.
+    for (std::size_t j = 0; j < n; ++j) {
+      u += std::polar(1.0, -phi[j]) * cd(p[j].x() - v[j].x(), p[j].y() - v[j].y());
+      u_z += 0.0;
+    }
+    u /= static_cast<double>(n);
+    double sum = 0.0;
+    for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z();
+    u_z = sum / static_cast<double>(n);
+  } else {
+    // Linear complex least squares P_j = e^{iφ_j}·B + A·V_j + T, A = e^{iψ_BC}, B = A·u.
+    Eigen::MatrixXcd M(static_cast<Eigen::Index>(n), 3);
+    Eigen::VectorXcd rhs(static_cast<Eigen::Index>(n));
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto r = static_cast<Eigen::Index>(j);
+      M(r, 0) = std::polar(1.0, phi[j]);
+      M(r, 1) = cd(v[j].x(), v[j].y());
+      M(r, 2) = 1.0;
+      rhs[r] = cd(p[j].x(), p[j].y());
+    }
+    const Eigen::VectorXcd x = M.colPivHouseholderQr().solve(rhs);
+    psi_bc = std::arg(x[1]);
+    u = x[0] * std::polar(1.0, -psi_bc);
+    t = x[2];
+    double sum = 0.0;
+    for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z() - u_z;
+    t_z = sum / static_cast<double>(n);
+  }
+  const double psi_me = wrap(psi_total - psi_bc);
+
+  parameterization = ExternalParameterization(form, alignment);
+  Eigen::Isometry3d bTc = Eigen::Isometry3d::Identity();
+  bTc.linear() = rotZ(psi_bc) * alignment.camera.transpose();
+  bTc.translation() = Eigen::Vector3d(t.real(), t.imag(), t_z);
+  Eigen::Isometry3d mTe = Eigen::Isometry3d::Identity();
+  mTe.linear() = alignment.target * rotZ(psi_me);
+  mTe.translation() = alignment.target * Eigen::Vector3d(u.real(), u.imag(), u_z);
+
+  ParameterSet set = parameterization.parameters();
+  set.setValues(parameterization.valuesFrom(bTc, mTe));
+  return set;
+}
+
+}  // namespace mire::mechanism

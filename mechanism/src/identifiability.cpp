@@ -1,0 +1,154 @@
+// Identifiability of J_ξ (paper §2.2 eq. 5–12, BRIEF §7): SVD of the column-scaled Jacobian,
+// rank, QR with column pivoting (Khalil & Besnard) and named null-space combinations.
+#include "mire/mechanism/identifiability.hpp"
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace mire::mechanism {
+
+namespace {
+
+std::string formatCoefficient(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4f", value);
+  return buffer;
+}
+
+double conditionOf(const Eigen::VectorXd& singular_values) {
+  if (singular_values.size() == 0) return 0.0;
+  const double smallest = singular_values.minCoeff();
+  if (!(smallest > 0.0)) return std::numeric_limits<double>::infinity();
+  return singular_values.maxCoeff() / smallest;
+}
+
+}  // namespace
+
+std::string UnidentifiableCombination::text() const {
+  std::string out = "unidentifiable direction:";
+  for (const auto& [name, coefficient] : direction)
+    out += " " + (coefficient < 0 ? std::string("-") : std::string("+")) +
+           formatCoefficient(std::abs(coefficient)) + "·δ" + name;
+  if (identifiable_sums.empty()) {
+    out += "; " + dependent + " has no influence on the residuals";
+  } else {
+    out += "; only";
+    for (std::size_t i = 0; i < identifiable_sums.size(); ++i)
+      out += (i ? ", " : " ") + identifiable_sums[i];
+    out += " identifiable";
+  }
+  return out;
+}
+
+std::string IdentifiabilityReport::text() const {
+  std::ostringstream out;
+  out << "Identifiability of " << parameter_names.size() << " parameters (" << scaling << ")\n";
+  out << "  rank " << rank << " of " << parameter_names.size() << "; condition number "
+      << condition_number << " (unscaled SI: " << condition_number_unscaled << ")";
+  if (!fullRank()) out << "; identifiable subset: " << condition_number_identifiable;
+  out << "\n  singular values:";
+  for (Eigen::Index i = 0; i < singular_values.size(); ++i) out << " " << singular_values[i];
+  out << "\n";
+  if (!unidentifiable.empty()) {
+    out << "  not identifiable (pivoted QR): ";
+    for (std::size_t i = 0; i < unidentifiable.size(); ++i) out << (i ? ", " : "") << unidentifiable[i];
+    out << "\n";
+  }
+  for (const UnidentifiableCombination& c : combinations) out << "  " << c.text() << "\n";
+  return out.str();
+}
+
+IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vector<std::string>& names,
+                                      const IdentifiabilityOptions& options) {
+  const Eigen::Index n = J.cols();
+  if (static_cast<std::size_t>(n) != names.size())
+    throw std::invalid_argument("identifiability: " + std::to_string(n) + " Jacobian columns but " +
+                                std::to_string(names.size()) + " parameter names");
+  if (!J.allFinite()) throw std::invalid_argument("identifiability: the Jacobian has non-finite entries");
+  IdentifiabilityReport report;
+  report.parameter_names = names;
+  if (n == 0) return report;
+
+  report.column_norms = J.colwise().norm().transpose();
+  Eigen::VectorXd scale(n);  // D = diag(1/‖J_k‖); an all-zero column keeps scale 1
+  for (Eigen::Index k = 0; k < n; ++k)
+    scale[k] = report.column_norms[k] > 0.0 ? 1.0 / report.column_norms[k] : 1.0;
+  const Eigen::MatrixXd Js = J * scale.asDiagonal();
+
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeFullV);
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(n);
+  s.head(svd.singularValues().size()) = svd.singularValues();  // fewer rows than columns: zeros
+  report.singular_values = s;
+  report.condition_number = conditionOf(s);
+  report.condition_number_unscaled = conditionOf([&] {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> raw(J);
+    u.head(raw.singularValues().size()) = raw.singularValues();
+    return u;
+  }());
+  const double threshold = options.rank_tolerance * s[0];
+  report.rank = 0;
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (s[k] > threshold) ++report.rank;
+
+  // Khalil & Besnard: the first `rank` pivoted-QR columns form a minimal identifiable set.
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Js);
+  const auto& permutation = qr.colsPermutation().indices();
+  std::vector<Eigen::Index> identifiable_columns, dependent_columns;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index column = permutation[k];
+    (k < report.rank ? identifiable_columns : dependent_columns).push_back(column);
+    (k < report.rank ? report.identifiable : report.unidentifiable)
+        .push_back(names[static_cast<std::size_t>(column)]);
+  }
+  if (!identifiable_columns.empty()) {
+    Eigen::MatrixXd sub(Js.rows(), static_cast<Eigen::Index>(identifiable_columns.size()));
+    for (std::size_t k = 0; k < identifiable_columns.size(); ++k)
+      sub.col(static_cast<Eigen::Index>(k)) = Js.col(identifiable_columns[k]);
+    Eigen::VectorXd ss = Eigen::VectorXd::Zero(sub.cols());
+    const Eigen::JacobiSVD<Eigen::MatrixXd> subsvd(sub);
+    ss.head(subsvd.singularValues().size()) = subsvd.singularValues();
+    report.condition_number_identifiable = conditionOf(ss);
+  }
+
+  const Eigen::Index nullity = n - report.rank;
+  if (nullity == 0) return report;
+  // Null space in parameter units (δξ = D·v), re-based so that each direction has
+  // coefficient 1 on its own dependent parameter and 0 on the other dependents.
+  const Eigen::MatrixXd null_params = scale.asDiagonal() * svd.matrixV().rightCols(nullity);
+  Eigen::MatrixXd dependent_block(nullity, nullity);
+  for (Eigen::Index j = 0; j < nullity; ++j)
+    dependent_block.row(j) = null_params.row(dependent_columns[static_cast<std::size_t>(j)]);
+  const Eigen::MatrixXd basis = null_params * dependent_block.fullPivLu().inverse();
+  for (Eigen::Index j = 0; j < nullity; ++j) {
+    const Eigen::Index dep = dependent_columns[static_cast<std::size_t>(j)];
+    UnidentifiableCombination combination;
+    combination.dependent = names[static_cast<std::size_t>(dep)];
+    combination.singular_value = s[report.rank + j];
+    combination.direction.emplace_back(combination.dependent, 1.0);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      if (k == dep) continue;
+      const double coefficient = basis(k, j);
+      // Significance: the coefficient's effect in unit-norm column space vs the dependent's.
+      const double effect = std::abs(coefficient) * report.column_norms[k] /
+                            std::max(report.column_norms[dep], std::numeric_limits<double>::min());
+      if (!(effect > options.coefficient_tolerance)) continue;
+      const std::string& name = names[static_cast<std::size_t>(k)];
+      combination.direction.emplace_back(name, coefficient);
+      // Invariant along the direction: ξ_k − c_k·ξ_dep.
+      combination.identifiable_sums.push_back(name + (coefficient > 0 ? " - " : " + ") +
+                                              formatCoefficient(std::abs(coefficient)) + "·" +
+                                              combination.dependent);
+    }
+    report.combinations.push_back(std::move(combination));
+  }
+  return report;
+}
+
+}  // namespace mire::mechanism

@@ -1,0 +1,480 @@
+// Identification with Ceres (paper eq. 2/4, BRIEF §1, §7): weighted IKM residuals, priors,
+// robust loss, covariance of the estimate and the identifiability report at the solution.
+#include "mire/mechanism/identification.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+namespace mire::mechanism {
+
+namespace {
+
+// Ambient block of size n whose tangent space is the free tie groups: x ⊞ δ = x + E·δ.
+class TiedSubsetManifold final : public ceres::Manifold {
+ public:
+  explicit TiedSubsetManifold(Eigen::MatrixXd expansion) : E_(std::move(expansion)) {}
+  int AmbientSize() const override { return static_cast<int>(E_.rows()); }
+  int TangentSize() const override { return static_cast<int>(E_.cols()); }
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
+    Eigen::Map<Eigen::VectorXd>(x_plus_delta, E_.rows()) =
+        Eigen::Map<const Eigen::VectorXd>(x, E_.rows()) +
+        E_ * Eigen::Map<const Eigen::VectorXd>(delta, E_.cols());
+    return true;
+  }
+  bool PlusJacobian(const double*, double* jacobian) const override {
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        jacobian, E_.rows(), E_.cols()) = E_;
+    return true;
+  }
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
+    // Least-squares inverse of Plus: mean over each group's members.
+    const Eigen::VectorXd diff = Eigen::Map<const Eigen::VectorXd>(y, E_.rows()) -
+                                 Eigen::Map<const Eigen::VectorXd>(x, E_.rows());
+    Eigen::Map<Eigen::VectorXd>(y_minus_x, E_.cols()) =
+        (E_.transpose() * diff).cwiseQuotient(E_.colwise().sum().transpose());
+    return true;
+  }
+  bool MinusJacobian(const double*, double* jacobian) const override {
+    Eigen::MatrixXd pinv = E_.transpose();
+    for (Eigen::Index k = 0; k < pinv.rows(); ++k) pinv.row(k) /= E_.col(k).sum();
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        jacobian, E_.cols(), E_.rows()) = pinv;
+    return true;
+  }
+
+ private:
+  Eigen::MatrixXd E_;
+};
+
+// Gaussian prior on one entry of a parameter block: r = (x_k − μ)/σ.
+class PriorCost final : public ceres::CostFunction {
+ public:
+  PriorCost(int block_size, int index, double mean, double sigma)
+      : index_(index), mean_(mean), sigma_(sigma) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(block_size);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    residuals[0] = (parameters[0][index_] - mean_) / sigma_;
+    if (jacobians && jacobians[0]) {
+      for (int k = 0; k < parameter_block_sizes()[0]; ++k) jacobians[0][k] = 0.0;
+      jacobians[0][index_] = 1.0 / sigma_;
+    }
+    return true;
+  }
+
+ private:
+  int index_;
+  double mean_, sigma_;
+};
+
+// Upper quantile of the standard normal distribution, by bisection on erfc.
+double normalUpperQuantile(double p) {
+  double lo = -10.0, hi = 10.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// χ² quantile with k dof exceeded with probability p (Wilson–Hilferty).
+double chi2UpperQuantile(int k, double p) {
+  const double z = normalUpperQuantile(p);
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
+}
+
+std::string joinIds(const std::vector<std::string>& ids) {
+  std::string out;
+  for (const std::string& id : ids) out += (out.empty() ? "" : ", ") + id;
+  return out;
+}
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Evaluates whitened residuals and their Jacobian w.r.t. the ambient parameters
+// [ξg | ξe] for every pose (rows 4j..4j+3).
+void evaluateAll(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                 const std::vector<Eigen::MatrixXd>& whitening, Eigen::VectorXd* residuals,
+                 Eigen::MatrixXd* jacobian) {
+  const int J = model.mechanism->jointCount();
+  const int G = model.geometricCount();
+  const int E = model.external.size();
+  const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
+  residuals->resize(static_cast<Eigen::Index>(poses.size()) * J);
+  if (jacobian) jacobian->resize(residuals->size(), G + E);
+  std::vector<std::string> unreachable;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    const auto cost = model.mechanism->makeJointResidual(model.external, poses[j].cTm,
+                                                         poses[j].joints, whitening[j]);
+    const double* parameters[2] = {g.data(), e.data()};
+    RowMatrix jg(J, G), je(J, E);
+    double* jacobians[2] = {jg.data(), je.data()};
+    Eigen::VectorXd r(J);
+    if (!cost->Evaluate(parameters, r.data(), jacobian ? jacobians : nullptr)) {
+      unreachable.push_back(poses[j].id);
+      continue;
+    }
+    const Eigen::Index row = static_cast<Eigen::Index>(j) * J;
+    residuals->segment(row, J) = r;
+    if (jacobian) {
+      jacobian->block(row, 0, J, G) = jg;
+      jacobian->block(row, G, J, E) = je;
+    }
+  }
+  if (!unreachable.empty())
+    throw std::runtime_error("the IKM is unreachable (|c| > rho) for pose(s) " + joinIds(unreachable));
+}
+
+std::vector<Eigen::MatrixXd> identityWhitening(const IdentificationModel& model, std::size_t n,
+                                               double scale) {
+  const int J = model.mechanism->jointCount();
+  return std::vector<Eigen::MatrixXd>(n, Eigen::MatrixXd::Identity(J, J) * scale);
+}
+
+// W_j = L⁻¹ with Σq = J Σ_X Jᵀ = L Lᵀ (pose covariance propagated through the IKM).
+std::vector<Eigen::MatrixXd> poseWhitening(const IdentificationModel& model,
+                                           const std::vector<PoseObservation>& poses) {
+  std::vector<Eigen::MatrixXd> out;
+  const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
+  for (const PoseObservation& p : poses) {
+    const Eigen::MatrixXd Jp = model.mechanism->jointJacobianWrtPose(model.external, g, e, p.cTm);
+    const Eigen::MatrixXd sigma_q = Jp * (*p.covariance) * Jp.transpose();
+    const Eigen::LLT<Eigen::MatrixXd> llt(sigma_q);
+    if (llt.info() != Eigen::Success)
+      throw std::runtime_error("pose '" + p.id + "': the propagated joint covariance is singular");
+    out.push_back(llt.matrixL().solve(Eigen::MatrixXd::Identity(sigma_q.rows(), sigma_q.cols())));
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::VectorXd IdentificationModel::geometricValues() const {
+  return parameters.values().head(geometricCount());
+}
+Eigen::VectorXd IdentificationModel::externalValues() const {
+  return parameters.values().tail(external.size());
+}
+IkmResult IdentificationModel::predictJoints(const PoseVector& cTm) const {
+  return mechanism->predictJoints(external, geometricValues(), externalValues(), cTm);
+}
+
+IdentificationModel makeIdentificationModel(std::shared_ptr<const Mechanism> mechanism,
+                                            const ParameterSet& geometric,
+                                            const ExternalParameterization& external,
+                                            const ParameterSet& external_values) {
+  if (!mechanism) throw std::invalid_argument("no mechanism given");
+  if (geometric.names() != mechanism->nominal().names())
+    throw std::invalid_argument("geometric parameters do not match mechanism " + mechanism->name());
+  if (external_values.names() != external.parameters().names())
+    throw std::invalid_argument("external parameters do not match the " +
+                                externalFormName(external.form()) + " form");
+  IdentificationModel model{std::move(mechanism), external, geometric};
+  model.parameters.append(external_values);
+  return model;
+}
+
+IdentificationModel makeInitialModel(std::shared_ptr<const Mechanism> mechanism,
+                                     const ParameterSet& geometric,
+                                     const std::vector<PoseObservation>& poses, ExternalForm form,
+                                     double z_ME) {
+  if (!mechanism) throw std::invalid_argument("no mechanism given");
+  ExternalParameterization parameterization(form);
+  const ParameterSet external =
+      estimateExternal(*mechanism, geometric.values(), poses, form, parameterization, z_ME);
+  return makeIdentificationModel(std::move(mechanism), geometric, parameterization, external);
+}
+
+std::vector<std::string> unreachablePoses(const IdentificationModel& model,
+                                          const std::vector<PoseObservation>& poses) {
+  std::vector<std::string> ids;
+  for (const PoseObservation& p : poses)
+    if (!model.predictJoints(p.cTm).reachable()) ids.push_back(p.id);
+  return ids;
+}
+
+double IdentificationResult::sigmaOf(const std::string& name) const {
+  return sigma[static_cast<Eigen::Index>(model.parameters.index(name))];
+}
+
+Eigen::MatrixXd identificationJacobian(const IdentificationModel& model,
+                                       const std::vector<PoseObservation>& poses) {
+  validatePoses(poses, model.mechanism->jointCount());
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  evaluateAll(model, poses, identityWhitening(model, poses.size(), 1.0), &r, &J);
+  return J * model.parameters.expansion();
+}
+
+IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model,
+                                             const std::vector<PoseObservation>& poses,
+                                             const IdentifiabilityOptions& options) {
+  return analyzeJacobian(identificationJacobian(model, poses), model.parameters.freeNames(), options);
+}
+
+IdentificationResult identify(const IdentificationModel& initial,
+                              const std::vector<PoseObservation>& poses,
+                              const IdentificationOptions& options) {
+  const auto start_time = std::chrono::steady_clock::now();
+  if (!initial.mechanism) throw std::invalid_argument("identification: no mechanism");
+  const int J = initial.mechanism->jointCount();
+  const int G = initial.geometricCount();
+  const int E = initial.external.size();
+  if (static_cast<int>(initial.parameters.size()) != G + E)
+    throw std::invalid_argument("identification: the parameter set does not match the model");
+  validatePoses(poses, J);
+  if (!(options.joint_sigma > 0.0 && std::isfinite(options.joint_sigma)))
+    throw std::invalid_argument("identification: joint_sigma must be positive and finite");
+  if (!(options.loss_scale > 0.0 && std::isfinite(options.loss_scale)))
+    throw std::invalid_argument("identification: loss_scale must be positive and finite");
+
+  IdentificationResult result;
+  result.model = initial;
+  ParameterSet& params = result.model.parameters;
+  params.fix(options.fix);
+  for (const std::string& name : options.release) params.setFixed(name, false);
+  for (std::size_t i = 0; i < params.size(); ++i)
+    if ((params.tieLeader(i) < static_cast<std::size_t>(G)) != (i < static_cast<std::size_t>(G)))
+      throw std::invalid_argument("identification: parameter '" + params[i].name +
+                                  "' is tied across the geometric and external blocks");
+  for (const GaussianPrior& prior : options.priors) {
+    params.index(prior.name);
+    if (!(std::isfinite(prior.mean) && std::isfinite(prior.sigma) && prior.sigma > 0.0))
+      throw std::invalid_argument("prior on '" + prior.name + "': mean and sigma must be finite, sigma > 0");
+  }
+  const std::size_t free_count = params.freeCount();
+  if (static_cast<std::size_t>(J) * poses.size() + options.priors.size() <= free_count)
+    throw std::invalid_argument("identification: " + std::to_string(poses.size()) + " poses give " +
+                                std::to_string(J * poses.size()) + " residuals for " +
+                                std::to_string(free_count) + " unknowns");
+  if (const auto ids = unreachablePoses(result.model, poses); !ids.empty())
+    throw std::runtime_error("the IKM is unreachable (|c| > rho) at the initial parameters for pose(s) " +
+                             joinIds(ids));
+
+  bool has_covariances = !poses.empty();
+  for (const PoseObservation& p : poses) has_covariances = has_covariances && p.covariance.has_value();
+  result.weighted = options.use_pose_covariances && has_covariances;
+
+  // Block-wise expansion matrices for the manifolds.
+  const Eigen::MatrixXd expansion = params.expansion();
+  std::vector<Eigen::Index> geometric_columns, external_columns;
+  for (Eigen::Index k = 0; k < expansion.cols(); ++k) {
+    Eigen::Index row = 0;
+    expansion.col(k).maxCoeff(&row);
+    (row < G ? geometric_columns : external_columns).push_back(k);
+  }
+  const auto blockExpansion = [&](const std::vector<Eigen::Index>& columns, Eigen::Index offset,
+                                  Eigen::Index size) {
+    Eigen::MatrixXd block(size, static_cast<Eigen::Index>(columns.size()));
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      block.col(static_cast<Eigen::Index>(k)) = expansion.col(columns[k]).segment(offset, size);
+    return block;
+  };
+  const Eigen::MatrixXd expansion_g = blockExpansion(geometric_columns, 0, G);
+  const Eigen::MatrixXd expansion_e = blockExpansion(external_columns, G, E);
+
+  const auto solve = [&](const std::vector<Eigen::MatrixXd>& whitening) {
+    Eigen::VectorXd g = result.model.geometricValues(), e = result.model.externalValues();
+    ceres::Problem problem;
+    for (std::size_t j = 0; j < poses.size(); ++j) {
+      ceres::LossFunction* loss = nullptr;
+      if (options.loss == RobustLoss::Huber) loss = new ceres::HuberLoss(options.loss_scale);
+      if (options.loss == RobustLoss::Cauchy) loss = new ceres::CauchyLoss(options.loss_scale);
+      problem.AddResidualBlock(result.model.mechanism
+                                   ->makeJointResidual(result.model.external, poses[j].cTm,
+                                                       poses[j].joints, whitening[j])
+                                   .release(),
+                               loss, g.data(), e.data());
+    }
+    for (const GaussianPrior& prior : options.priors) {
+      const int index = static_cast<int>(params.index(prior.name));
+      if (index < G)
+        problem.AddResidualBlock(new PriorCost(G, index, prior.mean, prior.sigma), nullptr, g.data());
+      else
+        problem.AddResidualBlock(new PriorCost(E, index - G, prior.mean, prior.sigma), nullptr, e.data());
+    }
+    const auto setManifold = [&problem](double* block, const Eigen::MatrixXd& E_block) {
+      if (E_block.cols() == 0)
+        problem.SetParameterBlockConstant(block);
+      else if (!E_block.isIdentity())
+        problem.SetManifold(block, new TiedSubsetManifold(E_block));
+    };
+    setManifold(g.data(), expansion_g);
+    setManifold(e.data(), expansion_e);
+
+    ceres::Solver::Options solver;
+    solver.linear_solver_type = ceres::DENSE_QR;
+    solver.max_num_iterations = options.max_iterations;
+    solver.function_tolerance = 1e-10;
+    solver.parameter_tolerance = 1e-10;
+    solver.gradient_tolerance = 1e-12;
+    solver.num_threads = 1;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    Eigen::VectorXd all(G + E);
+    all << g, e;
+    params.setValues(all);
+    result.converged = summary.termination_type == ceres::CONVERGENCE;
+    result.iterations += static_cast<int>(summary.iterations.size());
+    result.solver_report = summary.BriefReport();
+  };
+
+  std::vector<Eigen::MatrixXd> whitening;
+  if (result.weighted) {
+    // Σq depends (weakly) on the parameters: propagate at the start, solve, then
+    // propagate again at the solution and refine.
+    whitening = poseWhitening(result.model, poses);
+    solve(whitening);
+    whitening = poseWhitening(result.model, poses);
+    solve(whitening);
+  } else {
+    whitening = identityWhitening(result.model, poses.size(), 1.0 / options.joint_sigma);
+    solve(whitening);
+  }
+
+  // Residuals and Jacobian at the solution.
+  Eigen::VectorXd r;
+  Eigen::MatrixXd Jw;
+  evaluateAll(result.model, poses, whitening, &r, &Jw);
+  const Eigen::MatrixXd Jw_free = Jw * expansion;
+  Eigen::MatrixXd J_rad_free(Jw_free.rows(), Jw_free.cols());
+  result.poses.resize(poses.size());
+  double sum_sq_rad = 0.0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    const Eigen::Index row = static_cast<Eigen::Index>(j) * J;
+    const Eigen::MatrixXd& W = whitening[j];
+    J_rad_free.middleRows(row, J) = W.triangularView<Eigen::Lower>().solve(Jw_free.middleRows(row, J));
+    PoseResidual& pr = result.poses[j];
+    pr.id = poses[j].id;
+    pr.residual = W.triangularView<Eigen::Lower>().solve(r.segment(row, J));
+    pr.chi2 = r.segment(row, J).squaredNorm();
+    sum_sq_rad += pr.residual.squaredNorm();
+  }
+  result.rms_joint_residual = std::sqrt(sum_sq_rad / static_cast<double>(r.size()));
+
+  // Prior rows join the information matrix.
+  const std::vector<std::size_t> free_indices = params.freeIndices();
+  Eigen::MatrixXd prior_rows = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(options.priors.size()),
+                                                     static_cast<Eigen::Index>(free_indices.size()));
+  double prior_chi2 = 0.0;
+  for (std::size_t k = 0; k < options.priors.size(); ++k) {
+    const GaussianPrior& prior = options.priors[k];
+    const std::size_t leader = params.tieLeader(params.index(prior.name));
+    for (std::size_t f = 0; f < free_indices.size(); ++f)
+      if (free_indices[f] == leader)
+        prior_rows(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(f)) = 1.0 / prior.sigma;
+    prior_chi2 += std::pow((params.value(prior.name) - prior.mean) / prior.sigma, 2);
+  }
+
+  // χ², dof, outliers (rows of outliers are left out of the covariance under a robust loss).
+  const double threshold = chi2UpperQuantile(J, options.outlier_probability);
+  result.dof = static_cast<int>(r.size() + static_cast<Eigen::Index>(options.priors.size())) -
+               static_cast<int>(free_indices.size());
+  result.chi2 = r.squaredNorm();
+  const double scale2_all = (result.chi2 + prior_chi2) / std::max(1, result.dof);
+  std::vector<bool> keep(poses.size(), true);
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    PoseResidual& pr = result.poses[j];
+    if (!result.weighted) pr.chi2 /= scale2_all;
+    pr.outlier = pr.chi2 > threshold;
+    if (pr.outlier) {
+      result.outliers.push_back(pr.id);
+      if (options.loss != RobustLoss::None) keep[j] = false;
+    }
+  }
+  Eigen::Index kept_rows = 0;
+  for (bool k : keep) kept_rows += k ? J : 0;
+  Eigen::MatrixXd A(kept_rows + prior_rows.rows(), Jw_free.cols());
+  double chi2_kept = prior_chi2;
+  Eigen::Index row = 0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    if (!keep[j]) continue;
+    A.middleRows(row, J) = Jw_free.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    chi2_kept += r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
+    row += J;
+  }
+  A.bottomRows(prior_rows.rows()) = prior_rows;
+  const int dof_kept = static_cast<int>(A.rows()) - static_cast<int>(free_indices.size());
+  const double scale2 = chi2_kept / std::max(1, dof_kept);
+  result.residual_scale = result.weighted ? std::sqrt(scale2) : std::sqrt(scale2) * options.joint_sigma;
+
+  // Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  const double cutoff = s.size() ? s[0] * 1e-10 : 0.0;
+  Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
+  bool deficient = false;
+  for (Eigen::Index k = 0; k < s.size(); ++k) {
+    if (s[k] > cutoff) inv_s2[k] = 1.0 / (s[k] * s[k]);
+    else deficient = true;
+  }
+  const Eigen::MatrixXd information_inverse = svd.matrixV() * inv_s2.asDiagonal() * svd.matrixV().transpose();
+  result.covariance = information_inverse;
+  if (!result.weighted) result.covariance *= scale2;
+
+  // The axis alignment was estimated from the same orientations: add its uncertainty,
+  // Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).
+  result.alignment_covariance = Eigen::MatrixXd::Zero(result.covariance.rows(), result.covariance.cols());
+  const AxisAlignment& alignment = result.model.external.alignment();
+  if (result.model.external.form() != ExternalForm::Full && !alignment.covariance.isZero()) {
+    constexpr double kStep = 1e-6;  // rad
+    Eigen::MatrixXd dr = Eigen::MatrixXd::Zero(A.rows(), 4);
+    for (int k = 0; k < 4; ++k) {
+      Eigen::VectorXd rp, rm;
+      IdentificationModel shifted = result.model;
+      shifted.external = ExternalParameterization(result.model.external.form(),
+                                                  tiltAlignment(alignment, kStep * Eigen::Vector4d::Unit(k)));
+      evaluateAll(shifted, poses, whitening, &rp, nullptr);
+      shifted.external = ExternalParameterization(result.model.external.form(),
+                                                  tiltAlignment(alignment, -kStep * Eigen::Vector4d::Unit(k)));
+      evaluateAll(shifted, poses, whitening, &rm, nullptr);
+      Eigen::Index out_row = 0;
+      for (std::size_t j = 0; j < poses.size(); ++j) {
+        if (!keep[j]) continue;
+        dr.block(out_row, k, J, 1) = (rp.segment(static_cast<Eigen::Index>(j) * J, J) -
+                                      rm.segment(static_cast<Eigen::Index>(j) * J, J)) / (2.0 * kStep);
+        out_row += J;
+      }
+    }
+    const Eigen::MatrixXd S = -information_inverse * A.transpose() * dr;
+    result.alignment_covariance = S * alignment.covariance * S.transpose();
+    result.covariance += result.alignment_covariance;
+  }
+  result.free_names = params.freeNames();
+
+  if (options.compute_identifiability) {
+    result.identifiability = analyzeJacobian(J_rad_free, result.free_names, options.identifiability);
+    deficient = deficient || !result.identifiability.fullRank();
+  }
+  std::set<std::string> undetermined;
+  for (const UnidentifiableCombination& c : result.identifiability.combinations)
+    for (const auto& [name, coefficient] : c.direction) undetermined.insert(name);
+
+  result.sigma = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(params.size()));
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const std::size_t leader = params.tieLeader(i);
+    for (std::size_t f = 0; f < free_indices.size(); ++f)
+      if (free_indices[f] == leader) {
+        const auto fi = static_cast<Eigen::Index>(f);
+        result.sigma[static_cast<Eigen::Index>(i)] =
+            deficient && undetermined.count(params[leader].name)
+                ? std::numeric_limits<double>::infinity()
+                : std::sqrt(result.covariance(fi, fi));
+      }
+  }
+  result.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return result;
+}
+
+}  // namespace mire::mechanism

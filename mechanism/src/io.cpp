@@ -1,0 +1,356 @@
+// Identification files (BRIEF §10); see io.hpp.
+#include "mire/mechanism/io.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+namespace mire::mechanism {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<std::string> jointColumns(int joint_count) {
+  std::vector<std::string> names;
+  for (int i = 1; i <= joint_count; ++i) names.push_back("q" + std::to_string(i) + "_rad");
+  return names;
+}
+
+std::string trim(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t\r");
+  if (begin == std::string::npos) return {};
+  const auto end = s.find_last_not_of(" \t\r");
+  return s.substr(begin, end - begin + 1);
+}
+
+// Row index of every id, rejecting duplicates with both lines.
+void checkUniqueId(std::map<std::string, std::size_t>& seen, const support::CsvTable& table,
+                   std::size_t row, const std::string& id, const char* what) {
+  if (id.empty()) throw std::runtime_error(table.where(row) + ": empty " + what);
+  const auto [it, inserted] = seen.emplace(id, row);
+  if (!inserted)
+    throw std::runtime_error(table.where(row) + ": duplicate " + what + " '" + id + "' (first on line " +
+                             std::to_string(table.line_numbers.at(it->second)) + ")");
+}
+
+// Side file of `mire measure`: pose_id,part,row,tx,ty,tz,rx,ry,rz; the `total` part.
+std::map<std::string, PoseCovariance> readCovarianceCsv(const std::filesystem::path& path) {
+  const support::CsvTable table = support::readCsv(path);
+  const std::size_t id_col = table.column("pose_id"), part_col = table.column("part"),
+                    row_col = table.column("row");
+  const std::vector<std::string> axes{"tx", "ty", "tz", "rx", "ry", "rz"};
+  std::vector<std::size_t> value_cols;
+  for (const auto& axis : axes) value_cols.push_back(table.column(axis));
+  std::map<std::string, PoseCovariance> covariances;
+  std::map<std::string, std::set<int>> rows_seen;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    if (table.rows[r][part_col] != "total") continue;
+    const std::string& id = table.rows[r][id_col];
+    const std::string& axis = table.rows[r][row_col];
+    int index = -1;
+    for (int k = 0; k < 6; ++k)
+      if (axes[static_cast<std::size_t>(k)] == axis) index = k;
+    if (index < 0) throw std::runtime_error(table.where(r) + ": column 'row': '" + axis + "' is not one of tx ty tz rx ry rz");
+    if (!rows_seen[id].insert(index).second)
+      throw std::runtime_error(table.where(r) + ": duplicate row '" + axis + "' of pose '" + id + "'");
+    auto& covariance = covariances.try_emplace(id, PoseCovariance::Zero()).first->second;
+    for (int k = 0; k < 6; ++k) covariance(index, k) = table.number(r, value_cols[static_cast<std::size_t>(k)]);
+  }
+  for (const auto& [id, rows] : rows_seen)
+    if (rows.size() != 6)
+      throw std::runtime_error(path.string() + ": pose '" + id + "' has " + std::to_string(rows.size()) +
+                               " of the 6 rows of its 'total' covariance");
+  return covariances;
+}
+
+}  // namespace
+
+std::filesystem::path defaultCovariancePath(const std::filesystem::path& poses_csv) {
+  return poses_csv.parent_path() / (poses_csv.stem().string() + "_covariance.csv");
+}
+
+std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
+                                  const std::optional<std::filesystem::path>& covariance_csv) {
+  const support::CsvTable table = support::readCsv(poses_csv);
+  const std::size_t id_col = table.column("pose_id");
+  for (const char* name : {"images_used", "images_total", "rms_px"}) table.column(name);  // required by §10
+  std::vector<std::size_t> pose_cols, sigma_cols;
+  for (const char* name : {"tx_m", "ty_m", "tz_m", "rx_rad", "ry_rad", "rz_rad"}) pose_cols.push_back(table.column(name));
+  for (const char* name : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm", "sigma_rx_deg", "sigma_ry_deg", "sigma_rz_deg"})
+    sigma_cols.push_back(table.column(name));
+  std::map<std::string, PoseCovariance> side;
+  if (covariance_csv) side = readCovarianceCsv(*covariance_csv);
+
+  std::vector<PoseRow> rows;
+  std::map<std::string, std::size_t> seen;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    PoseRow row;
+    row.line = static_cast<int>(table.line_numbers[r]);
+    row.observation.id = table.rows[r][id_col];
+    checkUniqueId(seen, table, r, row.observation.id, "pose_id");
+    for (int k = 0; k < 6; ++k) row.observation.cTm[k] = table.number(r, pose_cols[static_cast<std::size_t>(k)]);
+    Eigen::Matrix<double, 6, 1> sigma;
+    for (int k = 0; k < 6; ++k) {
+      sigma[k] = table.number(r, sigma_cols[static_cast<std::size_t>(k)]);
+      if (sigma[k] < 0.0)
+        throw std::runtime_error(table.where(r) + ": column '" + table.header[sigma_cols[static_cast<std::size_t>(k)]] +
+                                 "': negative standard deviation");
+    }
+    if (covariance_csv) {
+      const auto it = side.find(row.observation.id);
+      if (it == side.end())
+        throw std::runtime_error(table.where(r) + ": pose '" + row.observation.id + "' has no covariance in " +
+                                 covariance_csv->string());
+      row.observation.covariance = it->second;
+    } else if ((sigma.array() > 0.0).all()) {
+      sigma.head<3>() *= 1e-3;
+      sigma.tail<3>() *= kPi / 180.0;
+      row.observation.covariance = PoseCovariance(sigma.array().square().matrix().asDiagonal());
+    }
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) throw std::runtime_error(poses_csv.string() + ": no pose rows");
+  return rows;
+}
+
+std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv, int joint_count) {
+  const support::CsvTable table = support::readCsv(joints_csv);
+  const std::size_t id_col = table.column("pose_id");
+  std::vector<std::size_t> cols;
+  for (const auto& name : jointColumns(joint_count)) cols.push_back(table.column(name));
+  std::vector<JointRow> rows;
+  std::map<std::string, std::size_t> seen;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    JointRow row;
+    row.pose_id = table.rows[r][id_col];
+    row.line = static_cast<int>(table.line_numbers[r]);
+    checkUniqueId(seen, table, r, row.pose_id, "pose_id");
+    row.joints.resize(joint_count);
+    for (int k = 0; k < joint_count; ++k) row.joints[k] = table.number(r, cols[static_cast<std::size_t>(k)]);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+void writeJointsCsv(const std::filesystem::path& joints_csv, const std::vector<std::string>& ids,
+                    const std::vector<Eigen::VectorXd>& joints) {
+  if (ids.size() != joints.size()) throw std::invalid_argument("writeJointsCsv: ids and joints differ in count");
+  std::ostringstream out;
+  out << "pose_id";
+  const int n = joints.empty() ? 4 : static_cast<int>(joints.front().size());
+  for (const auto& name : jointColumns(n)) out << ',' << name;
+  out << '\n';
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    out << ids[k];
+    for (int j = 0; j < joints[k].size(); ++j) out << ',' << support::formatNumber(joints[k][j]);
+    out << '\n';
+  }
+  support::writeFileAtomically(joints_csv, out.str());
+}
+
+ObservationSet readObservations(const std::filesystem::path& poses_csv, const std::filesystem::path& joints_csv,
+                                const std::optional<std::filesystem::path>& covariance_csv, int joint_count) {
+  const auto pose_rows = readPosesCsv(poses_csv, covariance_csv);
+  const auto joint_rows = readJointsCsv(joints_csv, joint_count);
+  std::map<std::string, const JointRow*> by_id;
+  for (const auto& row : joint_rows) by_id[row.pose_id] = &row;
+  ObservationSet set;
+  std::set<std::string> used;
+  for (const auto& row : pose_rows) {
+    const auto it = by_id.find(row.observation.id);
+    if (it == by_id.end())
+      throw std::runtime_error(poses_csv.string() + ":" + std::to_string(row.line) + ": pose '" + row.observation.id +
+                               "' has no joints in " + joints_csv.string());
+    PoseObservation observation = row.observation;
+    observation.joints = it->second->joints;
+    used.insert(observation.id);
+    set.poses.push_back(std::move(observation));
+  }
+  for (const auto& row : joint_rows)
+    if (!used.count(row.pose_id)) set.unused_joint_ids.push_back(row.pose_id);
+  validatePoses(set.poses, joint_count);
+  return set;
+}
+
+std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv, int joint_count) {
+  const support::CsvTable table = support::readCsv(lines_csv);
+  const std::size_t id_col = table.column("line_id");
+  std::vector<std::size_t> cols;
+  for (const auto& name : jointColumns(joint_count)) cols.push_back(table.column(name));
+  std::vector<LineRecord> lines;
+  std::map<std::string, std::size_t> index;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const std::string& id = table.rows[r][id_col];
+    if (id.empty()) throw std::runtime_error(table.where(r) + ": empty line_id");
+    Eigen::VectorXd q(joint_count);
+    for (int k = 0; k < joint_count; ++k) q[k] = table.number(r, cols[static_cast<std::size_t>(k)]);
+    const auto [it, inserted] = index.emplace(id, lines.size());
+    if (inserted) lines.push_back({id, {}});
+    lines[it->second].joints.push_back(q);
+  }
+  for (const auto& line : lines)
+    if (line.joints.size() < 3)
+      throw std::runtime_error(lines_csv.string() + ": line '" + line.line_id + "' has " +
+                               std::to_string(line.joints.size()) + " points; a straightness needs at least 3");
+  if (lines.empty()) throw std::runtime_error(lines_csv.string() + ": no line rows");
+  return lines;
+}
+
+void writeLinesCsv(const std::filesystem::path& lines_csv, const std::vector<LineRecord>& lines) {
+  std::ostringstream out;
+  const int n = lines.empty() || lines.front().joints.empty() ? 4 : static_cast<int>(lines.front().joints.front().size());
+  out << "line_id";
+  for (const auto& name : jointColumns(n)) out << ',' << name;
+  out << '\n';
+  for (const auto& line : lines)
+    for (const auto& q : line.joints) {
+      out << line.line_id;
+      for (int j = 0; j < q.size(); ++j) out << ',' << support::formatNumber(q[j]);
+      out << '\n';
+    }
+  support::writeFileAtomically(lines_csv, out.str());
+}
+
+// ---- parameter YAML ---------------------------------------------------------------------
+
+const ParameterFileEntry* ParameterFile::find(const std::string& key) const {
+  for (const auto& entry : entries)
+    if (entry.key == key) return &entry;
+  return nullptr;
+}
+
+std::string ParameterFile::where(const ParameterFileEntry& entry) const {
+  return path.string() + ":" + std::to_string(entry.line);
+}
+
+double ParameterFile::number(const ParameterFileEntry& entry) const {
+  std::size_t consumed = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(entry.text, &consumed);
+  } catch (const std::exception&) {
+    consumed = 0;
+  }
+  if (consumed != entry.text.size() || !std::isfinite(value))
+    throw std::runtime_error(where(entry) + ": " + entry.key + ": '" + entry.text + "' is not a finite number");
+  return value;
+}
+
+ParameterFile readParameterFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open for reading");
+  ParameterFile file;
+  file.path = path;
+  std::string line;
+  int number = 0;
+  std::map<std::string, int> seen;
+  while (std::getline(in, line)) {
+    ++number;
+    // Strip comments (values never contain '#').
+    const auto hash = line.find('#');
+    std::string content = trim(hash == std::string::npos ? line : line.substr(0, hash));
+    if (content.empty() || content == "---" || content.rfind("%YAML", 0) == 0) continue;
+    const auto colon = content.find(':');
+    const std::string where = path.string() + ":" + std::to_string(number);
+    if (colon == std::string::npos) throw std::runtime_error(where + ": expected 'name: value', found '" + content + "'");
+    ParameterFileEntry entry;
+    entry.key = trim(content.substr(0, colon));
+    entry.text = trim(content.substr(colon + 1));
+    entry.line = number;
+    if (entry.text.size() >= 2 && (entry.text.front() == '"' || entry.text.front() == '\'') &&
+        entry.text.back() == entry.text.front())
+      entry.text = entry.text.substr(1, entry.text.size() - 2);
+    if (entry.key.empty()) throw std::runtime_error(where + ": empty key");
+    if (entry.text.empty())
+      throw std::runtime_error(where + ": '" + entry.key + "' has no value (nested YAML is not supported here)");
+    const auto [it, inserted] = seen.emplace(entry.key, number);
+    if (!inserted)
+      throw std::runtime_error(where + ": duplicate key '" + entry.key + "' (first on line " + std::to_string(it->second) + ")");
+    file.entries.push_back(entry);
+  }
+  return file;
+}
+
+const std::vector<std::string>& parameterFileMetadataKeys() {
+  static const std::vector<std::string> keys{"model", "variant", "external_form", "mechanism", "units",
+                                             "poses", "rms_joint_residual_rad", "residual_scale",
+                                             "condition_number", "created_by"};
+  return keys;
+}
+
+std::vector<std::string> applyParameterFile(const ParameterFile& file, ParameterSet& parameters,
+                                            const std::vector<std::string>& also_allowed) {
+  const auto& metadata = parameterFileMetadataKeys();
+  auto listed = [](const std::vector<std::string>& list, const std::string& key) {
+    for (const auto& item : list)
+      if (item == key) return true;
+    return false;
+  };
+  std::vector<std::string> set_names;
+  for (const auto& entry : file.entries) {
+    if (listed(metadata, entry.key)) continue;
+    const bool is_sigma = entry.key.rfind("sigma_", 0) == 0;
+    const std::string name = is_sigma ? entry.key.substr(6) : entry.key;
+    if (parameters.contains(name)) {
+      const double value = file.number(entry);
+      if (is_sigma) {
+        if (value < 0.0) throw std::runtime_error(file.where(entry) + ": " + entry.key + ": negative standard deviation");
+        continue;
+      }
+      parameters.setValue(name, value);
+      set_names.push_back(name);
+      continue;
+    }
+    if (listed(also_allowed, name)) {
+      file.number(entry);  // still must be a finite number
+      continue;
+    }
+    std::string known;
+    for (const auto& n : parameters.names()) known += (known.empty() ? "" : ", ") + n;
+    throw std::runtime_error(file.where(entry) + ": unknown parameter name '" + entry.key + "' (known: " + known + ")");
+  }
+  return set_names;
+}
+
+std::string parameterFileString(const ParameterSet& parameters, const Eigen::VectorXd& sigma,
+                                const std::vector<std::pair<std::string, std::string>>& metadata,
+                                const std::string& comment) {
+  if (sigma.size() != 0 && sigma.size() != static_cast<Eigen::Index>(parameters.size()))
+    throw std::invalid_argument("parameter file: sigma size differs from the parameter count");
+  std::ostringstream out;
+  out << "%YAML:1.0\n---\n";
+  std::istringstream lines(comment);
+  for (std::string line; std::getline(lines, line);) out << "# " << line << '\n';
+  out << "# Values in SI units (m, rad); each comment gives the human value (mm, deg).\n";
+  for (const auto& [key, text] : metadata) out << key << ": \"" << text << "\"\n";
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    const Parameter& p = parameters[i];
+    out << p.name << ": " << support::formatNumber(p.value) << "  # " << unitName(p.unit) << ", "
+        << support::formatNumber(toDisplay(p.unit, p.value), 8) << ' ' << displayUnitName(p.unit)
+        << (p.fixed ? ", fixed" : "") << (p.description.empty() ? "" : "; " + p.description) << '\n';
+  }
+  for (std::size_t i = 0; i < parameters.size() && sigma.size() > 0; ++i) {
+    const Parameter& p = parameters[i];
+    if (!(sigma[static_cast<Eigen::Index>(i)] > 0.0)) continue;
+    const double s = sigma[static_cast<Eigen::Index>(i)];
+    out << "sigma_" << p.name << ": " << support::formatNumber(s) << "  # " << unitName(p.unit) << ", "
+        << support::formatNumber(toDisplay(p.unit, s), 4) << ' ' << displayUnitName(p.unit) << '\n';
+  }
+  return out.str();
+}
+
+void writeParameterFile(const std::filesystem::path& path, const ParameterSet& parameters,
+                        const Eigen::VectorXd& sigma,
+                        const std::vector<std::pair<std::string, std::string>>& metadata,
+                        const std::string& comment) {
+  support::writeFileAtomically(path, parameterFileString(parameters, sigma, metadata, comment));
+}
+
+}  // namespace mire::mechanism

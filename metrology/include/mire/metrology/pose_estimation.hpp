@@ -1,0 +1,73 @@
+#pragma once
+// The target pose cTm from averaged features, with its precision (../shared/BRIEF.md §3, §10).
+//
+//  1. Planar initialisation: IPPE (cv::solvePnPGeneric, SOLVEPNP_IPPE) on the undistorted rays
+//     (Camera::unproject, exact), keeping both of its solutions.
+//  2. Refinement of each solution by Ceres: the reprojection error through the full distortion
+//     model (calibration::projectPoint, autodiff), whitened by each averaged feature's
+//     covariance of the mean. The lower cost wins; when the other solution's cost is within
+//     `ambiguity_ratio` of it, the pose is flagged ambiguous (planar pose flip).
+//  3. Precision, as a 6×6 covariance of (tx ty tz rx ry rz), r the rotation vector
+//     (cv::Rodrigues convention):
+//       (a) feature noise:  Σ_a = (J_pᵀ W J_p)⁻¹, W = the features' covariance of the mean⁻¹;
+//       (b) intrinsics:     Σ_b = A Σ_k Aᵀ, A = ∂pose/∂k = −(J_pᵀ W J_p)⁻¹ J_pᵀ W J_k
+//           (implicit function theorem at the optimum), Σ_k = Camera::covariance;
+//       combined Σ = Σ_a + Σ_b (independent sources).
+#include "mire/calibration/camera_model.hpp"
+#include "mire/metrology/feature_averaging.hpp"
+#include "mire/metrology/pose_types.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+namespace mire::metrology {
+
+struct PoseOptions {
+  // The pose is flagged ambiguous when cost(second minimum) < ambiguity_ratio × cost(best).
+  double ambiguity_ratio = 4.0;
+  // Added to every feature's covariance of the mean (px): keeps the weights finite on
+  // noiseless (synthetic) data; negligible on real images (σ of a mean ≈ 0.01–0.05 px).
+  double covariance_floor_px = 1e-4;
+  // When the features carry no scatter (a single image) the noise covariance is estimated from
+  // the fit's residuals: σ² = Σ r² / (2N − 6), isotropic.
+  int max_iterations = 100;
+};
+
+struct PoseEstimate {
+  bool valid = false;
+  std::string reason;                 // why not valid
+  Eigen::Isometry3d cTm = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();      // m
+  Eigen::Vector3d rotation_vector = Eigen::Vector3d::Zero();  // rad, cv::Rodrigues convention
+  Matrix6d covariance_noise = Matrix6d::Zero();       // (a) from the feature scatter
+  Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b) from Camera::covariance
+  Matrix6d covariance = Matrix6d::Zero();             // (a) + (b)
+  double rms_px = 0.0;          // RMS reprojection residual of the averaged features (px)
+  double reduced_chi2 = 0.0;    // whitened Σ r² / (2N − 6): ≈ 1 when the model fits to the noise
+  int feature_count = 0;
+  bool scatter_from_residuals = false;  // no multi-image scatter: (a) uses the residuals
+  bool ambiguous = false;
+  double ambiguity_cost_ratio = 0.0;    // cost(second) / cost(best); +inf when a single minimum
+  Eigen::Isometry3d alternative_cTm = Eigen::Isometry3d::Identity();  // the second minimum
+
+  // One-sigma of each component (sqrt of the diagonal) of a covariance, in its units.
+  static Eigen::Matrix<double, 6, 1> sigmas(const Matrix6d& covariance);
+};
+
+// Estimates cTm. `points` = Target::points() (frame M, z = 0); `features` indexes into it.
+PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                          const AveragedFeatures& features, const PoseOptions& options = {});
+
+// Whitened Jacobians of the reprojection residuals at `cTm`, with the same weighting as
+// estimatePose (each feature's covariance of the mean plus the floor; identity when the
+// features carry no scatter): J_p is 2N×6 in (tx ty tz rx ry rz) order, J_k is 2N×params.
+// (J_pᵀ J_p)⁻¹ is then the Cramér–Rao bound of the pose for that feature noise.
+void reprojectionJacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                           const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
+                           Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics,
+                           const PoseOptions& options = {});
+
+}  // namespace mire::metrology

@@ -1,0 +1,58 @@
+#pragma once
+// poses.csv and its covariance side file (../shared/BRIEF.md §10).
+//
+// poses.csv: one row per pose, header
+//   pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,
+//   sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px
+// then mire's extra columns:
+//   sigma_noise_tx_mm ... sigma_noise_rz_deg  σ from the feature scatter alone (part a)
+//   reduced_chi2                             whitened residual Σr²/(2N−6)
+//   features                                 features used in the fit
+//   ambiguous,ambiguity_ratio                planar flip flag (0/1) and cost(second)/cost(best)
+// t and r are cTm (r a rotation vector, cv::Rodrigues); σ = combined (noise + intrinsics).
+//
+// poses_covariance.csv: the full 6×6 covariances, 18 rows per pose, header
+//   pose_id,part,row,tx,ty,tz,rx,ry,rz
+// part ∈ {total, noise, intrinsics} (total = noise + intrinsics), row ∈ {tx,ty,tz,rx,ry,rz};
+// SI units: m², m·rad, rad².
+#include "mire/metrology/pose_estimation.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace mire::metrology {
+
+struct MeasuredPose {
+  std::string pose_id;
+  int images_used = 0;
+  int images_total = 0;
+  PoseEstimate estimate;  // must be valid
+};
+
+std::string posesCsvString(const std::vector<MeasuredPose>& poses);
+std::string posesCovarianceCsvString(const std::vector<MeasuredPose>& poses);
+
+// Writes both files atomically (support::writeFileAtomically).
+void writePosesCsv(const std::filesystem::path& path, const std::vector<MeasuredPose>& poses);
+void writePosesCovarianceCsv(const std::filesystem::path& path, const std::vector<MeasuredPose>& poses);
+
+// "poses.csv" → "poses_covariance.csv" beside it.
+std::filesystem::path covarianceSidePath(const std::filesystem::path& poses_csv);
+
+// Reads poses.csv back (the BRIEF §10 columns; extra columns ignored). The covariance is
+// diagonal from the σ columns unless `covariance_csv` is given (its `total` part is used).
+// Throws std::runtime_error naming file:line on a malformed file.
+struct PoseRecord {
+  std::string pose_id;
+  int images_used = 0;
+  int images_total = 0;
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_vector = Eigen::Vector3d::Zero();
+  Matrix6d covariance = Matrix6d::Zero();  // SI, order tx ty tz rx ry rz
+  double rms_px = 0.0;
+};
+std::vector<PoseRecord> readPosesCsv(const std::filesystem::path& path,
+                                     const std::filesystem::path& covariance_csv = {});
+
+}  // namespace mire::metrology

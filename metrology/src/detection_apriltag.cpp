@@ -1,0 +1,99 @@
+// AprilTag grids through AprilTag 3 (BRIEF §10 target layout, detection.hpp).
+#include "apriltag_family.hpp"
+#include "detection_internal.hpp"
+
+#include <apriltag/apriltag.h>
+#include <apriltag/common/zarray.h>
+
+#include <array>
+#include <stdexcept>
+#include <map>
+#include <memory>
+
+namespace mire::metrology::detail {
+
+struct DetectorDeleter {
+  void operator()(apriltag_detector_t* detector) const { apriltag_detector_destroy(detector); }
+};
+struct DetectionsDeleter {
+  void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
+};
+
+// AprilTag puts integer coordinates at pixel corners (pixel (i, j) covers [i, i+1) ×
+// [j, j+1)); OpenCV at pixel centres. Checked against AprilTag's own reference detections
+// (tests/metrology/test_detection_apriltag.cpp).
+constexpr double kAprilTagToOpenCV = -0.5;
+
+// AprilTag's corner k (p[k], counter-clockwise in the image for an upright tag, starting
+// bottom-left) -> this target's corner order (top-left, top-right, bottom-right,
+// bottom-left, clockwise in the image; target.hpp).
+constexpr int kTargetCornerOfAprilTagCorner[4] = {3, 2, 1, 0};
+
+}  // namespace mire::metrology::detail
+
+namespace mire::metrology {
+
+std::vector<TagDetection> detectAprilTags(const cv::Mat& gray, const std::string& family_name, bool refine_edges) {
+  if (gray.empty() || gray.type() != CV_8UC1) throw std::invalid_argument("detectAprilTags: needs an 8-bit grey image");
+  const detail::TagFamilyPtr family = detail::createTagFamily(family_name);
+  if (!family) throw std::invalid_argument("unknown AprilTag family '" + family_name + "'");
+  const std::unique_ptr<apriltag_detector_t, detail::DetectorDeleter> detector(apriltag_detector_create());
+  apriltag_detector_add_family_bits(detector.get(), family.get(), 2);
+  // Full resolution for quads (decimation costs corner accuracy and misses small tags).
+  detector->quad_decimate = 1.0f;
+  detector->quad_sigma = 0.0f;
+  detector->refine_edges = refine_edges;
+  detector->nthreads = 1;
+
+  cv::Mat owned = gray.clone();  // AprilTag takes a non-const image
+  image_u8_t image{owned.cols, owned.rows, static_cast<int32_t>(owned.step[0]), owned.data};
+  const std::unique_ptr<zarray_t, detail::DetectionsDeleter> detections(apriltag_detector_detect(detector.get(), &image));
+  std::vector<TagDetection> tags;
+  for (int i = 0; i < zarray_size(detections.get()); ++i) {
+    apriltag_detection_t* detection = nullptr;
+    zarray_get(detections.get(), i, &detection);
+    TagDetection tag;
+    tag.id = detection->id;
+    tag.hamming = detection->hamming;
+    tag.decision_margin = detection->decision_margin;
+    for (int k = 0; k < 4; ++k)
+      tag.corners[detail::kTargetCornerOfAprilTagCorner[k]] = Eigen::Vector2d(
+          detection->p[k][0] + detail::kAprilTagToOpenCV, detection->p[k][1] + detail::kAprilTagToOpenCV);
+    tags.push_back(tag);
+  }
+  return tags;
+}
+
+namespace detail {
+
+Detection detectAprilTagGrid(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
+  const TargetSpec& spec = target.spec();
+  // Tag index -> corners; a tag seen twice is ambiguous and dropped.
+  std::map<int, std::array<Eigen::Vector2d, 4>> tags;
+  std::vector<int> duplicated;
+  for (const TagDetection& tag : detectAprilTags(gray, spec.family, options.subpixel)) {
+    const int index = target.tagIndex(tag.id);
+    if (index < 0) continue;  // another tag in the scene
+    if (!tags.emplace(index, tag.corners).second) duplicated.push_back(index);
+  }
+  for (const int index : duplicated) tags.erase(index);
+
+  Detection result;
+  const int expected = spec.cols * spec.rows;
+  for (const auto& [index, corners] : tags) {
+    for (int j = 0; j < 4; ++j) {
+      result.ids.push_back(4 * index + j);
+      result.pixels.push_back(corners[j]);
+    }
+  }
+  const int found = static_cast<int>(tags.size());
+  result.found = found == expected || (options.allow_partial && found > 0);
+  if (found < expected)
+    result.reason = std::to_string(found) + " of " + std::to_string(expected) + " tags (" + spec.family + " ids " +
+                    std::to_string(spec.first_id) + ".." + std::to_string(spec.first_id + expected - 1) + ") found";
+  if (!duplicated.empty())
+    result.reason += (result.reason.empty() ? "" : "; ") + std::to_string(duplicated.size()) + " tag id(s) seen twice, ignored";
+  return result;
+}
+
+}  // namespace mire::metrology::detail

@@ -1,0 +1,231 @@
+#include "mire/metrology/feature_averaging.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace mire::metrology {
+namespace {
+
+// Scale from the median absolute deviation to σ for a normal distribution.
+constexpr double kMadToSigma = 1.4826;
+// Spreads below this (px) are treated as noiseless data, not as infinitely precise.
+constexpr double kSpreadFloorPx = 1e-6;
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  if (values.size() % 2 == 1) return *middle;
+  const double upper = *middle;
+  const double lower = *std::max_element(values.begin(), middle);
+  return 0.5 * (lower + upper);
+}
+
+double robustSigma(const std::vector<double>& values) {
+  const double centre = median(values);
+  std::vector<double> deviations;
+  deviations.reserve(values.size());
+  for (const double v : values) deviations.push_back(std::abs(v - centre));
+  return kMadToSigma * median(deviations);
+}
+
+// One feature's observations: (image index in `found`, pixel).
+struct Track {
+  std::vector<int> images;
+  std::vector<Eigen::Vector2d> pixels;
+};
+
+Eigen::Vector2d trackMedian(const Track& track, const std::vector<bool>& kept) {
+  std::vector<double> xs, ys;
+  for (std::size_t k = 0; k < track.images.size(); ++k) {
+    if (!kept[static_cast<std::size_t>(track.images[k])]) continue;
+    xs.push_back(track.pixels[k].x());
+    ys.push_back(track.pixels[k].y());
+  }
+  return {median(xs), median(ys)};
+}
+
+// Empirical Bayes strength of the pooled prior (method of moments): the per-feature variances
+// s_i = tr(S_i)/2 scatter by sampling noise alone as Var(s_i) = σ⁴/(n − 1) (2(n − 1) degrees
+// of freedom); any excess is a real spread τ² of the features' noise. A scaled inverse-χ²
+// prior with ν0 degrees of freedom has a squared coefficient of variation 2/(ν0 − 4), so
+// ν0 = 4 + 2 m²/τ². Homogeneous noise (τ² ≤ 0) gives the pooled estimate (ν0 = kMaxPriorDof).
+double empiricalPriorDof(const std::vector<Eigen::Matrix2d>& sample_covariance, const std::vector<int>& observations) {
+  constexpr double kMaxPriorDof = 1e4;
+  constexpr double kMinPriorDof = 4.5;
+  double sum = 0.0, sum_squares = 0.0, sum_dof = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < sample_covariance.size(); ++i) {
+    if (observations[i] < 2) continue;
+    const double s = 0.5 * sample_covariance[i].trace();
+    sum += s;
+    sum_squares += s * s;
+    sum_dof += observations[i] - 1;
+    ++count;
+  }
+  if (count < 3) return kMaxPriorDof;
+  const double mean = sum / count;
+  const double variance = (sum_squares - count * mean * mean) / (count - 1);
+  const double dof = sum_dof / count;  // n − 1, per axis
+  const double spread = (variance - mean * mean / dof) / (1.0 + 1.0 / dof);
+  if (!(spread > 0.0) || !(mean > 0.0)) return kMaxPriorDof;
+  return std::clamp(4.0 + 2.0 * mean * mean / spread, kMinPriorDof, kMaxPriorDof);
+}
+
+}  // namespace
+
+double chiSquare2Quantile(double probability) {
+  if (!(probability > 0.0 && probability < 1.0)) throw std::invalid_argument("probability must be in (0, 1)");
+  return -2.0 * std::log(1.0 - probability);
+}
+
+AveragedFeatures averageDetections(const std::vector<Detection>& detections, const AveragingOptions& options) {
+  AveragedFeatures result;
+  result.images_total = static_cast<int>(detections.size());
+  const double threshold = chiSquare2Quantile(options.rejection_confidence);
+
+  // Images where the target was found, and each feature's track across them.
+  std::vector<int> found;  // indices into `detections`
+  std::map<int, Track> tracks;
+  for (std::size_t j = 0; j < detections.size(); ++j) {
+    const Detection& detection = detections[j];
+    if (!detection.found) continue;
+    const int slot = static_cast<int>(found.size());
+    found.push_back(static_cast<int>(j));
+    for (std::size_t i = 0; i < detection.ids.size(); ++i) {
+      Track& track = tracks[detection.ids[i]];
+      track.images.push_back(slot);
+      track.pixels.push_back(detection.pixels[i]);
+    }
+  }
+  const std::size_t image_count = found.size();
+  std::vector<bool> kept(image_count, true);
+  if (image_count == 0) return result;
+
+  // Residuals of every observation about its feature's median, over the kept images.
+  const auto residuals = [&](std::vector<std::vector<Eigen::Vector2d>>* per_image) {
+    per_image->assign(image_count, {});
+    for (const auto& [id, track] : tracks) {
+      if (track.images.size() < 2) continue;
+      const Eigen::Vector2d centre = trackMedian(track, kept);
+      for (std::size_t k = 0; k < track.images.size(); ++k)
+        (*per_image)[static_cast<std::size_t>(track.images[k])].push_back(track.pixels[k] - centre);
+    }
+  };
+  // Per-axis σ of one observation: the RMS of the residuals within 5 robust σ (MAD). The RMS,
+  // not the MAD, because features of unequal sharpness make a scale mixture whose MAD
+  // underestimates its RMS; the clipping keeps gross outliers out.
+  const auto pooledRobustSigma = [&](const std::vector<std::vector<Eigen::Vector2d>>& per_image) {
+    std::vector<double> xs, ys;
+    for (std::size_t j = 0; j < image_count; ++j)
+      if (kept[j])
+        for (const auto& r : per_image[j]) {
+          xs.push_back(r.x());
+          ys.push_back(r.y());
+        }
+    const auto clippedRms = [](const std::vector<double>& values) {
+      const double limit = 5.0 * std::max(robustSigma(values), kSpreadFloorPx);
+      double sum = 0.0;
+      std::size_t count = 0;
+      for (const double v : values)
+        if (std::abs(v) <= limit) {
+          sum += v * v;
+          ++count;
+        }
+      return std::max(count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0, kSpreadFloorPx);
+    };
+    return Eigen::Vector2d(clippedRms(xs), clippedRms(ys));
+  };
+
+  if (image_count >= 3) {
+    // Image-level test: a whole image displaced (vibration, a wrong refinement).
+    std::vector<std::vector<Eigen::Vector2d>> per_image;
+    residuals(&per_image);
+    const Eigen::Vector2d observation_sigma = pooledRobustSigma(per_image);
+    std::vector<Eigen::Vector2d> displacement(image_count, Eigen::Vector2d::Zero());
+    std::vector<double> dx, dy;
+    std::size_t typical_features = 0;
+    for (std::size_t j = 0; j < image_count; ++j) {
+      if (per_image[j].empty()) continue;
+      for (const auto& r : per_image[j]) displacement[j] += r;
+      displacement[j] /= static_cast<double>(per_image[j].size());
+      dx.push_back(displacement[j].x());
+      dy.push_back(displacement[j].y());
+      typical_features = std::max(typical_features, per_image[j].size());
+    }
+    const Eigen::Vector2d centre(median(dx), median(dy));
+    // Floor: the spread of a mean of independent per-feature noise.
+    const double floor_scale = 1.0 / std::sqrt(static_cast<double>(std::max<std::size_t>(typical_features, 1)));
+    const Eigen::Vector2d spread(std::max(robustSigma(dx), observation_sigma.x() * floor_scale),
+                                 std::max(robustSigma(dy), observation_sigma.y() * floor_scale));
+    for (std::size_t j = 0; j < image_count; ++j) {
+      if (per_image[j].empty()) continue;
+      const Eigen::Vector2d z = (displacement[j] - centre).cwiseQuotient(spread);
+      if (z.squaredNorm() > threshold) kept[j] = false;
+    }
+  }
+  for (std::size_t j = 0; j < image_count; ++j)
+    if (!kept[j]) result.rejected_images.push_back(found[j]);
+  const int kept_count = static_cast<int>(std::count(kept.begin(), kept.end(), true));
+  result.images_used = kept_count;
+
+  // Observation-level test, then the mean and scatter of each feature.
+  Eigen::Vector2d observation_sigma(kSpreadFloorPx, kSpreadFloorPx);
+  if (kept_count >= 3) {
+    std::vector<std::vector<Eigen::Vector2d>> per_image;
+    residuals(&per_image);
+    observation_sigma = pooledRobustSigma(per_image);
+  }
+  const int min_observations =
+      std::max(1, static_cast<int>(std::ceil(options.min_feature_fraction * kept_count - 1e-9)));
+  std::vector<Eigen::Matrix2d> sample_covariance;
+  Eigen::Matrix2d scatter_sum = Eigen::Matrix2d::Zero();
+  int dof = 0;
+  for (const auto& [id, track] : tracks) {
+    const Eigen::Vector2d centre = trackMedian(track, kept);
+    std::vector<Eigen::Vector2d> values;
+    for (std::size_t k = 0; k < track.images.size(); ++k) {
+      if (!kept[static_cast<std::size_t>(track.images[k])]) continue;
+      if (kept_count >= 3) {
+        const Eigen::Vector2d z = (track.pixels[k] - centre).cwiseQuotient(observation_sigma);
+        if (z.squaredNorm() > threshold) {
+          ++result.rejected_observations;
+          continue;
+        }
+      }
+      values.push_back(track.pixels[k]);
+    }
+    if (static_cast<int>(values.size()) < min_observations) continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& v : values) mean += v;
+    mean /= static_cast<double>(values.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const auto& v : values) scatter += (v - mean) * (v - mean).transpose();
+    const int n = static_cast<int>(values.size());
+    scatter_sum += scatter;
+    dof += n - 1;
+    result.ids.push_back(id);
+    result.pixels.push_back(mean);
+    result.observations.push_back(n);
+    sample_covariance.push_back(n > 1 ? Eigen::Matrix2d(scatter / (n - 1)) : Eigen::Matrix2d::Zero());
+  }
+  result.pooled_dof = dof;
+  if (dof > 0) result.pooled_covariance = scatter_sum / dof;
+  result.covariance.resize(result.ids.size(), Eigen::Matrix2d::Zero());
+  if (dof == 0) return result;  // a single image: no scatter; the pose fit falls back on its residuals
+  const double prior = options.pooled_prior_dof > 0.0
+                           ? options.pooled_prior_dof
+                           : empiricalPriorDof(sample_covariance, result.observations);
+  result.prior_dof = prior;
+  for (std::size_t i = 0; i < result.ids.size(); ++i) {
+    const double n = result.observations[i];
+    const Eigen::Matrix2d single =
+        (prior * result.pooled_covariance + (n - 1.0) * sample_covariance[i]) / (prior + n - 1.0);
+    result.covariance[i] = single / n;
+  }
+  return result;
+}
+
+}  // namespace mire::metrology

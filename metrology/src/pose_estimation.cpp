@@ -1,0 +1,276 @@
+#include "mire/metrology/pose_estimation.hpp"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <opencv2/calib3d.hpp>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace mire::metrology {
+namespace {
+
+constexpr int kCameraStride = 4;
+
+// Whitened reprojection residual of one feature: L⁻¹ (project(cTm · X) − x̄), with
+// L Lᵀ = Σ the covariance of the averaged feature x̄. Parameter blocks: pose = (angle-axis r,
+// translation t), camera = calibration::Camera::params. Templated projection (BRIEF §3).
+struct ReprojectionResidual {
+  Eigen::Vector3d point;
+  Eigen::Vector2d observed;
+  Eigen::Matrix2d whitening;
+  int distortion_count;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residual) const {
+    const T* pose = blocks[0];
+    const T* camera = blocks[1];
+    const T target_point[3] = {T(point.x()), T(point.y()), T(point.z())};
+    T camera_point[3];
+    ceres::AngleAxisRotatePoint(pose, target_point, camera_point);
+    for (int i = 0; i < 3; ++i) camera_point[i] += pose[3 + i];
+    T pixel[2];
+    if (!calibration::projectPoint(camera, distortion_count, camera_point, pixel)) return false;
+    const T ex = pixel[0] - T(observed.x());
+    const T ey = pixel[1] - T(observed.y());
+    residual[0] = T(whitening(0, 0)) * ex + T(whitening(0, 1)) * ey;
+    residual[1] = T(whitening(1, 0)) * ex + T(whitening(1, 1)) * ey;
+    return true;
+  }
+};
+
+using ResidualCost = ceres::DynamicAutoDiffCostFunction<ReprojectionResidual, kCameraStride>;
+
+std::unique_ptr<ResidualCost> makeCost(const calibration::Camera& camera, const Eigen::Vector3d& point,
+                                       const Eigen::Vector2d& observed, const Eigen::Matrix2d& whitening) {
+  auto cost = std::make_unique<ResidualCost>(
+      new ReprojectionResidual{point, observed, whitening, camera.distortionCount()});
+  cost->AddParameterBlock(6);
+  cost->AddParameterBlock(static_cast<int>(camera.params.size()));
+  cost->SetNumResiduals(2);
+  return cost;
+}
+
+// L⁻¹ for each feature (identity when the features carry no scatter).
+std::vector<Eigen::Matrix2d> whiteningMatrices(const AveragedFeatures& features, const PoseOptions& options) {
+  std::vector<Eigen::Matrix2d> result;
+  result.reserve(features.size());
+  const double floor = options.covariance_floor_px * options.covariance_floor_px;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    if (!features.hasScatter()) {
+      result.push_back(Eigen::Matrix2d::Identity());
+      continue;
+    }
+    const Eigen::Matrix2d covariance = features.covariance[i] + floor * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix2d lower = covariance.llt().matrixL();
+    result.push_back(lower.inverse());
+  }
+  return result;
+}
+
+// pose = (angle-axis, translation) ↔ Isometry3d.
+Eigen::Isometry3d isometryFromParameters(const double pose[6]) {
+  return isometryFromVectors(Eigen::Vector3d(pose[3], pose[4], pose[5]), Eigen::Vector3d(pose[0], pose[1], pose[2]));
+}
+
+// Minimises the whitened reprojection error from `pose` (in place); returns ½ Σ r².
+double refine(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+              const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening, double pose[6],
+              int max_iterations) {
+  std::vector<double> camera_params = camera.params;
+  ceres::Problem problem;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    const auto& point = points[static_cast<std::size_t>(features.ids[i])];
+    problem.AddResidualBlock(makeCost(camera, point, features.pixels[i], whitening[i]).release(), nullptr,
+                             pose, camera_params.data());
+  }
+  problem.SetParameterBlockConstant(camera_params.data());
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.function_tolerance = 1e-14;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.num_threads = 1;  // poses are measured in parallel by the caller
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost))
+    return std::numeric_limits<double>::infinity();
+  return summary.final_cost;
+}
+
+// Whitened Jacobians with the given whitening; J_p columns in (angle-axis, t) order.
+void jacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+               const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening,
+               const double pose[6], Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics) {
+  const int n = static_cast<int>(features.size());
+  const int k = static_cast<int>(camera.params.size());
+  jacobian_pose->setZero(2 * n, 6);
+  jacobian_intrinsics->setZero(2 * n, k);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajor jp(2, 6), jk(2, k);
+  for (int i = 0; i < n; ++i) {
+    const auto cost = makeCost(camera, points[static_cast<std::size_t>(features.ids[static_cast<std::size_t>(i)])],
+                               features.pixels[static_cast<std::size_t>(i)], whitening[static_cast<std::size_t>(i)]);
+    const double* parameters[2] = {pose, camera.params.data()};
+    double residual[2];
+    double* blocks[2] = {jp.data(), jk.data()};
+    if (!cost->Evaluate(parameters, residual, blocks)) continue;  // behind the camera: no information
+    jacobian_pose->middleRows(2 * i, 2) = jp;
+    jacobian_intrinsics->middleRows(2 * i, 2) = jk;
+  }
+}
+
+// Reorders (angle-axis, t) columns to the public (t, r) order.
+Eigen::MatrixXd toTranslationFirst(const Eigen::MatrixXd& jacobian_pose) {
+  Eigen::MatrixXd result(jacobian_pose.rows(), 6);
+  result.leftCols(3) = jacobian_pose.rightCols(3);
+  result.rightCols(3) = jacobian_pose.leftCols(3);
+  return result;
+}
+
+double rotationDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
+
+}  // namespace
+
+Eigen::Matrix<double, 6, 1> PoseEstimate::sigmas(const Matrix6d& covariance) {
+  return covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+}
+
+void reprojectionJacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                           const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
+                           Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics,
+                           const PoseOptions& options) {
+  const auto whitening = whiteningMatrices(features, options);
+  const Eigen::Vector3d r = rotationVector(cTm.linear());
+  const double pose[6] = {r.x(), r.y(), r.z(), cTm.translation().x(), cTm.translation().y(), cTm.translation().z()};
+  Eigen::MatrixXd jp;
+  jacobians(camera, points, features, whitening, pose, &jp, jacobian_intrinsics);
+  *jacobian_pose = toTranslationFirst(jp);
+}
+
+PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                          const AveragedFeatures& features, const PoseOptions& options) {
+  PoseEstimate estimate;
+  const int n = static_cast<int>(features.size());
+  estimate.feature_count = n;
+  if (n < 4) {
+    estimate.reason = "only " + std::to_string(n) + " features (a pose needs at least 4)";
+    return estimate;
+  }
+
+  // 1. IPPE on exactly undistorted rays (normalised coordinates, K = I, no distortion).
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> rays;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    const auto& point = points[static_cast<std::size_t>(features.ids[i])];
+    Eigen::Vector2d normalized;
+    if (!camera.unproject(features.pixels[i], &normalized)) continue;
+    object.emplace_back(point.x(), point.y(), point.z());
+    rays.emplace_back(normalized.x(), normalized.y());
+  }
+  if (object.size() < 4) {
+    estimate.reason = "fewer than 4 features could be undistorted";
+    return estimate;
+  }
+  std::vector<cv::Mat> rvecs, tvecs;
+  try {
+    cv::solvePnPGeneric(object, rays, cv::Mat::eye(3, 3, CV_64F), cv::noArray(), rvecs, tvecs, false,
+                        cv::SOLVEPNP_IPPE);
+  } catch (const cv::Exception& e) {
+    estimate.reason = std::string("IPPE initialisation failed: ") + e.what();
+    return estimate;
+  }
+  if (rvecs.empty()) {
+    estimate.reason = "IPPE initialisation found no pose (degenerate feature layout?)";
+    return estimate;
+  }
+
+  // 2. Ceres refinement of each IPPE solution through the full distortion model.
+  const auto whitening = whiteningMatrices(features, options);
+  struct Candidate {
+    double pose[6];
+    double cost;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t s = 0; s < rvecs.size(); ++s) {
+    Candidate candidate{};
+    for (int i = 0; i < 3; ++i) {
+      candidate.pose[i] = rvecs[s].at<double>(i);
+      candidate.pose[3 + i] = tvecs[s].at<double>(i);
+    }
+    if (!(candidate.pose[5] > 0.0)) continue;  // target behind the camera
+    candidate.cost = refine(camera, points, features, whitening, candidate.pose, options.max_iterations);
+    if (std::isfinite(candidate.cost)) candidates.push_back(candidate);
+  }
+  if (candidates.empty()) {
+    estimate.reason = "the pose refinement failed from every IPPE solution";
+    return estimate;
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  const Candidate& best = candidates.front();
+  estimate.cTm = isometryFromParameters(best.pose);
+  estimate.rotation_vector = Eigen::Vector3d(best.pose[0], best.pose[1], best.pose[2]);
+  estimate.translation = Eigen::Vector3d(best.pose[3], best.pose[4], best.pose[5]);
+  estimate.ambiguity_cost_ratio = std::numeric_limits<double>::infinity();
+  if (candidates.size() > 1) {
+    const Candidate& second = candidates[1];
+    const Eigen::Isometry3d other = isometryFromParameters(second.pose);
+    // Both IPPE solutions may refine to the same minimum: then there is no ambiguity.
+    const bool distinct = rotationDistance(other, estimate.cTm) > 1e-6 ||
+                          (other.translation() - estimate.translation).norm() > 1e-9;
+    if (distinct) {
+      estimate.alternative_cTm = other;
+      estimate.ambiguity_cost_ratio = best.cost > 0.0 ? second.cost / best.cost : std::numeric_limits<double>::infinity();
+      estimate.ambiguous = estimate.ambiguity_cost_ratio < options.ambiguity_ratio;
+    }
+  }
+
+  // Residuals in pixels.
+  double squared_px = 0.0;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    Eigen::Vector2d pixel;
+    if (camera.project(estimate.cTm * points[static_cast<std::size_t>(features.ids[i])], &pixel))
+      squared_px += (pixel - features.pixels[i]).squaredNorm();
+  }
+  estimate.rms_px = std::sqrt(squared_px / n);
+  const int dof = 2 * n - 6;
+  estimate.reduced_chi2 = dof > 0 ? 2.0 * best.cost / dof : 0.0;
+
+  // 3. Precision. Fisher information of the whitened residuals; the intrinsics part through
+  // the implicit function theorem at the optimum: A = −(J_pᵀ J_p)⁻¹ J_pᵀ J_k.
+  Eigen::MatrixXd jp, jk;
+  jacobians(camera, points, features, whitening, best.pose, &jp, &jk);
+  jp = toTranslationFirst(jp);
+  const Matrix6d information = jp.transpose() * jp;
+  const Eigen::FullPivLU<Matrix6d> lu(information);
+  if (!lu.isInvertible()) {
+    estimate.reason = "the pose is not observable from these features (singular information matrix)";
+    return estimate;
+  }
+  Matrix6d noise = lu.inverse();
+  if (!features.hasScatter()) {
+    // No multi-image scatter: the residuals estimate an isotropic pixel noise (unit weights).
+    estimate.scatter_from_residuals = true;
+    noise *= dof > 0 ? 2.0 * best.cost / dof : 0.0;
+  }
+  estimate.covariance_noise = 0.5 * (noise + noise.transpose());
+  if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
+    const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
+    const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();
+    estimate.covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
+  }
+  estimate.covariance = estimate.covariance_noise + estimate.covariance_intrinsics;
+  estimate.valid = true;
+  return estimate;
+}
+
+}  // namespace mire::metrology
