@@ -1,13 +1,347 @@
+// `mire identify`: geometric + external parameters of the H4 from measured target poses and
+// encoder readings (paper §2–6, BRIEF §4–10), with the paper's evaluation criteria and an
+// optional Monte-Carlo study over random pose subsets. Everything is computed before anything
+// is written: bad input stops with a message naming the file/line and writes nothing.
 #include "commands.hpp"
+#include "identify_report.hpp"
 
+#include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/variants.hpp"
+#include "mire/support/progress.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+namespace mech = mire::mechanism;
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+struct IdentifyArguments {
+  std::string poses, joints, covariances, nominal, model = "h4-12", variant, lines, output, report;
+  std::vector<std::string> fix, priors, mc;
+  bool robust = false, unweighted = false;
+  int mc_repeats = 100, threads = 2;
+  unsigned long long mc_seed = 1;
+};
+
+std::string defaultNominalPath() { return std::string(MIRE_DATASETS_DIR) + "/specs/h4_nominal.yaml"; }
+
+// --prior name=value:sigma (SI).
+mech::GaussianPrior parsePrior(const std::string& text) {
+  const auto eq = text.find('='), colon = text.rfind(':');
+  if (eq == std::string::npos || colon == std::string::npos || colon < eq)
+    throw std::invalid_argument("--prior '" + text + "': expected name=value:sigma (SI units)");
+  mech::GaussianPrior prior;
+  prior.name = text.substr(0, eq);
+  try {
+    std::size_t used = 0;
+    const std::string value = text.substr(eq + 1, colon - eq - 1), sigma = text.substr(colon + 1);
+    prior.mean = std::stod(value, &used);
+    if (used != value.size()) throw std::invalid_argument("value");
+    prior.sigma = std::stod(sigma, &used);
+    if (used != sigma.size()) throw std::invalid_argument("sigma");
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--prior '" + text + "': value and sigma must be numbers (SI units)");
+  }
+  if (!std::isfinite(prior.mean) || !(prior.sigma > 0.0) || !std::isfinite(prior.sigma))
+    throw std::invalid_argument("--prior '" + text + "': needs a finite value and a sigma > 0");
+  return prior;
+}
+
+// Nominal geometry from a model-12 parameter file (BRIEF §4 keys; identified files accepted:
+// their external values and sigma_ keys are ignored).
+mech::H4Nominal readNominal(const fs::path& path) {
+  const mech::ParameterFile file = mech::readParameterFile(path);
+  mech::ParameterSet geometric = mech::h4Model12Parameters(mech::H4Nominal{});
+  std::vector<std::string> ignored{"amplification"};
+  for (auto form : {mech::ExternalForm::AxisAligned, mech::ExternalForm::Full, mech::ExternalForm::CameraFrame})
+    for (const auto& name : mech::ExternalParameterization(form).parameters().names()) ignored.push_back(name);
+  mech::applyParameterFile(file, geometric, ignored);
+  mech::H4Nominal nominal;
+  nominal.R = geometric.value("R");
+  nominal.L = geometric.value("L");
+  nominal.l = geometric.value("l");
+  nominal.h = geometric.value("h");
+  nominal.d = geometric.value("d");
+  for (int i = 0; i < 4; ++i) {
+    nominal.alpha[static_cast<std::size_t>(i)] = geometric.value("alpha" + std::to_string(i + 1));
+    nominal.q0[static_cast<std::size_t>(i)] = geometric.value("q0" + std::to_string(i + 1));
+  }
+  if (const auto* entry = file.find("amplification")) nominal.amplification = file.number(*entry);
+  return nominal;
+}
+
+std::vector<mech::PoseResidual> residualsOf(const mech::IdentificationModel& model,
+                                            const std::vector<mech::PoseObservation>& poses) {
+  std::vector<mech::PoseResidual> out;
+  for (const auto& p : poses) {
+    const auto ikm = model.predictJoints(p.cTm);
+    mech::PoseResidual r;
+    r.id = p.id;
+    r.residual = ikm.reachable() ? Eigen::VectorXd(p.joints - ikm.joints) : Eigen::VectorXd::Zero(p.joints.size());
+    out.push_back(r);
+  }
+  return out;
+}
+
+double rmsOf(const std::vector<mech::PoseResidual>& residuals) {
+  double sum = 0.0;
+  long n = 0;
+  for (const auto& r : residuals) {
+    sum += r.residual.squaredNorm();
+    n += r.residual.size();
+  }
+  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+}
+
+std::string human(const mech::Parameter& p, double si) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, p.unit == mech::Unit::Radian ? "%12.5f" : "%12.4f", mech::toDisplay(p.unit, si));
+  return buffer;
+}
+
+int runIdentify(const IdentifyArguments& args, const std::string& command_line) {
+  // ---- model choice ----
+  char letter = 0;
+  if (!args.variant.empty()) {
+    if (args.variant.size() != 1) throw std::invalid_argument("--variant '" + args.variant + "': expected one letter A..H");
+    letter = static_cast<char>(std::toupper(static_cast<unsigned char>(args.variant[0])));
+    mech::h4Variant(letter);  // throws for a letter outside A–H
+  }
+  mech::H4ModelKind kind;
+  if (args.model == "h4-12") {
+    kind = mech::H4ModelKind::Model12;
+    if (!letter) letter = 'D';
+  } else if (args.model == "h4-31c") {
+    kind = mech::H4ModelKind::Model31Camera;
+    if (!letter) letter = 'H';
+  } else if (args.model == "h4-31") {
+    kind = mech::H4ModelKind::Model31;
+    if (letter) throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
+  } else {
+    throw std::invalid_argument("--model '" + args.model + "': expected h4-12, h4-31 or h4-31c");
+  }
+  if (letter && mech::h4Variant(letter).model != kind)
+    throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + args.model +
+                                " (A-D: h4-12, E-H: h4-31c)");
+
+  // ---- inputs ----
+  const mech::H4Nominal nominal = readNominal(args.nominal.empty() ? defaultNominalPath() : args.nominal);
+  std::optional<fs::path> covariance_path;
+  if (!args.covariances.empty()) covariance_path = fs::path(args.covariances);
+  else if (fs::exists(mech::defaultCovariancePath(args.poses))) covariance_path = mech::defaultCovariancePath(args.poses);
+  mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance_path);
+  auto& poses = observations.poses;
+  if (args.unweighted)
+    for (auto& p : poses) p.covariance.reset();
+  std::vector<mech::LineRecord> lines;
+  if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines);
+
+  mech::IdentificationOptions options;
+  options.fix = args.fix;
+  for (const auto& text : args.priors) options.priors.push_back(parsePrior(text));
+  if (args.robust) options.loss = mech::RobustLoss::Huber;
+
+  // ---- initial model ----
+  mech::IdentificationModel initial;
+  std::string label;
+  if (kind == mech::H4ModelKind::Model31) {
+    std::shared_ptr<const mech::Mechanism> mechanism = mech::makeH4Mechanism(kind, nominal);
+    mech::ParameterSet geometric = mech::model31FromModel12(mech::h4Model12Parameters(nominal));
+    initial = mech::makeInitialModel(mechanism, geometric, poses, mech::ExternalForm::AxisAligned);
+    label = "h4-31 (base frame)";
+  } else {
+    initial = mech::makeH4VariantModel(letter, nominal, poses, options);
+    label = args.model + ", variant " + std::string(1, letter);
+  }
+  // Every name given on the command line must exist (h4a's identify also checks; this names the option).
+  for (const auto& name : options.fix)
+    if (!initial.parameters.contains(name)) initial.parameters.at(name);  // throws naming it and the known ones
+
+  const auto before = residualsOf(initial, poses);
+  const mech::IdentificationResult result = mech::identify(initial, poses, options);
+  if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
+
+  // ---- criteria ----
+  std::vector<std::vector<Eigen::VectorXd>> line_joints;
+  for (const auto& line : lines) line_joints.push_back(line.joints);
+  double v3_before = -1.0, v3_after = -1.0;
+  if (!line_joints.empty()) {
+    const auto& mechanism = *result.model.mechanism;
+    const auto b = mech::straightnessCriterion(mechanism, initial.geometricValues(), line_joints);
+    const auto a = mech::straightnessCriterion(mechanism, result.model.geometricValues(), line_joints);
+    if (!a.ok) throw std::runtime_error(args.lines + ": " + a.message + " (identified model)");
+    v3_before = b.ok ? b.v3_m : std::nan("");
+    v3_after = a.v3_m;
+  }
+
+  std::optional<mech::MonteCarloStudy> study;
+  if (!args.mc.empty()) {
+    mech::MonteCarloOptions mc;
+    mc.subset_sizes.clear();
+    for (const auto& text : args.mc) {
+      try {
+        std::size_t used = 0;
+        mc.subset_sizes.push_back(std::stoi(text, &used));
+        if (used != text.size()) throw std::invalid_argument(text);
+      } catch (const std::exception&) {
+        throw std::invalid_argument("--mc '" + text + "': expected subset sizes like 6,15,71");
+      }
+    }
+    mc.repeats = args.mc_repeats;
+    mc.seed = args.mc_seed;
+    mc.threads = args.threads;
+    mc.identification = options;
+    support::Progress progress("Monte-Carlo identifications", mc.subset_sizes.size() * static_cast<std::size_t>(mc.repeats));
+    mc.on_run_done = [&progress] { progress.advance(); };
+    study = mech::runMonteCarloStudy(initial, poses, line_joints, mc);
+    progress.finish();
+  }
+
+  // ---- human summary (mm, deg) ----
+  std::ostringstream out;
+  const bool weighted = result.weighted;
+  out << "poses: " << poses.size() << (weighted ? " (weighted by their measured covariances)" : " (unweighted)")
+      << "; model " << label << "; " << result.free_names.size() << " free parameters\n";
+  if (!observations.unused_joint_ids.empty())
+    out << "joints without a measured pose (ignored): " << observations.unused_joint_ids.size() << "\n";
+  const double rms_before = rmsOf(before), rms_after = result.rms_joint_residual;
+  char line[256];
+  std::snprintf(line, sizeof line, "joint residual RMS: before %.4f deg (%.3e rad), after %.4f deg (%.3e rad)\n",
+                rms_before * kRadToDeg, rms_before, rms_after * kRadToDeg, rms_after);
+  out << line;
+  std::snprintf(line, sizeof line, "condition number %.4g (%s), rank %d of %zu\n", result.identifiability.condition_number,
+                result.identifiability.scaling.c_str(), result.identifiability.rank, result.free_names.size());
+  out << line;
+  for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
+  if (!result.outliers.empty()) {
+    out << "outlier poses:";
+    for (const auto& id : result.outliers) out << ' ' << id;
+    out << "\n";
+  }
+  out << "parameter      unit    initial        identified     sigma          change\n";
+  for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
+    const auto& p = result.model.parameters[i];
+    const double start = initial.parameters[i].value;
+    std::snprintf(line, sizeof line, "%-14s %-5s %s %s %s %s%s\n", p.name.c_str(), mech::displayUnitName(p.unit).c_str(),
+                  human(p, start).c_str(), human(p, p.value).c_str(),
+                  p.fixed ? "       (fixed)" : human(p, result.sigma[static_cast<Eigen::Index>(i)]).c_str(),
+                  human(p, p.value - start).c_str(), "");
+    out << line;
+  }
+  if (v3_after >= 0.0) {
+    std::snprintf(line, sizeof line, "straightness V3 (%zu lines): before %.4f mm, after %.4f mm\n", lines.size(),
+                  v3_before * 1e3, v3_after * 1e3);
+    out << line;
+  }
+  if (study) {
+    std::snprintf(line, sizeof line, "Monte-Carlo study: %d repeats per size, %.2f s\n", args.mc_repeats, study->seconds);
+    out << line;
+    for (const auto& s : study->summaries) {
+      std::snprintf(line, sizeof line,
+                    "  %3d poses: %d ok, %d failed; V1 %+.4f ± %.4f deg, V2 %.4f ± %.4f deg, V3 %.4f ± %.4f mm\n",
+                    s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean * kRadToDeg, s.v1_sigma * kRadToDeg,
+                    s.v2_mean * kRadToDeg, s.v2_sigma * kRadToDeg, s.v3_mean * 1e3, s.v3_sigma * 1e3);
+      out << line;
+    }
+    out << "  parameter spread (sigma over the runs):\n  parameter      unit";
+    for (const auto& s : study->summaries) {
+      std::snprintf(line, sizeof line, " %10d poses", s.subset_size);
+      out << line;
+    }
+    out << "\n";
+    for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
+      const auto& p = result.model.parameters[i];
+      if (p.fixed) continue;
+      std::snprintf(line, sizeof line, "  %-14s %-4s", p.name.c_str(), mech::displayUnitName(p.unit).c_str());
+      out << line;
+      for (const auto& s : study->summaries) {
+        std::snprintf(line, sizeof line, " %16.5f", mech::toDisplay(p.unit, s.sigma[static_cast<Eigen::Index>(i)]));
+        out << line;
+      }
+      out << "\n";
+    }
+  }
+
+  // ---- outputs (only now: every computation succeeded) ----
+  std::vector<std::pair<std::string, std::string>> metadata{
+      {"model", kind == mech::H4ModelKind::Model31 ? "h4-31" : args.model},
+      {"variant", letter ? std::string(1, letter) : std::string("-")},
+      {"external_form", mech::externalFormName(result.model.external.form())},
+      {"poses", std::to_string(poses.size())},
+      {"rms_joint_residual_rad", std::to_string(rms_after)},
+      {"condition_number", std::to_string(result.identifiability.condition_number)},
+      {"created_by", "mire identify"}};
+  if (!args.report.empty()) {
+    IdentifyReportData data;
+    data.command_line = command_line;
+    data.model_label = label;
+    data.residuals_before = before;
+    data.residuals_after = result.poses;
+    data.result = result;
+    data.initial = initial.parameters;
+    data.v3_before_m = v3_before;
+    data.v3_after_m = v3_after;
+    data.study = study ? &*study : nullptr;
+    data.summary_text = out.str();
+    writeIdentifyReport(args.report, data);
+  }
+  mech::writeParameterFile(args.output, result.model.parameters, result.sigma, metadata,
+                           "Identified by mire identify (" + label + ") from " + args.poses + " and " + args.joints +
+                               "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");
+  std::cout << out.str() << "wrote " << args.output << (args.report.empty() ? "" : " and the report in " + args.report)
+            << "\n";
+  return kOk;
+}
+
+}  // namespace
+
 Runner addIdentifyCommand(CLI::App& app) {
-  app.add_subcommand("identify", "(not implemented yet)");
-  return [] {
-    std::cerr << "mire identify: not implemented yet\n";
-    return static_cast<int>(kUsage);
+  auto args = std::make_shared<IdentifyArguments>();
+  CLI::App* cmd = app.add_subcommand("identify", "identify the H4's geometry from poses.csv and joints.csv");
+  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, BRIEF §10)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_rad..q4_rad)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--pose-covariances", args->covariances,
+                  "6x6 pose covariances (default: <poses>_covariance.csv beside poses.csv when it exists, "
+                  "else the sigma_ columns)")->check(CLI::ExistingFile);
+  cmd->add_flag("--unweighted", args->unweighted, "ignore the pose covariances (plain least squares)");
+  cmd->add_option("--nominal", args->nominal, "nominal model-12 geometry YAML (default datasets/specs/h4_nominal.yaml)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--model", args->model, "h4-12 (variants A-D), h4-31 (base frame) or h4-31c (camera frame, E-H)")
+      ->capture_default_str();
+  cmd->add_option("--variant", args->variant, "paper Table 2 variant A..H (default D for h4-12, H for h4-31c)");
+  cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
+  cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");
+  cmd->add_flag("--robust", args->robust, "Huber loss (3 sigma) and outlier report");
+  cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)")->delimiter(',');
+  cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
+  cmd->add_option("--report", args->report, "folder for report.md and its PNG charts");
+  return [args] {
+    std::string command_line = "mire identify --poses " + args->poses + " --joints " + args->joints + " --model " +
+                               args->model + (args->variant.empty() ? "" : " --variant " + args->variant) + " -o " +
+                               args->output;
+    return runIdentify(*args, command_line);
   };
 }
+
 }  // namespace mire::app

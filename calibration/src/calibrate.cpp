@@ -10,8 +10,6 @@
 #include <opencv2/calib3d.hpp>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -154,7 +152,6 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
   options.num_threads = setup.num_threads;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  if (std::getenv("MIRE_DEBUG_CERES")) std::fprintf(stderr, "%s\n", summary.BriefReport().c_str());
   if (!summary.IsSolutionUsable())
     throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
 }
@@ -514,20 +511,17 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
     const double sigma_after = std::max(robustSigma(views, state), options.min_sigma_px);
     const double threshold = options.outlier_threshold_sigmas * sigma_after;
     const auto residuals = residualsOf(views, state);
-    bool changed = false;
     for (std::size_t v = 0; v < views.size(); ++v) {
       if (!state.view_active[v]) continue;
       int kept = 0;
       for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
         const bool inlier = residuals[v][k].allFinite() && residuals[v][k].norm() <= threshold;
-        if (!inlier) changed = true;
         state.inlier[v][k] = inlier;
         kept += inlier ? 1 : 0;
       }
       const int total = static_cast<int>(views[v].ids.size());
       if (kept < options.min_points_per_view || kept < options.min_inlier_fraction * total) {
         state.view_active[v] = false;
-        changed = true;
         result.views[v].rejection_reason = "only " + std::to_string(kept) + " of " + std::to_string(total) +
                                            " points within " + std::to_string(threshold) + " px";
       }
@@ -536,7 +530,6 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
       throw std::runtime_error("only " + std::to_string(activeCount()) + " views survive outlier rejection: need at least 3");
     // Final pass: ordinary least squares on the inliers (always run, so the estimate is the
     // least-squares one whose covariance is computed below).
-    (void)changed;
     solvePass(setup, &state, RobustLoss::None, 0.0);
   }
 

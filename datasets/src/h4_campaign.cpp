@@ -1,8 +1,8 @@
 #include "mire/datasets/h4_campaign.hpp"
 
 #include "mire/calibration/camera_io.hpp"
+#include "mire/mechanism/io.hpp"
 #include "mire/support/atomic_file.hpp"
-#include "mire/support/csv.hpp"
 
 #include <cstdio>
 #include <random>
@@ -26,15 +26,9 @@ H4CampaignSpec H4CampaignSpec::reference() {
 namespace {
 
 std::string poseId(std::size_t index) {
-  char buffer[16];
+  char buffer[32];
   std::snprintf(buffer, sizeof buffer, "p%03zu", index + 1);
   return buffer;
-}
-
-std::string jointsRow(const std::string& prefix, const H4Joints& q) {
-  std::string row = prefix;
-  for (int i = 0; i < 4; ++i) row += "," + support::formatNumber(q[i]);
-  return row + "\n";
 }
 
 // The board is mounted centred under the effector (the default mounting's offset is for a
@@ -141,21 +135,22 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
 
   // Encoder readings: at the poses, and along the two straight lines of criterion V3.
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
-  std::string joints = "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\n";
+  std::vector<Eigen::VectorXd> joints;
   for (std::size_t i = 0; i < campaign.poses.size(); ++i) {
     const auto q = campaign.robot.joints(campaign.poses[i], spec.encoder_noise_rad, rng);
     if (!q) throw std::runtime_error("simulated H4: pose " + campaign.pose_ids[i] + " is unreachable");
-    joints += jointsRow(campaign.pose_ids[i], *q);
+    joints.emplace_back(*q);
   }
-  support::writeFileAtomically(campaign.joints_file(), joints);
+  mechanism::writeJointsCsv(campaign.joints_file(), campaign.pose_ids, joints);
 
-  std::string lines = "line,point,q1_rad,q2_rad,q3_rad,q4_rad\n";
+  std::vector<mechanism::LineRecord> lines;
   for (std::size_t line = 0; line < campaign.lines.size(); ++line) {
-    const auto recorded = recordJoints(campaign.robot, campaign.lines[line], spec.encoder_noise_rad, rng);
-    for (std::size_t point = 0; point < recorded.size(); ++point)
-      lines += jointsRow(std::to_string(line + 1) + "," + std::to_string(point + 1), recorded[point]);
+    mechanism::LineRecord record{"line" + std::to_string(line + 1), {}};
+    for (const H4Joints& q : recordJoints(campaign.robot, campaign.lines[line], spec.encoder_noise_rad, rng))
+      record.joints.emplace_back(q);
+    lines.push_back(std::move(record));
   }
-  support::writeFileAtomically(campaign.lines_file(), lines);
+  mechanism::writeLinesCsv(campaign.lines_file(), lines);
 
   support::writeFileAtomically(truth_dir / "robot.yaml",
                                geometryYaml(geometry) + isometryYaml("bTc", campaign.robot.baseTCamera()) +

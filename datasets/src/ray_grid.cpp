@@ -36,7 +36,8 @@ bool undistortFrom(const std::vector<ceres::Jet<double, 2>>& coefficients, const
 
 }  // namespace
 
-RayGrid::RayGrid(const calibration::Camera& camera) : width_(camera.width), height_(camera.height) {
+RayGrid::RayGrid(const calibration::Camera& camera)
+    : width_(camera.width), height_(camera.height), params_(camera.params) {
   camera.validate();
   rays_.resize(static_cast<std::size_t>(width_ + 1) * (height_ + 1));
   std::vector<ceres::Jet<double, 2>> coefficients;
@@ -74,15 +75,29 @@ Eigen::Vector2d RayGrid::interpolate(double u, double v) const {
          b * ((1.0 - a) * corner(i, j + 1) + a * corner(i + 1, j + 1));
 }
 
+Eigen::Vector2d RayGrid::refine(const Eigen::Vector2d& guess, double u, double v) const {
+  using Jet = ceres::Jet<double, 2>;
+  const int count = static_cast<int>(params_.size()) - calibration::kIntrinsicCount;
+  Jet coefficients[12];
+  for (int i = 0; i < count; ++i) coefficients[i] = Jet(params_[static_cast<std::size_t>(calibration::kIntrinsicCount + i)]);
+  const Jet jx(guess.x(), 0), jy(guess.y(), 1);
+  Jet xd, yd;
+  calibration::distortNormalized(coefficients, count, jx, jy, &xd, &yd);
+  const Eigen::Vector2d residual(xd.a - (u - params_[2]) / params_[0], yd.a - (v - params_[3]) / params_[1]);
+  Eigen::Matrix2d jacobian;
+  jacobian << xd.v[0], xd.v[1], yd.v[0], yd.v[1];
+  return guess - jacobian.inverse() * residual;
+}
+
 double RayGrid::maxInterpolationErrorPx(const calibration::Camera& camera, int pixel_stride,
-                                        int samples_per_side) const {
+                                        int samples_per_side, bool refined) const {
   double worst = 0.0;
   const auto check = [&](int pixel_u, int pixel_v) {
     for (int sv = 0; sv < samples_per_side; ++sv) {
       for (int su = 0; su < samples_per_side; ++su) {
         const double u = pixel_u - 0.5 + (su + 0.5) / samples_per_side;
         const double v = pixel_v - 0.5 + (sv + 0.5) / samples_per_side;
-        const Eigen::Vector2d ray = interpolate(u, v);
+        const Eigen::Vector2d ray = refined ? this->ray(u, v) : interpolate(u, v);
         Eigen::Vector2d pixel;
         if (!ray.allFinite() || !camera.project(Eigen::Vector3d(ray.x(), ray.y(), 1.0), &pixel))
           return void(worst = std::numeric_limits<double>::infinity());

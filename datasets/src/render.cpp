@@ -18,6 +18,20 @@ namespace {
 
 constexpr float kOffPaper = -1.0f;
 
+// Deterministic per-pixel random stream (SplitMix64): the jitter depends on the pixel only,
+// so renders do not depend on the thread schedule.
+std::uint64_t pixelHash(int i, int j) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(j)) << 32) ^ static_cast<std::uint32_t>(i) ^
+         0x6A09E667F3BCC909ULL;
+}
+double unitJitter(std::uint64_t* state) {
+  std::uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;  // [0, 1)
+}
+
 // Random shapes behind the target (a "cluttered" scene), drawn antialiased once per renderer.
 cv::Mat clutteredBackground(int width, int height, double level, std::uint64_t seed) {
   cv::Mat canvas(height, width, CV_8U, cv::Scalar(std::clamp(level, 0.0, 255.0)));
@@ -166,8 +180,13 @@ Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target) const {
   else
     supersample.setTo(255);
 
-  // Pass 2: uniform pixels take their corners' level; the others average n x n sub-samples
-  // at ((k + 0.5)/n) inside the pixel, rays interpolated bilinearly between the corners.
+  // Pass 2: uniform pixels take their corners' level; the others average n x n sub-samples,
+  // one jittered in each cell of an n x n grid over the pixel (stratified sampling), rays
+  // interpolated bilinearly between the corners and refined by one Newton step (exact to
+  // < 1e-9 px). Why jitter: with a fixed grid, a straight edge's coverage is quantised the
+  // same way in every pixel along it (axis-aligned: steps of 1/n), a coherent error of up to
+  // 1/(2n) px in the edge's position that no corner or ellipse fit averages out (measured
+  // 0.12 px RMS on corners); per-pixel jitter makes it incoherent noise.
   Rendering result;
   result.radiance.create(height, width, CV_32F);
   const int n = options_.supersampling;
@@ -189,13 +208,14 @@ Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target) const {
         const Eigen::Vector2d& c01 = rays_->corner(i, j + 1);
         const Eigen::Vector2d& c11 = rays_->corner(i + 1, j + 1);
         double sum = 0.0;
+        std::uint64_t state = pixelHash(i, j);
         for (int sv = 0; sv < n; ++sv) {
-          const double b = (sv + 0.5) / n;
-          const Eigen::Vector2d left = (1.0 - b) * c00 + b * c01;
-          const Eigen::Vector2d right = (1.0 - b) * c10 + b * c11;
           for (int su = 0; su < n; ++su) {
-            const double a = (su + 0.5) / n;
-            const float level = sample((1.0 - a) * left + a * right);
+            const double a = (su + unitJitter(&state)) / n;
+            const double b = (sv + unitJitter(&state)) / n;
+            const Eigen::Vector2d left = (1.0 - b) * c00 + b * c01;
+            const Eigen::Vector2d right = (1.0 - b) * c10 + b * c11;
+            const float level = sample(rays_->refine((1.0 - a) * left + a * right, i - 0.5 + a, j - 0.5 + b));
             sum += level < 0.0f ? background[i] : level;
           }
         }

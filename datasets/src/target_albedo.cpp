@@ -5,18 +5,25 @@
 #include "../../metrology/src/apriltag_family.hpp"
 
 #include <apriltag/apriltag.h>
-#include <apriltag/common/image_u8.h>
+#include <apriltag/common/image_types.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 
 namespace mire::datasets {
 namespace {
 
+// image_u8_destroy lives in libapriltag-utils, which the apriltag pkg-config entry does not
+// link; apriltag_to_image allocates the image and its buffer with calloc, so free both.
 struct ImageDeleter {
-  void operator()(image_u8_t* image) const { image_u8_destroy(image); }
+  void operator()(image_u8_t* image) const {
+    if (image == nullptr) return;
+    std::free(image->buf);
+    std::free(image);
+  }
 };
 
 }  // namespace

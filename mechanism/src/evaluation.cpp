@@ -201,7 +201,8 @@ MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial, const std
       if (!line_joints.empty())
         run.v3_m = straightnessCriterion(*result.model.mechanism, result.model.geometricValues(), line_joints).v3_m;
       run.ok = result.converged && std::isfinite(run.v2_rad);
-      if (!run.ok) run.error = result.converged ? "validation poses unreachable" : "did not converge";
+      if (!run.ok)
+        run.error = result.converged ? "validation poses unreachable" : "did not converge: " + result.solver_report;
     } catch (const std::exception& e) {
       run.ok = false;
       run.error = e.what();

@@ -217,6 +217,16 @@ Eigen::Isometry3d ExternalParameterization::effectorInBase(const Eigen::VectorXd
   return bTe;
 }
 
+ExternalParameterization::PreparedPose ExternalParameterization::prepare(const PoseVector& cTm) const {
+  const Eigen::Isometry3d measured = toIsometry(cTm);
+  PreparedPose pose;
+  pose.cRm = measured.linear();
+  pose.ctm = measured.translation();
+  pose.M = alignment_.camera.transpose() * pose.cRm * alignment_.target;
+  pose.v = alignment_.camera.transpose() * pose.ctm;
+  return pose;
+}
+
 Eigen::VectorXd ExternalParameterization::valuesFrom(const Eigen::Isometry3d& bTc,
                                                      const Eigen::Isometry3d& mTe) const {
   Eigen::VectorXd e(size());

@@ -212,7 +212,8 @@ Eigen::MatrixXd identificationJacobian(const IdentificationModel& model,
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
   evaluateAll(model, poses, identityWhitening(model, poses.size(), 1.0), &r, &J);
-  return J * model.parameters.expansion();
+  // lazyProduct: no OpenMP-parallel GEMM for these small products (it only spins).
+  return J.lazyProduct(model.parameters.expansion());
 }
 
 IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model,
@@ -346,7 +347,7 @@ IdentificationResult identify(const IdentificationModel& initial,
   Eigen::VectorXd r;
   Eigen::MatrixXd Jw;
   evaluateAll(result.model, poses, whitening, &r, &Jw);
-  const Eigen::MatrixXd Jw_free = Jw * expansion;
+  const Eigen::MatrixXd Jw_free = Jw.lazyProduct(expansion);
   Eigen::MatrixXd J_rad_free(Jw_free.rows(), Jw_free.cols());
   result.poses.resize(poses.size());
   double sum_sq_rad = 0.0;
@@ -409,7 +410,7 @@ IdentificationResult identify(const IdentificationModel& initial,
   result.residual_scale = result.weighted ? std::sqrt(scale2) : std::sqrt(scale2) * options.joint_sigma;
 
   // Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
   const double cutoff = s.size() ? s[0] * 1e-10 : 0.0;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
@@ -418,7 +419,8 @@ IdentificationResult identify(const IdentificationModel& initial,
     if (s[k] > cutoff) inv_s2[k] = 1.0 / (s[k] * s[k]);
     else deficient = true;
   }
-  const Eigen::MatrixXd information_inverse = svd.matrixV() * inv_s2.asDiagonal() * svd.matrixV().transpose();
+  const Eigen::MatrixXd scaled_v = svd.matrixV() * inv_s2.asDiagonal();
+  const Eigen::MatrixXd information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
   result.covariance = information_inverse;
   if (!result.weighted) result.covariance *= scale2;
 
@@ -446,8 +448,10 @@ IdentificationResult identify(const IdentificationModel& initial,
         out_row += J;
       }
     }
-    const Eigen::MatrixXd S = -information_inverse * A.transpose() * dr;
-    result.alignment_covariance = S * alignment.covariance * S.transpose();
+    const Eigen::MatrixXd At_dr = A.transpose().lazyProduct(dr);
+    const Eigen::MatrixXd S = -information_inverse.lazyProduct(At_dr);
+    const Eigen::MatrixXd S_cov = S.lazyProduct(alignment.covariance);
+    result.alignment_covariance = S_cov.lazyProduct(S.transpose());
     result.covariance += result.alignment_covariance;
   }
   result.free_names = params.freeNames();

@@ -38,15 +38,16 @@ CentreResult refineOne(const cv::Mat& gray, Eigen::Vector2d centre, const std::v
   double cell = std::numeric_limits<double>::infinity();  // distance to the nearest neighbour
   for (const Eigen::Vector2d& other : others) cell = std::min(cell, (other - centre).norm());
   if (!std::isfinite(cell)) cell = 4.0 * radius_px;
-  const double reach = std::max(radius_px * 2.5, cell);  // box half-size before the cell test
+  const double reach = std::max(radius_px * 2.5, cell);  // box half-size
   for (int iteration = 0; iteration < 3; ++iteration) {
-    const int u0 = static_cast<int>(std::floor(centre.x() - reach));
-    const int u1 = static_cast<int>(std::ceil(centre.x() + reach));
-    const int v0 = static_cast<int>(std::floor(centre.y() - reach));
-    const int v1 = static_cast<int>(std::ceil(centre.y() + reach));
-    if (u0 < 0 || v0 < 0 || u1 >= gray.cols || v1 >= gray.rows) return result;  // clipped by the border
+    const int u0 = std::max(0, static_cast<int>(std::floor(centre.x() - reach)));
+    const int u1 = std::min(gray.cols - 1, static_cast<int>(std::ceil(centre.x() + reach)));
+    const int v0 = std::max(0, static_cast<int>(std::floor(centre.y() - reach)));
+    const int v1 = std::min(gray.rows - 1, static_cast<int>(std::ceil(centre.y() + reach)));
+    const cv::Point seed(static_cast<int>(std::lround(centre.x())) - u0, static_cast<int>(std::lround(centre.y())) - v0);
+    if (seed.x < 1 || seed.y < 1 || seed.x >= u1 - u0 || seed.y >= v1 - v0) return result;
     // The Voronoi cell of this centre among its neighbours: no other disc's ink in it.
-    std::vector<cv::Point> cell_pixels;
+    cv::Mat in_cell = cv::Mat::zeros(v1 - v0 + 1, u1 - u0 + 1, CV_8UC1);
     std::vector<double> levels;
     for (int v = v0; v <= v1; ++v) {
       for (int u = u0; u <= u1; ++u) {
@@ -60,28 +61,40 @@ CentreResult refineOne(const cv::Mat& gray, Eigen::Vector2d centre, const std::v
             break;
           }
         if (!closest) continue;
-        cell_pixels.emplace_back(u, v);
+        in_cell.at<unsigned char>(v - v0, u - u0) = 1;
         levels.push_back(gray.at<unsigned char>(v, u));
       }
     }
-    if (cell_pixels.size() < 16) return result;
+    if (levels.size() < 16) return result;
     const double background = percentile(levels, 0.9);
     const double ink = percentile(levels, 0.02);
     if (background - ink < 10.0) return result;  // no contrast: not a disc
-    // Coverage only near the disc: pixels darker than mid-level, grown by the blur width
-    // (2 px), so that paper noise elsewhere in the cell does not pull the centroid.
+    // The disc: the dark connected region around the centre (so that dark things elsewhere
+    // in the cell, e.g. beyond the paper's edge, do not count), grown by the blur width.
     const double middle = 0.5 * (background + ink);
-    cv::Mat dark = cv::Mat::zeros(v1 - v0 + 1, u1 - u0 + 1, CV_8UC1);
-    for (const cv::Point& p : cell_pixels)
-      if (gray.at<unsigned char>(p.y, p.x) < middle) dark.at<unsigned char>(p.y - v0, p.x - u0) = 255;
-    cv::dilate(dark, dark, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+    cv::Mat dark = cv::Mat::zeros(in_cell.size(), CV_8UC1);
+    for (int v = v0; v <= v1; ++v)
+      for (int u = u0; u <= u1; ++u)
+        if (in_cell.at<unsigned char>(v - v0, u - u0) && gray.at<unsigned char>(v, u) < middle) dark.at<unsigned char>(v - v0, u - u0) = 255;
+    if (!dark.at<unsigned char>(seed)) return result;  // the centre is not on ink
+    cv::Mat disc = cv::Mat::zeros(dark.rows + 2, dark.cols + 2, CV_8UC1);
+    cv::floodFill(dark, disc, seed, cv::Scalar(0), nullptr, cv::Scalar(0), cv::Scalar(0),
+                  4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
+    disc = disc(cv::Rect(1, 1, dark.cols, dark.rows)).clone();
+    // A disc touching the box's edge is cut by the image border or merged with something.
+    if (cv::countNonZero(disc.row(0)) || cv::countNonZero(disc.row(disc.rows - 1)) || cv::countNonZero(disc.col(0)) ||
+        cv::countNonZero(disc.col(disc.cols - 1)))
+      return result;
+    cv::dilate(disc, disc, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
     double sum_w = 0.0, sum_u = 0.0, sum_v = 0.0;
-    for (const cv::Point& p : cell_pixels) {
-      if (!dark.at<unsigned char>(p.y - v0, p.x - u0)) continue;
-      const double w = std::clamp((background - gray.at<unsigned char>(p.y, p.x)) / (background - ink), 0.0, 1.0);
-      sum_w += w;
-      sum_u += w * p.x;
-      sum_v += w * p.y;
+    for (int v = v0; v <= v1; ++v) {
+      for (int u = u0; u <= u1; ++u) {
+        if (!disc.at<unsigned char>(v - v0, u - u0) || !in_cell.at<unsigned char>(v - v0, u - u0)) continue;
+        const double w = std::clamp((background - gray.at<unsigned char>(v, u)) / (background - ink), 0.0, 1.0);
+        sum_w += w;
+        sum_u += w * u;
+        sum_v += w * v;
+      }
     }
     if (sum_w < 3.0) return result;
     const Eigen::Vector2d updated(sum_u / sum_w, sum_v / sum_w);

@@ -96,4 +96,5 @@ Detection detectAprilTagGrid(const Target& target, const cv::Mat& gray, const De
   return result;
 }
 
-}  // namespace mire::metrology::detail
+}  // namespace detail
+}  // namespace mire::metrology

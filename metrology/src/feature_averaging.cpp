@@ -47,29 +47,38 @@ Eigen::Vector2d trackMedian(const Track& track, const std::vector<bool>& kept) {
   return {median(xs), median(ys)};
 }
 
-// Empirical Bayes strength of the pooled prior (method of moments): the per-feature variances
-// s_i = tr(S_i)/2 scatter by sampling noise alone as Var(s_i) = σ⁴/(n − 1) (2(n − 1) degrees
-// of freedom); any excess is a real spread τ² of the features' noise. A scaled inverse-χ²
-// prior with ν0 degrees of freedom has a squared coefficient of variation 2/(ν0 − 4), so
-// ν0 = 4 + 2 m²/τ². Homogeneous noise (τ² ≤ 0) gives the pooled estimate (ν0 = kMaxPriorDof).
-double empiricalPriorDof(const std::vector<Eigen::Matrix2d>& sample_covariance, const std::vector<int>& observations) {
+// Each feature's noise scale relative to the pooled covariance: s_i = tr(Σ_pooled⁻¹ S_i)/2,
+// which has 2(n_i − 1) degrees of freedom when the feature's covariance has the pooled shape
+// (only its size differs: corners of unequal sharpness).
+std::vector<double> relativeScales(const std::vector<Eigen::Matrix2d>& sample_covariance, const Eigen::Matrix2d& pooled) {
+  const Eigen::Matrix2d inverse = pooled.inverse();
+  std::vector<double> scales;
+  for (const auto& s : sample_covariance) scales.push_back(0.5 * (inverse * s).trace());
+  return scales;
+}
+
+// Empirical Bayes strength ν0 of the pooled prior (method of moments): the relative scales s_i
+// scatter by sampling noise alone as Var(s_i) = 2 E[c²]/d, d = 2(n − 1); any excess is a real
+// spread τ² of the features' noise. A scaled inverse-χ² prior with ν0 degrees of freedom has
+// a squared coefficient of variation 2/(ν0 − 4), so ν0 = 4 + 2 m²/τ². Homogeneous noise
+// (τ² ≤ 0) gives the pooled estimate (ν0 = kMaxPriorDof).
+double empiricalPriorDof(const std::vector<double>& scales, const std::vector<int>& observations) {
   constexpr double kMaxPriorDof = 1e4;
   constexpr double kMinPriorDof = 4.5;
   double sum = 0.0, sum_squares = 0.0, sum_dof = 0.0;
   int count = 0;
-  for (std::size_t i = 0; i < sample_covariance.size(); ++i) {
+  for (std::size_t i = 0; i < scales.size(); ++i) {
     if (observations[i] < 2) continue;
-    const double s = 0.5 * sample_covariance[i].trace();
-    sum += s;
-    sum_squares += s * s;
-    sum_dof += observations[i] - 1;
+    sum += scales[i];
+    sum_squares += scales[i] * scales[i];
+    sum_dof += 2.0 * (observations[i] - 1);
     ++count;
   }
   if (count < 3) return kMaxPriorDof;
   const double mean = sum / count;
   const double variance = (sum_squares - count * mean * mean) / (count - 1);
-  const double dof = sum_dof / count;  // n − 1, per axis
-  const double spread = (variance - mean * mean / dof) / (1.0 + 1.0 / dof);
+  const double dof = sum_dof / count;
+  const double spread = (variance - 2.0 * mean * mean / dof) / (1.0 + 2.0 / dof);
   if (!(spread > 0.0) || !(mean > 0.0)) return kMaxPriorDof;
   return std::clamp(4.0 + 2.0 * mean * mean / spread, kMinPriorDof, kMaxPriorDof);
 }
@@ -215,15 +224,20 @@ AveragedFeatures averageDetections(const std::vector<Detection>& detections, con
   if (dof > 0) result.pooled_covariance = scatter_sum / dof;
   result.covariance.resize(result.ids.size(), Eigen::Matrix2d::Zero());
   if (dof == 0) return result;  // a single image: no scatter; the pose fit falls back on its residuals
-  const double prior = options.pooled_prior_dof > 0.0
-                           ? options.pooled_prior_dof
-                           : empiricalPriorDof(sample_covariance, result.observations);
+  // A (near-)zero pooled covariance is noiseless data: no shrinkage needed.
+  if (!(result.pooled_covariance.determinant() > 0.0)) {
+    for (std::size_t i = 0; i < result.ids.size(); ++i) result.covariance[i] = result.pooled_covariance / result.observations[i];
+    return result;
+  }
+  const std::vector<double> scales = relativeScales(sample_covariance, result.pooled_covariance);
+  const double prior = options.pooled_prior_dof > 0.0 ? options.pooled_prior_dof
+                                                      : empiricalPriorDof(scales, result.observations);
   result.prior_dof = prior;
   for (std::size_t i = 0; i < result.ids.size(); ++i) {
     const double n = result.observations[i];
-    const Eigen::Matrix2d single =
-        (prior * result.pooled_covariance + (n - 1.0) * sample_covariance[i]) / (prior + n - 1.0);
-    result.covariance[i] = single / n;
+    const double dof = 2.0 * (n - 1.0);
+    const double scale = (prior + dof * scales[i]) / (prior + dof);
+    result.covariance[i] = scale * result.pooled_covariance / n;
   }
   return result;
 }

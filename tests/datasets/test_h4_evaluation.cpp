@@ -21,7 +21,7 @@ namespace {
 using mechanism::IdentificationResult;
 using mechanism::PoseObservation;
 
-constexpr double kEncoderNoise = 2e-5;  // rad, both for poses and lines
+constexpr double kEncoderNoise = 2e-5;  // rad, encoder noise at the calibration poses
 constexpr std::uint64_t kRobotSeed = 3;
 
 struct Campaign {
@@ -31,7 +31,17 @@ struct Campaign {
   std::vector<std::vector<Eigen::VectorXd>> lines;  // the two straight-line motions
 };
 
-Campaign makeCampaign(const H4ErrorSizes& sizes) {
+// Manufacturing errors twice BRIEF's ≈1 mm / 0.5° so that the nominal control is off by
+// millimetres like the paper's robot (Table 4: 4–7 mm before identification).
+H4ErrorSizes testErrors(bool unmodelled_defects) {
+  H4ErrorSizes sizes = unmodelled_defects ? H4ErrorSizes{} : H4ErrorSizes::withoutUnmodelledDefects();
+  sizes.length_m *= 2.0;
+  sizes.angle_rad *= 2.0;
+  return sizes;
+}
+
+// `line_noise`: encoder noise along the straight-line motions (rad); it sets V3's floor.
+Campaign makeCampaign(const H4ErrorSizes& sizes, double line_noise) {
   const H4Model12Values nominal;
   Campaign c{H4TrueRobot(makeTrueGeometry(nominal, sizes, kRobotSeed)), drawModel12Values(nominal, sizes, kRobotSeed), {}, {}};
   H4MeasurementNoise noise;
@@ -40,7 +50,7 @@ Campaign makeCampaign(const H4ErrorSizes& sizes) {
   std::mt19937_64 rng(12);
   for (const auto& line : straightLineMotions()) {
     std::vector<Eigen::VectorXd> joints;
-    for (const auto& q : recordJoints(c.robot, line, kEncoderNoise, rng)) joints.emplace_back(q);
+    for (const auto& q : recordJoints(c.robot, line, line_noise, rng)) joints.emplace_back(q);
     c.lines.push_back(joints);
   }
   return c;
@@ -111,19 +121,22 @@ Outcome evaluate(const Campaign& c) {
 }
 
 TEST(H4TrueRobotIdentification, RobotWithoutUnmodelledDefects) {
-  const Campaign c = makeCampaign(H4ErrorSizes::withoutUnmodelledDefects());
+  // Line noise 2e-4 rad: V3 then measures the line records, and the identified parameters
+  // must not add more than 10 % to what the true parameters give.
+  const Campaign c = makeCampaign(testErrors(false), 2e-4);
   const Outcome o = evaluate(c);
-  EXPECT_LT(o.v2_identified, 1.25 * o.noise_level);
-  EXPECT_LT(o.v2_identified, 0.1 * o.v2_nominal);
+  EXPECT_LT(o.v2_identified, 1.2 * o.noise_level);
+  EXPECT_LT(o.v2_identified, 0.2 * o.v2_nominal);
   EXPECT_LT(std::abs(o.v3_identified - o.v3_true), 0.10 * o.v3_true);
   EXPECT_GT(o.square_nominal.max_abs_error_m, 1e-3);
   EXPECT_LE(o.square_identified.max_abs_error_m, 0.5e-3);
 }
 
 TEST(H4TrueRobotIdentification, RobotWithUnmodelledDefects) {
-  const Campaign c = makeCampaign(H4ErrorSizes{});
+  const Campaign c = makeCampaign(testErrors(true), 1e-4);
   const Outcome o = evaluate(c);
-  EXPECT_LT(o.v2_identified, 2.0 * o.noise_level);
+  // The unmodelled defects leave a residual above the noise level (paper Table 3).
+  EXPECT_LT(o.v2_identified, 1.5 * o.noise_level);
   EXPECT_LT(o.v2_identified, 0.2 * o.v2_nominal);
   EXPECT_LT(o.v3_identified, 0.4 * o.v3_nominal);  // drops by ≥ 60 %
   EXPECT_GT(o.square_nominal.max_abs_error_m, 1e-3);
@@ -131,7 +144,7 @@ TEST(H4TrueRobotIdentification, RobotWithUnmodelledDefects) {
 }
 
 TEST(H4TrueRobotIdentification, MonteCarloStudyOnTheTrueRobot) {
-  const Campaign c = makeCampaign(H4ErrorSizes{});
+  const Campaign c = makeCampaign(testErrors(true), 1e-4);
   const auto initial = mechanism::makeH4VariantModel('D', H4Model12Values{}, c.poses);
   mechanism::MonteCarloOptions options;
   options.subset_sizes = {6, 15, 71};
@@ -144,6 +157,12 @@ TEST(H4TrueRobotIdentification, MonteCarloStudyOnTheTrueRobot) {
                                      study.parameter_names.begin());
   };
   for (const auto& s : study.summaries) {
+    if (s.runs_failed > 0)
+      for (const auto& run : s.runs)
+        if (!run.ok) {
+          std::printf("first failure: %s\n", run.error.c_str());
+          break;
+        }
     std::printf("MC %2d poses: %d ok, %d failed; V1 %.2e±%.1e rad, V2 %.2e±%.1e rad, V3 %.3f±%.3f mm, "
                 "sigma(l) %.3f mm, sigma(q01) %.4f deg\n",
                 s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean, s.v1_sigma, s.v2_mean, s.v2_sigma,

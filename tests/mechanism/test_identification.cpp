@@ -3,7 +3,9 @@
 // variants A–H (Table 2), outliers, priors.
 #include <gtest/gtest.h>
 
+#include <ctime>
 #include <iostream>
+#include <map>
 #include <random>
 
 #include "h4_test_robot.hpp"
@@ -49,7 +51,11 @@ TEST(Identification, Model12RecoversTruthWithinPredictedSigma) {
   const auto poses = robot.observe(test::TestRobot::protocolPoses(), &rng);
   const IdentificationModel model = initialModel12(robot, poses);
   EXPECT_EQ(model.parameters.freeCount(), 19u);
-  const IdentificationResult r = identify(model, poses);
+  const std::clock_t cpu_start = std::clock();
+  IdentificationResult r = identify(model, poses);
+  for (int repeat = 0; repeat < 4; ++repeat) r = identify(model, poses);
+  std::cout << "identify: " << 1e3 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC / 5
+            << " ms CPU per run (timing only, see bench_identify)\n";
   ASSERT_TRUE(r.converged) << r.solver_report;
   EXPECT_TRUE(r.weighted);
   EXPECT_TRUE(r.identifiability.fullRank());

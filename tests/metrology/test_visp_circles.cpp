@@ -29,9 +29,15 @@ TEST(VispCircles, CalibrationMatchesVispWithoutDistortion) {
     const cv::Mat gray =
         cv::imread((mire::test::sharedDir() / "datasets/external/visp-circles" / name).string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(gray.empty()) << name;
-    const auto detection = mire::metrology::detectTarget(target, gray);
+    // Blob centres as found by the grid finder, without mire's sub-pixel refinement: ViSP's
+    // tutorial also uses blob centres of gravity (vpDot2), and at 320×240 with discs of ~17 px
+    // the refinement currently drops 1–10 discs per image and moves the result by ~2 px
+    // (reported to the metrology owner).
+    mire::metrology::DetectionOptions detection_options;
+    detection_options.subpixel = false;
+    const auto detection = mire::metrology::detectTarget(target, gray, detection_options);
     ASSERT_TRUE(detection.found) << name << ": " << detection.reason;
-    ASSERT_EQ(detection.size(), 36u) << name;
+    EXPECT_EQ(detection.size(), 36u) << name << ": " << detection.reason;
     views.push_back({name, detection.ids, detection.pixels});
   }
   mire::calibration::CalibrationOptions options;
@@ -47,6 +53,7 @@ TEST(VispCircles, CalibrationMatchesVispWithoutDistortion) {
   EXPECT_NEAR(p[2], 163.8652, 1.0);
   EXPECT_NEAR(p[3], 113.3046, 1.0);
   EXPECT_EQ(result.used_views, 5);
+  EXPECT_NEAR(result.camera.rms_px / 0.32664, 1.0, 0.15);
   for (int i = 4; i < 8; ++i) EXPECT_EQ(p[i], 0.0);
   const auto sigma = result.camera.sigmas();
   EXPECT_EQ(sigma[4], 0.0);  // fixed parameters carry no variance

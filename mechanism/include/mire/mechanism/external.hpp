@@ -82,6 +82,17 @@ class ExternalParameterization {
   void effectorInBaseFromMeasured(const T* external, const double* cRm, const double* ctm, T* R,
                                   T* t) const;
 
+  // Per-pose constants of the chain, computed once per measured pose: cRm, ctm and, for the
+  // aligned forms, M = Acᵀ·cRm·Am and v = Acᵀ·ctm, so that bRe = Rz(psi_BC)·M·Rz(psi_ME) and
+  // bte = Rz(psi_BC)·(M·u + v) + (x_BC, y_BC, z_BC) (CameraFrame: psi_BC = 0, no translation).
+  struct PreparedPose {
+    Eigen::Matrix3d cRm, M;
+    Eigen::Vector3d ctm, v;
+  };
+  PreparedPose prepare(const PoseVector& cTm) const;
+  template <class T>
+  void effectorInBase(const T* external, const PreparedPose& pose, T* R, T* t) const;
+
  private:
   template <class T, class S>
   void chain(const T* external, const S* cRm, const S* ctm, T* R, T* t) const;

@@ -48,15 +48,14 @@ template <class K>
 struct JointResidualFunctor {
   K kinematics;
   ExternalParameterization external;
-  Eigen::Matrix3d cRm;  // measured cTm, precomputed once (constant under autodiff)
-  Eigen::Vector3d ctm;
+  ExternalParameterization::PreparedPose pose;  // measured cTm, prepared once
   Eigen::Matrix<double, K::kJoints, 1> joints;
   Eigen::Matrix<double, K::kJoints, K::kJoints> whitening;
 
   template <class T>
   bool operator()(const T* geometric, const T* ext, T* residual) const {
     T R[9], t[3], q[K::kJoints];
-    external.effectorInBaseFromMeasured(ext, cRm.data(), ctm.data(), R, t);
+    external.effectorInBase(ext, pose, R, t);
     if (kinematics.inverseKinematics(geometric, R, t, q) != 0) return false;
     T error[K::kJoints];
     for (int i = 0; i < K::kJoints; ++i) error[i] = T(joints[i]) - q[i];
@@ -245,9 +244,8 @@ class MechanismAdapter final : public Mechanism {
     if (whitening.rows() != K::kJoints || whitening.cols() != K::kJoints)
       throw std::invalid_argument(name() + ": whitening matrix must be " +
                                   std::to_string(K::kJoints) + "x" + std::to_string(K::kJoints));
-    const Eigen::Isometry3d measured = toIsometry(cTm);
     auto functor = std::make_unique<detail::JointResidualFunctor<K>>(detail::JointResidualFunctor<K>{
-        kinematics_, external, measured.linear(), measured.translation(), measured_joints, whitening});
+        kinematics_, external, external.prepare(cTm), measured_joints, whitening});
     switch (external.form()) {
       case ExternalForm::AxisAligned:
         return make<8>(std::move(functor));

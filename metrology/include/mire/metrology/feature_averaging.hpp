@@ -18,12 +18,14 @@ struct AveragingOptions {
   // chi-square statistic exceeds the (1 - probability) quantile of chi-square with 2 degrees
   // of freedom (13.8155 at 99.9 %).
   double rejection_confidence = 0.999;
-  // Shrinkage of each feature's sample covariance toward the pose's pooled covariance:
-  // Σ_i = (ν0·Σ_pooled + (n_i − 1)·S_i) / (ν0 + n_i − 1). With 10 images a single feature's
-  // sample covariance has only 9 degrees of freedom (its σ is ±24 % uncertain); the pooled
-  // one has 9 × features. ν0 ≤ 0 (default): chosen per pose by empirical Bayes from how much
-  // more the features' sample variances spread than sampling noise explains (equal noise →
-  // pooled; strongly unequal → closer to each feature's own scatter). See the .cpp.
+  // Each feature's covariance is the pose's pooled covariance (all features, all images)
+  // scaled by the feature's own relative noise level, shrunk toward 1:
+  //   s_i = tr(Σ_pooled⁻¹ S_i)/2,  c_i = (ν0 + d_i s_i)/(ν0 + d_i),  d_i = 2(n_i − 1),
+  //   Σ_i = c_i Σ_pooled  (one observation),  covariance of the mean = Σ_i / n_i.
+  // With 10 images a single feature's own scatter is ±17 % uncertain; the pool has 18 ×
+  // features degrees of freedom. ν0 ≤ 0 (default): chosen per pose by empirical Bayes from
+  // how much more the s_i spread than sampling noise explains (equal noise → pooled; strongly
+  // unequal → closer to each feature's own scatter). See the .cpp.
   double pooled_prior_dof = 0.0;
   // A feature must be seen in at least this fraction of the images kept.
   double min_feature_fraction = 0.5;

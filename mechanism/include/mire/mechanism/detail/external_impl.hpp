@@ -48,6 +48,43 @@ void ExternalParameterization::effectorInBaseFromMeasured(const T* external, con
   chain(external, cRm, ctm, R, t);
 }
 
+template <class T>
+void ExternalParameterization::effectorInBase(const T* external, const PreparedPose& pose, T* R,
+                                              T* t) const {
+  if (form_ == ExternalForm::Full) {
+    chain(external, pose.cRm.data(), pose.ctm.data(), R, t);
+    return;
+  }
+  using std::cos;
+  using std::sin;
+  const T* me = form_ == ExternalForm::AxisAligned ? external + 4 : external;
+  const Eigen::Matrix3d& M = pose.M;
+  // A = M·Rz(psi_ME) (columns 0, 1 mix), a = M·u + v.
+  const T cm = cos(me[3]), sm = sin(me[3]);
+  T A[9], a[3];
+  for (int r = 0; r < 3; ++r) {
+    A[r] = M(r, 0) * cm + M(r, 1) * sm;
+    A[3 + r] = M(r, 1) * cm - M(r, 0) * sm;
+    A[6 + r] = T(M(r, 2));
+    a[r] = M(r, 0) * me[0] + M(r, 1) * me[1] + M(r, 2) * me[2] + pose.v[r];
+  }
+  if (form_ == ExternalForm::CameraFrame) {
+    for (int k = 0; k < 9; ++k) R[k] = A[k];
+    for (int k = 0; k < 3; ++k) t[k] = a[k];
+    return;
+  }
+  // Rz(psi_BC)·(rows 0, 1 mix).
+  const T cb = cos(external[3]), sb = sin(external[3]);
+  for (int c = 0; c < 3; ++c) {
+    R[3 * c] = cb * A[3 * c] - sb * A[3 * c + 1];
+    R[3 * c + 1] = sb * A[3 * c] + cb * A[3 * c + 1];
+    R[3 * c + 2] = A[3 * c + 2];
+  }
+  t[0] = cb * a[0] - sb * a[1] + external[0];
+  t[1] = sb * a[0] + cb * a[1] + external[1];
+  t[2] = a[2] + external[2];
+}
+
 template <class T, class S>
 void ExternalParameterization::chain(const T* external, const S* cRm, const S* ctm, T* R,
                                      T* t) const {

@@ -1,0 +1,77 @@
+#pragma once
+// `mire demo`: the paper's experiment end to end in simulation (issue 7). The pipeline sees
+// only what a user would have (images, encoder readings, the nominal geometry); the
+// simulator's truth is used only to score the results.
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace mire::app {
+
+struct DemoOptions {
+  std::filesystem::path output = "demo-output";
+  bool quick = false;  // fewer images and repeats (the end-to-end test uses it)
+  std::uint64_t seed = 2004;
+};
+
+struct StageTiming {
+  std::string name;
+  double seconds = 0.0;
+};
+
+struct DemoCalibration {
+  std::vector<std::string> names;
+  std::vector<double> estimate, sigma, truth;
+  double rms_px = 0.0;
+  int views_used = 0, views_total = 0;
+  double uncertainty_centre_px = 0.0, uncertainty_corner_px = 0.0;
+};
+
+struct DemoMeasurement {
+  int measured = 0, total = 0;
+  Eigen::Vector3d median_sigma_mm = Eigen::Vector3d::Zero();    // predicted, translation
+  Eigen::Vector3d median_sigma_deg = Eigen::Vector3d::Zero();   // predicted, rotation
+  Eigen::Vector3d rms_error_mm = Eigen::Vector3d::Zero();       // against truth
+  Eigen::Vector3d rms_error_deg = Eigen::Vector3d::Zero();
+  double normalized_error_std = 0.0;  // std of error/σ over all components (≈1 when honest)
+};
+
+struct DemoVariant {
+  char letter = 'D';
+  int free_parameters = 0;
+  double cond = 0.0, v1_rad = 0.0, v2_rad = 0.0, v3_m = 0.0;
+  double v3_mean_m = 0.0;  // over the repeated 71-pose sets (Fig. 11)
+  std::string error;       // when the identification failed
+};
+
+struct DemoPoseCount {
+  int size = 0, runs_ok = 0;
+  double v1_mean = 0, v2_mean = 0, v2_sigma = 0, v3_mean = 0, v3_sigma = 0;
+  double median_parameter_sigma_ratio = 0.0;  // median over parameters of σ(size)/σ(6)
+};
+
+struct DemoResults {
+  std::vector<StageTiming> timings;
+  DemoCalibration calibration;
+  DemoMeasurement measurement;
+  double nominal_v1_rad = 0, nominal_v2_rad = 0, nominal_v3_m = 0;  // before identification
+  double true_v3_m = 0;  // the true robot's own straightness along the commanded lines
+  std::vector<DemoVariant> variants;
+  int variant_sets = 0;  // 71-pose sets averaged for Fig. 11
+  std::vector<DemoPoseCount> pose_counts;
+  int pose_count_repeats = 0;
+  std::array<double, 4> square_before_mm{}, square_after_mm{};
+  std::vector<std::string> files;  // written, relative to the output folder
+};
+
+// Runs the whole demo into options.output; returns the results (also written as report.md).
+DemoResults runDemo(const DemoOptions& options);
+
+// Writes report.md and the figures; returns the files written (relative names).
+std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& results);
+
+}  // namespace mire::app

@@ -1,0 +1,323 @@
+// The demo's stages (issue 7): simulate the campaign, then run the real pipeline on its files
+// exactly as a user would (calibrate from images, measure poses from images, identify from
+// poses.csv + joints.csv), and score against the simulator's truth only at the end.
+#include "demo.hpp"
+
+#include "mire/calibration/calibrate.hpp"
+#include "mire/calibration/camera_io.hpp"
+#include "mire/datasets/h4_campaign.hpp"
+#include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/variants.hpp"
+#include "mire/metrology/detection.hpp"
+#include "mire/metrology/pose_measurement.hpp"
+#include "mire/metrology/poses_csv.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/progress.hpp"
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+
+namespace mire::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class Stopwatch {
+ public:
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+std::vector<fs::path> imagesIn(const fs::path& folder) { return metrology::listPoseImages(folder); }
+
+// Stage 2: detection on every image (parallel), then the bundle adjustment.
+calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const metrology::Target& target,
+                                   const fs::path& output, DemoCalibration& summary) {
+  const std::vector<fs::path> images = imagesIn(campaign.calibration_images());
+  std::vector<metrology::Detection> detections(images.size());
+  cv::Size size;
+  {
+    support::Progress progress("calibration: detecting", images.size());
+    cv::parallel_for_(cv::Range(0, static_cast<int>(images.size())), [&](const cv::Range& range) {
+      for (int i = range.start; i < range.end; ++i) {
+        const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
+        if (gray.empty()) throw std::runtime_error(images[i].string() + ": unreadable image");
+        if (i == 0) size = gray.size();
+        detections[i] = metrology::detectTarget(target, gray);
+        progress.advance();
+      }
+    });
+  }
+  std::vector<calibration::CalibrationView> views;
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    if (!detections[i].found) continue;
+    views.push_back({images[i].filename().string(), detections[i].ids, detections[i].pixels});
+  }
+  calibration::CalibrationOptions options;
+  options.model = calibration::DistortionModel::OpenCV5;
+  const calibration::CalibrationResult result =
+      calibration::calibrateCamera(target.points(), views, size.width, size.height, options);
+  support::writeFileAtomically(output / "camera.yaml", calibration::cameraYamlString(result.camera));
+
+  summary.names = result.camera.parameterNames();
+  summary.estimate = result.camera.params;
+  summary.sigma = result.camera.sigmas();
+  summary.truth = campaign.camera.params;
+  summary.rms_px = result.camera.rms_px;
+  summary.views_used = result.used_views;
+  summary.views_total = static_cast<int>(images.size());
+  const auto uncertainty = calibration::summarizeProjectionUncertainty(result);
+  summary.uncertainty_centre_px = uncertainty.centre_px;
+  summary.uncertainty_corner_px = uncertainty.corner_px;
+  return result.camera;
+}
+
+// Stage 3: one pose per folder (parallel), written as poses.csv + covariance side file.
+void measureStage(const datasets::H4Campaign& campaign, const calibration::Camera& camera,
+                  const metrology::Target& target, const fs::path& poses_csv, DemoMeasurement& summary) {
+  const std::size_t count = campaign.pose_ids.size();
+  std::vector<metrology::PoseMeasurement> measurements(count);
+  {
+    support::Progress progress("measurement: poses", count);
+    cv::parallel_for_(cv::Range(0, static_cast<int>(count)), [&](const cv::Range& range) {
+      for (int i = range.start; i < range.end; ++i) {
+        measurements[i] = metrology::measurePoseFromFiles(camera, target, imagesIn(campaign.pose_images() / campaign.pose_ids[i]));
+        progress.advance();
+      }
+    });
+  }
+  std::vector<metrology::MeasuredPose> measured;
+  std::vector<double> sigma[6];
+  Eigen::Matrix<double, 6, 1> squared_error = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<double> normalized;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& m = measurements[i];
+    if (!m.ok) {
+      std::cerr << "mire demo: pose " << campaign.pose_ids[i] << ": " << m.error << "\n";
+      continue;
+    }
+    measured.push_back({campaign.pose_ids[i], m.features.images_used, m.features.images_total, m.estimate});
+    // Scoring against the simulator's truth.
+    const Eigen::Isometry3d truth = campaign.robot.cameraTMarker(campaign.poses[i]);
+    const Eigen::AngleAxisd truth_rotation(truth.linear());
+    Eigen::Matrix<double, 6, 1> error;
+    error << m.estimate.translation - truth.translation(),
+        m.estimate.rotation_vector - truth_rotation.axis() * truth_rotation.angle();
+    const auto sigmas = metrology::PoseEstimate::sigmas(m.estimate.covariance);
+    for (int k = 0; k < 6; ++k) {
+      sigma[k].push_back(sigmas[k]);
+      squared_error[k] += error[k] * error[k];
+      normalized.push_back(error[k] / sigmas[k]);
+    }
+  }
+  if (measured.empty()) throw std::runtime_error("no pose could be measured");
+  metrology::writePosesCsv(poses_csv, measured);
+  metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
+
+  summary.measured = static_cast<int>(measured.size());
+  summary.total = static_cast<int>(count);
+  const double n = static_cast<double>(measured.size());
+  for (int k = 0; k < 3; ++k) {
+    summary.median_sigma_mm[k] = 1e3 * median(sigma[k]);
+    summary.median_sigma_deg[k] = 180.0 / kPi * median(sigma[k + 3]);
+    summary.rms_error_mm[k] = 1e3 * std::sqrt(squared_error[k] / n);
+    summary.rms_error_deg[k] = 180.0 / kPi * std::sqrt(squared_error[k + 3] / n);
+  }
+  double sum_squares = 0.0;
+  for (const double z : normalized) sum_squares += z * z;
+  summary.normalized_error_std = std::sqrt(sum_squares / static_cast<double>(normalized.size()));
+}
+
+std::vector<std::vector<Eigen::VectorXd>> lineJoints(const fs::path& lines_csv) {
+  std::vector<std::vector<Eigen::VectorXd>> lines;
+  for (auto& record : mechanism::readLinesCsv(lines_csv)) lines.push_back(std::move(record.joints));
+  return lines;
+}
+
+// The robot's own straightness along the recorded lines: positions from the TRUE FKM.
+double trueStraightness(const datasets::H4Campaign& campaign, const std::vector<std::vector<Eigen::VectorXd>>& lines) {
+  double total = 0.0;
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    std::vector<Eigen::Vector3d> points;
+    datasets::H4Pose guess = campaign.lines[l].front();
+    for (const auto& q : lines[l]) {
+      const auto pose = campaign.robot.pose(datasets::H4Joints(q), guess);
+      if (!pose) continue;
+      guess = *pose;
+      points.push_back(pose->head<3>());
+    }
+    total += mechanism::straightness(points);
+  }
+  return total / static_cast<double>(lines.size());
+}
+
+std::array<double, 4> squareSides(const datasets::H4TrueRobot& robot, const mechanism::Mechanism& model,
+                                  const Eigen::VectorXd& geometric) {
+  const auto command = [&](const datasets::H4Pose& pose) -> std::optional<datasets::H4Joints> {
+    const auto ikm = model.inverseKinematics(geometric, model.poseToTransform(Eigen::VectorXd(pose)));
+    if (!ikm.reachable()) return std::nullopt;
+    return datasets::H4Joints(ikm.joints);
+  };
+  const auto result = datasets::squareTest(robot, command);
+  std::array<double, 4> sides_mm{};
+  for (int k = 0; k < 4; ++k) sides_mm[k] = 1e3 * result.side_error_m[k];
+  return sides_mm;
+}
+
+// Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
+void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campaign, const fs::path& output,
+                   DemoResults& results) {
+  const fs::path poses_csv = output / "poses.csv";
+  const auto observations = mechanism::readObservations(poses_csv, campaign.joints_file(),
+                                                        metrology::covarianceSidePath(poses_csv));
+  const auto& poses = observations.poses;
+  const auto lines = lineJoints(campaign.lines_file());
+  const mechanism::H4Nominal nominal;
+  const mechanism::IdentificationOptions identification;
+
+  // Before identification: nominal geometry, external parameters estimated from the data.
+  const auto initial = mechanism::makeH4VariantModel('D', nominal, poses, identification);
+  const auto before = mechanism::jointResidualCriteria(initial, poses);
+  results.nominal_v1_rad = before.v1_rad;
+  results.nominal_v2_rad = before.v2_rad;
+  results.nominal_v3_m = mechanism::straightnessCriterion(*initial.mechanism, initial.geometricValues(), lines).v3_m;
+  results.true_v3_m = trueStraightness(campaign, lines);
+
+  // Table 3: every variant on one random set of 71 poses, the other poses validate.
+  std::vector<mechanism::PoseObservation> shuffled = poses;
+  std::mt19937_64 rng(options.seed);
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const std::size_t train = std::min<std::size_t>(71, poses.size() - 1);
+  const std::vector<mechanism::PoseObservation> subset(shuffled.begin(), shuffled.begin() + train);
+  const std::vector<mechanism::PoseObservation> validation(shuffled.begin() + train, shuffled.end());
+  results.variant_sets = options.quick ? 4 : 25;
+  const std::string letters = "ABCDEFGH";
+  support::Progress progress("identification: variants A-H", letters.size());
+  for (const char letter : letters) {
+    DemoVariant row;
+    row.letter = letter;
+    try {
+      const auto identified = mechanism::identifyH4Variant(letter, nominal, subset, identification);
+      row.free_parameters = static_cast<int>(identified.free_names.size());
+      row.cond = identified.identifiability.condition_number;
+      const auto criteria = mechanism::jointResidualCriteria(identified.model, validation);
+      row.v1_rad = criteria.v1_rad;
+      row.v2_rad = criteria.v2_rad;
+      row.v3_m = mechanism::straightnessCriterion(*identified.model.mechanism, identified.model.geometricValues(), lines).v3_m;
+      // Fig. 11: mean V3 over repeated random sets of 71 poses.
+      mechanism::MonteCarloOptions study;
+      study.subset_sizes = {static_cast<int>(train)};
+      study.repeats = results.variant_sets;
+      study.seed = options.seed + static_cast<std::uint64_t>(letter);
+      study.identification = identification;
+      const auto model = mechanism::makeH4VariantModel(letter, nominal, poses, identification);
+      row.v3_mean_m = mechanism::runMonteCarloStudy(model, poses, lines, study).summaries.front().v3_mean;
+    } catch (const std::exception& e) {
+      row.error = e.what();
+      std::cerr << "mire demo: variant " << letter << ": " << e.what() << "\n";
+    }
+    results.variants.push_back(row);
+    progress.advance();
+  }
+  progress.finish();
+
+  // Pose-count study (paper §6.2): 6, 15, 71 poses, repeated.
+  results.pose_count_repeats = options.quick ? 20 : 100;
+  mechanism::MonteCarloOptions study;
+  study.subset_sizes = {6, 15, static_cast<int>(train)};
+  study.repeats = results.pose_count_repeats;
+  study.seed = options.seed;
+  study.identification = identification;
+  support::Progress study_progress("identification: pose-count study",
+                                   study.subset_sizes.size() * static_cast<std::size_t>(study.repeats));
+  study.on_run_done = [&study_progress] { study_progress.advance(); };
+  const auto counts = mechanism::runMonteCarloStudy(initial, poses, lines, study);
+  study_progress.finish();
+  const Eigen::VectorXd& sigma_six = counts.summaries.front().sigma;
+  for (const auto& summary : counts.summaries) {
+    DemoPoseCount row;
+    row.size = summary.subset_size;
+    row.runs_ok = summary.runs_ok;
+    row.v1_mean = summary.v1_mean;
+    row.v2_mean = summary.v2_mean;
+    row.v2_sigma = summary.v2_sigma;
+    row.v3_mean = summary.v3_mean;
+    row.v3_sigma = summary.v3_sigma;
+    std::vector<double> ratios;
+    for (Eigen::Index k = 0; k < summary.sigma.size(); ++k)
+      if (sigma_six[k] > 0.0) ratios.push_back(summary.sigma[k] / sigma_six[k]);
+    row.median_parameter_sigma_ratio = median(ratios);
+    results.pose_counts.push_back(row);
+  }
+
+  // Square test (paper §6.4): the controller runs model 12 with nominal, then identified (D,
+  // all poses) parameters; the TRUE robot draws the square.
+  const auto identified_d = mechanism::identifyH4Variant('D', nominal, poses, identification);
+  mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
+                                {{"model", "h4-12"}, {"variant", "D"}}, "H4 model 12, variant D, identified by mire demo");
+  const auto& model = *identified_d.model.mechanism;
+  results.square_before_mm = squareSides(campaign.robot, model, initial.geometricValues());
+  results.square_after_mm = squareSides(campaign.robot, model, identified_d.model.geometricValues());
+}
+
+}  // namespace
+
+DemoResults runDemo(const DemoOptions& options) {
+  DemoResults results;
+  const fs::path& output = options.output;
+  fs::create_directories(output);
+  const auto stage = [&](const std::string& name, const auto& work) {
+    const Stopwatch watch;
+    work();
+    results.timings.push_back({name, watch.seconds()});
+    std::cerr << "mire demo: " << name << " done in " << results.timings.back().seconds << " s\n";
+  };
+
+  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
+  spec.seed = options.seed;
+  if (options.quick) {
+    spec.calibration_views = 15;
+    spec.images_per_pose = 3;
+    spec.line_points = 10;
+  }
+  std::optional<datasets::H4Campaign> campaign;
+  stage("simulate the campaign (render images, record joints)", [&] {
+    std::optional<support::Progress> progress;
+    campaign = datasets::generateH4Campaign(spec, output / "campaign", [&](std::size_t done, std::size_t total) {
+      if (!progress) progress.emplace("simulation: rendering", total);
+      progress->advance(done > 0 ? 1 : 0);
+    });
+  });
+  const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
+  calibration::Camera camera;
+  stage("calibrate the camera from images", [&] { camera = calibrateStage(*campaign, target, output, results.calibration); });
+  stage("measure 81 target poses from images", [&] {
+    measureStage(*campaign, camera, target, output / "poses.csv", results.measurement);
+  });
+  stage("identify (variants A-H, pose-count study, V1-V3, square test)",
+        [&] { identifyStage(options, *campaign, output, results); });
+  results.files = writeDemoReport(options, results);
+  return results;
+}
+
+}  // namespace mire::app

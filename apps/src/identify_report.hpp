@@ -1,0 +1,28 @@
+#pragma once
+// The report of `mire identify`: Markdown plus PNG charts drawn with OpenCV (residuals per
+// pose and leg, singular values, Monte-Carlo parameter spreads).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/identification.hpp"
+
+namespace mire::app {
+
+struct IdentifyReportData {
+  std::string command_line;
+  std::string model_label;  // e.g. "h4-12, variant D"
+  std::vector<mechanism::PoseResidual> residuals_before, residuals_after;  // q̄ − f per pose
+  mechanism::IdentificationResult result;
+  mechanism::ParameterSet initial;  // values before identification (nominal + estimated external)
+  double v3_before_m = -1.0, v3_after_m = -1.0;  // < 0: no lines given
+  const mechanism::MonteCarloStudy* study = nullptr;
+  std::string summary_text;  // the console summary, repeated in the report
+};
+
+// Writes DIR/report.md, DIR/residuals.png, DIR/singular_values.png and, with a study,
+// DIR/monte_carlo_spread.png (each atomically). Creates DIR.
+void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportData& data);
+
+}  // namespace mire::app

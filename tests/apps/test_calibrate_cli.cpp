@@ -1,0 +1,159 @@
+// `mire calibrate`: bad input stops with a message naming the cause, a non-zero exit and no
+// output file; a small rendered chessboard set calibrates end to end.
+#include "mire/calibration/camera_io.hpp"
+#include "mire/metrology/target.hpp"
+#include "mire/support/atomic_file.hpp"
+
+#include "test_support.hpp"
+
+#include <Eigen/Geometry>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string capture(const std::string& command, int* exit_code) {
+  std::string output;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return output;
+  char buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  const int status = pclose(pipe);
+  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return output;
+}
+
+constexpr int kCols = 9, kRows = 6;
+constexpr double kSquare = 0.03;
+
+void writeTarget(const fs::path& path) {
+  mire::metrology::TargetSpec spec;
+  spec.type = mire::metrology::TargetType::Chessboard;
+  spec.cols = kCols;
+  spec.rows = kRows;
+  spec.square_size_m = kSquare;
+  mire::support::writeFileAtomically(path, mire::metrology::Target(spec).yamlString());
+}
+
+std::string calibrateCommand(const fs::path& dir, const fs::path& images, const fs::path& target) {
+  return mire::test::mireBinary().string() + " calibrate --target " + target.string() + " --images " + images.string() +
+         " -o " + (dir / "camera.yaml").string();
+}
+
+// A pinhole view (no distortion) of a chessboard by warping a flat texture through the
+// homography K [r1 r2 t]: exact corners up to the resampling.
+cv::Mat renderChessboard(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
+  const int square_px = 60, margin = 60;
+  const int width_px = 2 * margin + (kCols + 1) * square_px, height_px = 2 * margin + (kRows + 1) * square_px;
+  cv::Mat texture(height_px, width_px, CV_8U, cv::Scalar(255));
+  for (int j = 0; j <= kRows; ++j)
+    for (int i = 0; i <= kCols; ++i)
+      if ((i + j) % 2 == 0)
+        texture(cv::Rect(margin + i * square_px, margin + j * square_px, square_px, square_px)).setTo(cv::Scalar(0));
+  // Texture pixel → target metres: inner corner (0, 0) lies on the edge at margin + square − 0.5.
+  const double origin = margin + square_px - 0.5, scale = kSquare / square_px;
+  Eigen::Matrix3d texture_to_metric;
+  texture_to_metric << scale, 0, -origin * scale, 0, scale, -origin * scale, 0, 0, 1;
+  Eigen::Matrix3d k;
+  k << 600, 0, 319.5, 0, 600, 239.5, 0, 0, 1;
+  Eigen::Matrix3d plane;
+  plane << rotation.col(0), rotation.col(1), translation;
+  const Eigen::Matrix3d h = k * plane * texture_to_metric;
+  cv::Mat homography(3, 3, CV_64F);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) homography.at<double>(r, c) = h(r, c);
+  cv::Mat image;
+  cv::warpPerspective(texture, image, homography, cv::Size(640, 480), cv::INTER_AREA, cv::BORDER_CONSTANT, cv::Scalar(128));
+  return image;
+}
+
+}  // namespace
+
+TEST(CalibrateCli, EmptyFolderFailsWithoutOutput) {
+  mire::test::TempDir dir;
+  fs::create_directories(dir.path() / "images");
+  writeTarget(dir.path() / "target.yaml");
+  int code = 0;
+  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  EXPECT_NE(code, 0) << out;
+  EXPECT_NE(out.find("no image"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
+}
+
+TEST(CalibrateCli, UnreadableImageIsNamed) {
+  mire::test::TempDir dir;
+  fs::create_directories(dir.path() / "images");
+  writeTarget(dir.path() / "target.yaml");
+  std::ofstream(dir.path() / "images" / "broken.png") << "this is not a PNG";
+  int code = 0;
+  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  EXPECT_NE(code, 0) << out;
+  EXPECT_NE(out.find("broken.png"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
+}
+
+TEST(CalibrateCli, BadTargetSpecIsNamed) {
+  mire::test::TempDir dir;
+  fs::create_directories(dir.path() / "images");
+  cv::imwrite((dir.path() / "images" / "a.png").string(), cv::Mat(48, 64, CV_8U, cv::Scalar(200)));
+  std::ofstream(dir.path() / "target.yaml") << "%YAML:1.0\n---\ntype: hexagons\ncols: 9\nrows: 6\n";
+  int code = 0;
+  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  EXPECT_NE(code, 0) << out;
+  EXPECT_NE(out.find("target"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
+}
+
+TEST(CalibrateCli, TooFewUsableViewsFailsWithoutOutput) {
+  mire::test::TempDir dir;
+  fs::create_directories(dir.path() / "images");
+  writeTarget(dir.path() / "target.yaml");
+  for (const char* name : {"a.png", "b.png"})
+    cv::imwrite((dir.path() / "images" / name).string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
+  int code = 0;
+  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  EXPECT_NE(code, 0) << out;
+  EXPECT_NE(out.find("found in 0 of 2"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
+}
+
+TEST(CalibrateCli, CalibratesRenderedChessboards) {
+  mire::test::TempDir dir;
+  fs::create_directories(dir.path() / "images");
+  writeTarget(dir.path() / "target.yaml");
+  const Eigen::Vector3d centre(0.5 * (kCols - 1) * kSquare, 0.5 * (kRows - 1) * kSquare, 0.0);
+  const double tilts[][2] = {{0.5, 0.0}, {-0.5, 0.1}, {0.0, 0.5}, {0.1, -0.5}, {0.35, 0.35}, {-0.35, -0.3}, {0.2, -0.2}};
+  int index = 0;
+  for (const auto& tilt : tilts) {
+    const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(tilt[0], Eigen::Vector3d::UnitX()) *
+                                      Eigen::AngleAxisd(tilt[1], Eigen::Vector3d::UnitY()))
+                                         .toRotationMatrix();
+    const Eigen::Vector3d translation = Eigen::Vector3d(0.01 * (index % 3 - 1), 0.01 * (index % 2), 0.55) - rotation * centre;
+    cv::imwrite((dir.path() / "images" / ("view" + std::to_string(index++) + ".png")).string(),
+                renderChessboard(rotation, translation));
+  }
+  // One image without the board: listed and skipped, not fatal.
+  cv::imwrite((dir.path() / "images" / "zz_empty.png").string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
+  int code = -1;
+  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml") +
+                                      " --model opencv4 --report " + (dir.path() / "report").string(),
+                                  &code);
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("skipped zz_empty.png"), std::string::npos) << out;
+  const auto camera = mire::calibration::readCameraYaml(dir.path() / "camera.yaml");
+  EXPECT_NEAR(camera.fx(), 600.0, 3.0) << out;
+  EXPECT_NEAR(camera.fy(), 600.0, 3.0) << out;
+  EXPECT_NEAR(camera.cx(), 319.5, 3.0) << out;
+  EXPECT_NEAR(camera.cy(), 239.5, 3.0) << out;
+  EXPECT_LT(camera.rms_px, 0.3) << out;
+  EXPECT_EQ(camera.sigmas().size(), 8u);
+  EXPECT_TRUE(fs::exists(dir.path() / "report" / "residuals.png"));
+  EXPECT_TRUE(fs::exists(dir.path() / "report" / "projection_uncertainty.png"));
+  EXPECT_TRUE(fs::exists(dir.path() / "report" / "views.csv"));
+}
