@@ -2,7 +2,7 @@
 //  1. pose accuracy on the SAME averaged features (feature-level campaign, 10 noisy images per
 //     pose): mire (IPPE + Ceres through the full distortion, covariance-weighted) vs
 //     cv::solvePnP ITERATIVE / IPPE / SQPnP (with the distortion coefficients) and ViSP vpPose
-//     VIRTUAL_VS / DEMENTHON_LAGRANGE_VIRTUAL_VS (on exactly undistorted coordinates);
+//     LAGRANGE_VIRTUAL_VS / DEMENTHON_VIRTUAL_VS (on exactly undistorted coordinates);
 //  2. the whole pipeline on an 81-pose × 10-image campaign at 1024×768 (rendered once per pose,
 //     noise per image): mire's detect-once-then-refine vs cv::findChessboardCornersSB on every
 //     image.
@@ -71,7 +71,7 @@ std::optional<PoseVectors> openCvPose(const mire::calibration::Camera& camera, c
 }
 
 std::optional<PoseVectors> vispPose(const mire::calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
-                                    const mire::metrology::AveragedFeatures& features, bool lagrange_then_vvs) {
+                                    const mire::metrology::AveragedFeatures& features, bool dementhon_init) {
   vpPose pose;
   for (std::size_t i = 0; i < features.size(); ++i) {
     const auto& p = points[static_cast<std::size_t>(features.ids[i])];
@@ -84,12 +84,8 @@ std::optional<PoseVectors> vispPose(const mire::calibration::Camera& camera, con
   }
   vpHomogeneousMatrix cMo;
   try {
-    if (lagrange_then_vvs) {
-      pose.computePose(vpPose::DEMENTHON_LAGRANGE_VIRTUAL_VS, cMo);
-    } else {
-      pose.computePose(vpPose::LAGRANGE, cMo);  // VIRTUAL_VS needs an initial pose
-      pose.computePose(vpPose::VIRTUAL_VS, cMo);
-    }
+    // ViSP 3.5 has no DEMENTHON_LAGRANGE_VIRTUAL_VS: its two VVS variants with a linear init.
+    pose.computePose(dementhon_init ? vpPose::DEMENTHON_VIRTUAL_VS : vpPose::LAGRANGE_VIRTUAL_VS, cMo);
   } catch (const vpException&) {
     return std::nullopt;
   }
@@ -115,8 +111,8 @@ void featureLevelComparison() {
       {"cv::solvePnP ITERATIVE", [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_ITERATIVE); }},
       {"cv::solvePnP IPPE", [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_IPPE); }},
       {"cv::solvePnP SQPNP", [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_SQPNP); }},
-      {"ViSP vpPose LAGRANGE+VIRTUAL_VS", [&](const auto& f) { return vispPose(camera, target.points(), f, false); }},
-      {"ViSP vpPose DEMENTHON_LAGRANGE_VIRTUAL_VS",
+      {"ViSP vpPose LAGRANGE_VIRTUAL_VS", [&](const auto& f) { return vispPose(camera, target.points(), f, false); }},
+      {"ViSP vpPose DEMENTHON_VIRTUAL_VS",
        [&](const auto& f) { return vispPose(camera, target.points(), f, true); }},
   };
   constexpr int kPoses = 200;

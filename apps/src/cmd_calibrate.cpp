@@ -108,7 +108,6 @@ std::string extraYamlKeys(const calibration::CalibrationResult& result,
                           const calibration::ProjectionUncertaintySummary& uncertainty) {
   std::ostringstream out;
   out << "# mire calibrate: solution quality (see README 'mire calibrate')\n";
-  out << "distortion_model: " << calibration::distortionModelName(result.model) << "\n";
   out << "sigma_px: " << support::formatNumber(result.sigma_px) << "\n";
   out << "views_used: " << result.used_views << "\n";
   out << "views_rejected: " << result.rejected_views << "\n";

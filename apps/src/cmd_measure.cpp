@@ -72,7 +72,7 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
   std::vector<double> rms, used;
   for (const auto& pose : poses) {
     const auto sigma = metrology::PoseEstimate::sigmas(pose.estimate.covariance);
-    const auto sigma_noise = metrology::PoseEstimate::sigmas(pose.estimate.covariance_noise);
+    const auto sigma_noise = metrology::PoseEstimate::sigmas(pose.estimate.covariance_pixel_noise);
     for (int c = 0; c < 6; ++c) {
       const double scale = c < 3 ? 1000.0 : 180.0 / M_PI;
       total[static_cast<std::size_t>(c)].push_back(sigma[c] * scale);

@@ -55,8 +55,8 @@ cv::Mat drawResidualMap(const CalibrationResult& result) {
       cv::line(image, from, to, colour, 1, cv::LINE_AA);
     }
   }
-  // Scale bar: a nice residual length near the 95th percentile.
-  const double bar_px = niceNumber(p95);
+  // Scale bar: a nice residual length drawing about 8 % of the width.
+  const double bar_px = niceNumber(0.08 * width / magnification);
   const int bar_length = static_cast<int>(std::lround(bar_px * magnification));
   const cv::Point start(20, height - 25);
   cv::line(image, start, start + cv::Point(bar_length, 0), cv::Scalar(0, 0, 0), 2);
@@ -88,7 +88,7 @@ cv::Mat drawProjectionUncertaintyMap(const CalibrationResult& result, int grid_s
   cv::Mat image;
   cv::applyColorMap(resized, image, cv::COLORMAP_VIRIDIS);
   // Colour bar on the right.
-  const int bar_x = width - 40, bar_top = 40, bar_bottom = height - 40;
+  const int bar_x = width - 40, bar_top = 80, bar_bottom = height - 40;
   for (int y = bar_top; y <= bar_bottom; ++y) {
     const double t = 1.0 - static_cast<double>(y - bar_top) / (bar_bottom - bar_top);
     cv::Mat one(1, 1, CV_8U, cv::Scalar(static_cast<int>(std::lround(255.0 * t))));
@@ -97,14 +97,15 @@ cv::Mat drawProjectionUncertaintyMap(const CalibrationResult& result, int grid_s
     const cv::Vec3b c = colour.at<cv::Vec3b>(0, 0);
     cv::line(image, {bar_x, y}, {bar_x + 20, y}, cv::Scalar(c[0], c[1], c[2]));
   }
-  putLabel(image, format("%.3f px", top), {bar_x - 60, bar_top - 8});
+  putLabel(image, format("%.3f px", top), {bar_x - 70, bar_top - 8}, 0.45);
   putLabel(image, "0 px", {bar_x - 10, bar_bottom + 20});
   const ProjectionUncertaintySummary summary = summarizeProjectionUncertainty(result);
+  putLabel(image, "projection uncertainty (1 sigma, worst direction) at " + format("%.3f m", result.uncertainty_distance_m),
+           {10, 22}, 0.45);
   putLabel(image,
-           "projection uncertainty (1 sigma) at " + format("%.3f m", result.uncertainty_distance_m) + ": centre " +
-               format("%.3f", summary.centre_px) + ", edge " + format("%.3f", summary.edge_px) + ", corner " +
-               format("%.3f px", summary.corner_px),
-           {10, 25});
+           "centre " + format("%.3f", summary.centre_px) + " px, edge " + format("%.3f", summary.edge_px) +
+               " px, corner " + format("%.3f px", summary.corner_px),
+           {10, 44}, 0.45);
   return image;
 }
 

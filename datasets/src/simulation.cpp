@@ -129,7 +129,7 @@ cv::FileStorage openTruth(const SimulationSpec& spec, const char* kind) {
   out << "camera_file" << "camera.yaml";
   out << "target_file" << "target.yaml";
   out << "spec_file" << spec.file.filename().string();
-  out << "seed" << static_cast<double>(spec.seed);
+  out << "seed" << static_cast<int>(spec.seed);  // specs limit seeds to 2^30
   out << "noise_gaussian_sigma" << spec.noise.gaussian_sigma;
   out << "noise_shot_gain" << spec.noise.shot_noise_gain;
   out << "blur_sigma_px" << spec.render.blur_sigma_px;

@@ -404,10 +404,8 @@ ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd&
   double t_z = 0.0, u_z = z_ME;
   if (form == ExternalForm::CameraFrame) {
     // Base = axis-aligned camera frame: p_j − v_j = Rz(φ_j)·u.
-    for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t j = 0; j < n; ++j)
       u += std::polar(1.0, -phi[j]) * cd(p[j].x() - v[j].x(), p[j].y() - v[j].y());
-      u_z += 0.0;
-    }
     u /= static_cast<double>(n);
     double sum = 0.0;
     for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z();

@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -336,8 +337,12 @@ IdentificationResult identify(const IdentificationModel& initial,
     // propagate again at the solution and refine.
     whitening = poseWhitening(result.model, poses);
     solve(whitening);
-    whitening = poseWhitening(result.model, poses);
-    solve(whitening);
+    std::vector<Eigen::MatrixXd> updated = poseWhitening(result.model, poses);
+    double change = 0.0;
+    for (std::size_t j = 0; j < poses.size(); ++j)
+      change = std::max(change, (updated[j] - whitening[j]).norm() / whitening[j].norm());
+    whitening = std::move(updated);
+    if (change > 1e-2) solve(whitening);  // a 1 % weight change moves the solution ≪ σ
   } else {
     whitening = identityWhitening(result.model, poses.size(), 1.0 / options.joint_sigma);
     solve(whitening);

@@ -152,7 +152,6 @@ Detection orderGrid(const Target& target, const cv::Mat& gray, const std::vector
       result.pixels.emplace_back(p.x, p.y);
     }
   }
-  if (fitting.size() > 1) result.reason = "board is rotationally ambiguous: frame chosen with x towards the image's right";
   return result;
 }
 

@@ -1,5 +1,7 @@
 #include "mire/metrology/feature_averaging.hpp"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 #include <map>

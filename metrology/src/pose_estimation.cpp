@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -262,7 +263,9 @@ PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<E
     estimate.scatter_from_residuals = true;
     noise *= dof > 0 ? 2.0 * best.cost / dof : 0.0;
   }
-  estimate.covariance_noise = 0.5 * (noise + noise.transpose());
+  estimate.covariance_pixel_noise = 0.5 * (noise + noise.transpose());
+  const bool inflate = options.inflate_by_residuals && !estimate.scatter_from_residuals;
+  estimate.covariance_noise = estimate.covariance_pixel_noise * (inflate ? std::max(1.0, estimate.reduced_chi2) : 1.0);
   if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
     const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
     const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();

@@ -35,8 +35,10 @@ std::string posesCsvString(const std::vector<MeasuredPose>& poses) {
   std::ostringstream out;
   out << "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,"
          "sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px,"
-         "sigma_noise_tx_mm,sigma_noise_ty_mm,sigma_noise_tz_mm,sigma_noise_rx_deg,sigma_noise_ry_deg,"
-         "sigma_noise_rz_deg,reduced_chi2,features,ambiguous,ambiguity_ratio\n";
+         "sigma_pixel_tx_mm,sigma_pixel_ty_mm,sigma_pixel_tz_mm,sigma_pixel_rx_deg,sigma_pixel_ry_deg,"
+         "sigma_pixel_rz_deg,sigma_intrinsics_tx_mm,sigma_intrinsics_ty_mm,sigma_intrinsics_tz_mm,"
+         "sigma_intrinsics_rx_deg,sigma_intrinsics_ry_deg,sigma_intrinsics_rz_deg,reduced_chi2,features,"
+         "ambiguous,ambiguity_ratio\n";
   for (const MeasuredPose& pose : poses) {
     const PoseEstimate& e = pose.estimate;
     if (pose.pose_id.find_first_of(",\n\"") != std::string::npos)
@@ -47,8 +49,10 @@ std::string posesCsvString(const std::vector<MeasuredPose>& poses) {
     const auto total = humanSigmas(e.covariance);
     for (int i = 0; i < 6; ++i) out << ',' << shortNumber(total[i]);
     out << ',' << shortNumber(e.rms_px);
-    const auto noise = humanSigmas(e.covariance_noise);
-    for (int i = 0; i < 6; ++i) out << ',' << shortNumber(noise[i]);
+    const auto pixel = humanSigmas(e.covariance_pixel_noise);
+    for (int i = 0; i < 6; ++i) out << ',' << shortNumber(pixel[i]);
+    const auto intrinsics = humanSigmas(e.covariance_intrinsics);
+    for (int i = 0; i < 6; ++i) out << ',' << shortNumber(intrinsics[i]);
     out << ',' << shortNumber(e.reduced_chi2) << ',' << e.feature_count << ',' << (e.ambiguous ? 1 : 0) << ','
         << shortNumber(e.ambiguity_cost_ratio) << '\n';
   }
@@ -59,9 +63,11 @@ std::string posesCovarianceCsvString(const std::vector<MeasuredPose>& poses) {
   std::ostringstream out;
   out << "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
   for (const MeasuredPose& pose : poses) {
-    const std::pair<const char*, const Matrix6d*> parts[] = {{"total", &pose.estimate.covariance},
-                                                             {"noise", &pose.estimate.covariance_noise},
-                                                             {"intrinsics", &pose.estimate.covariance_intrinsics}};
+    const std::pair<const char*, const Matrix6d*> parts[] = {
+        {"total", &pose.estimate.covariance},
+        {"features", &pose.estimate.covariance_noise},
+        {"intrinsics", &pose.estimate.covariance_intrinsics},
+        {"pixel_noise", &pose.estimate.covariance_pixel_noise}};
     for (const auto& [name, matrix] : parts)
       for (int r = 0; r < 6; ++r) {
         out << pose.pose_id << ',' << name << ',' << kComponents[r];

@@ -116,10 +116,11 @@ TEST(MonteCarloStudy, DeterministicWhateverTheThreadCount) {
     EXPECT_TRUE(std::isnan(one.summaries[s].v3_mean));  // no lines given
     for (const auto& run : one.summaries[s].runs) EXPECT_EQ(static_cast<int>(run.subset.size()), one.summaries[s].subset_size);
   }
-  // The mean of the identified values is close to the truth, and more poses shrink the spread.
+  // The subsets share one noise draw, so their mean is one estimate (off by about the
+  // 15-pose spread at most), and more poses shrink the spread.
   const auto truth = robot.trueValues(initial);
   const Eigen::Index l = static_cast<Eigen::Index>(initial.parameters.index("l"));
-  EXPECT_NEAR(one.summaries[1].mean[l], truth[l], 4.0 * one.summaries[1].sigma[l] / std::sqrt(6.0) + 1e-5);
+  EXPECT_NEAR(one.summaries[1].mean[l], truth[l], 2.0 * one.summaries[0].sigma[l]);
   EXPECT_LT(one.summaries[1].sigma[l], one.summaries[0].sigma[l]);
   // V2 at the validation poses is at the joint-noise level (≈ 1e-3 rad here), not zero.
   EXPECT_GT(one.summaries[1].v2_mean, 1e-5);

@@ -31,9 +31,8 @@ TEST(Identification, ExternalInitialisationIsExactOnExactData) {
   const auto poses = robot.observe(test::TestRobot::protocolPoses(), nullptr);
   ExternalParameterization form(ExternalForm::AxisAligned);
   // With the true geometry the FKM poses are exact: the closed form must return the truth.
-  const ParameterSet ext =
-      estimateExternal(*robot.mechanism, robot.truth.values(), poses, ExternalForm::AxisAligned,
-                       form, robot.trueZME(estimateAxisAlignment(poses)) * 0.0 + 0.0);
+  const ParameterSet ext = estimateExternal(*robot.mechanism, robot.truth.values(), poses,
+                                           ExternalForm::AxisAligned, form, /*z_ME=*/0.0);
   const Eigen::Isometry3d bTc = form.baseFromCamera(ext.values());
   const Eigen::Isometry3d mTe = form.targetFromEffector(ext.values());
   // z_BC + z_ME is all the data fix: compare with the z part moved into bTc.
@@ -293,6 +292,24 @@ TEST(Identification, ConditionNumbersOnRandomPoses) {
   const IdentifiabilityReport g12 = analyzeIdentifiability(geometric_only, poses);
   const IdentificationModel h = makeH4VariantModel('H', robot.nominal, poses);
   const IdentifiabilityReport r31c = analyzeIdentifiability(h, poses);
+  // Model 31 (base frame), geometric parameters only, without and with d (paper Table 1).
+  Eigen::Vector3d shift;
+  const ParameterSet p31 = model31FromModel12(robot.truth, &shift);
+  ExternalParameterization aligned(ExternalForm::AxisAligned, m12.external.alignment());
+  ParameterSet ext = aligned.parameters();
+  Eigen::Isometry3d b31Tc = robot.bTc;
+  b31Tc.translation() -= shift;
+  ext.setValues(aligned.valuesFrom(b31Tc, robot.mTe));
+  IdentificationModel m31 = makeIdentificationModel(makeH4Mechanism(H4ModelKind::Model31), p31, aligned, ext);
+  for (const std::string& n : aligned.parameters().names()) m31.parameters.setFixed(n);
+  const IdentifiabilityReport with_d = analyzeIdentifiability(m31, poses);
+  m31.parameters.setFixed("d");
+  const IdentifiabilityReport without_d = analyzeIdentifiability(m31, poses);
+  EXPECT_EQ(with_d.rank, 31);
+  EXPECT_EQ(without_d.rank, 30);
+  EXPECT_GT(with_d.condition_number, without_d.condition_number);
+  std::cout << "cond (100 random poses, unit-norm columns): model 31 geometric without d "
+            << without_d.condition_number << ", with d " << with_d.condition_number << "\n";
   std::cout << "cond (100 random poses, unit-norm columns): model 12 geometric " << g12.condition_number
             << ", model 12 + 7 external " << r12.condition_number << ", model 31 camera frame (36) "
             << r31c.condition_number << "\n";

@@ -54,7 +54,7 @@ TEST(PosesCsv, SideFileCovariance) {
   for (const char* part : {"noise", "total"})
     for (int r = 0; r < 6; ++r) {
       side += std::string("7,") + part + "," + axes[r];
-      for (int c = 0; c < 6; ++c) side += "," + std::to_string(r == c ? (part[0] == 't' ? 2e-8 : 1e-8) : (r + c == 5 ? 1e-9 : 0.0));
+      for (int c = 0; c < 6; ++c) side += r == c ? (part[0] == 't' ? ",2e-8" : ",1e-8") : (r + c == 5 ? ",1e-9" : ",0");
       side += "\n";
     }
   write(defaultCovariancePath(dir.path() / "poses.csv"), side);

@@ -9,7 +9,11 @@
 //     `ambiguity_ratio` of it, the pose is flagged ambiguous (planar pose flip).
 //  3. Precision, as a 6×6 covariance of (tx ty tz rx ry rz), r the rotation vector
 //     (cv::Rodrigues convention):
-//       (a) feature noise:  Σ_a = (J_pᵀ W J_p)⁻¹, W = the features' covariance of the mean⁻¹;
+//       (a) features:       Σ_a = max(1, χ²/dof) (J_pᵀ W J_p)⁻¹, W = the features' covariance of
+//           the mean⁻¹. Without the factor this is the pixel noise alone (covariance_pixel_noise):
+//           averaging 10 images shrinks it, but not the detector's and the target's own
+//           systematic errors, which show up as a reduced χ² ≫ 1 of the fit (Birge ratio);
+//           inflating by it keeps the σ honest when they dominate;
 //       (b) intrinsics:     Σ_b = A Σ_k Aᵀ, A = ∂pose/∂k = −(J_pᵀ W J_p)⁻¹ J_pᵀ W J_k
 //           (implicit function theorem at the optimum), Σ_k = Camera::covariance;
 //       combined Σ = Σ_a + Σ_b (independent sources).
@@ -31,6 +35,8 @@ struct PoseOptions {
   // Added to every feature's covariance of the mean (px): keeps the weights finite on
   // noiseless (synthetic) data; negligible on real images (σ of a mean ≈ 0.01–0.05 px).
   double covariance_floor_px = 1e-4;
+  // Inflate (a) by the reduced χ² of the fit when it exceeds 1 (see above).
+  bool inflate_by_residuals = true;
   // When the features carry no scatter (a single image) the noise covariance is estimated from
   // the fit's residuals: σ² = Σ r² / (2N − 6), isotropic.
   int max_iterations = 100;
@@ -42,7 +48,8 @@ struct PoseEstimate {
   Eigen::Isometry3d cTm = Eigen::Isometry3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();      // m
   Eigen::Vector3d rotation_vector = Eigen::Vector3d::Zero();  // rad, cv::Rodrigues convention
-  Matrix6d covariance_noise = Matrix6d::Zero();       // (a) from the feature scatter
+  Matrix6d covariance_pixel_noise = Matrix6d::Zero();  // from the feature scatter alone
+  Matrix6d covariance_noise = Matrix6d::Zero();        // (a) = pixel noise × max(1, reduced χ²)
   Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b) from Camera::covariance
   Matrix6d covariance = Matrix6d::Zero();             // (a) + (b)
   double rms_px = 0.0;          // RMS reprojection residual of the averaged features (px)

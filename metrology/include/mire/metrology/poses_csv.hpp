@@ -5,15 +5,18 @@
 //   pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,
 //   sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px
 // then mire's extra columns:
-//   sigma_noise_tx_mm ... sigma_noise_rz_deg  σ from the feature scatter alone (part a)
-//   reduced_chi2                             whitened residual Σr²/(2N−6)
+//   sigma_pixel_tx_mm ... sigma_pixel_rz_deg            σ from the images' pixel noise alone
+//   sigma_intrinsics_tx_mm ... sigma_intrinsics_rz_deg  σ from the camera's covariance alone
+//   reduced_chi2                             whitened residual Σr²/(2N−6) (≫ 1: systematic
+//                                            feature errors; the total σ is inflated by it)
 //   features                                 features used in the fit
 //   ambiguous,ambiguity_ratio                planar flip flag (0/1) and cost(second)/cost(best)
-// t and r are cTm (r a rotation vector, cv::Rodrigues); σ = combined (noise + intrinsics).
+// t and r are cTm (r a rotation vector, cv::Rodrigues); σ = total (features + intrinsics).
 //
-// poses_covariance.csv: the full 6×6 covariances, 18 rows per pose, header
+// poses_covariance.csv: the full 6×6 covariances, 24 rows per pose, header
 //   pose_id,part,row,tx,ty,tz,rx,ry,rz
-// part ∈ {total, noise, intrinsics} (total = noise + intrinsics), row ∈ {tx,ty,tz,rx,ry,rz};
+// part ∈ {total, features, intrinsics, pixel_noise}: total = features + intrinsics;
+// features = pixel_noise × max(1, reduced_chi2); row ∈ {tx,ty,tz,rx,ry,rz};
 // SI units: m², m·rad, rad².
 #include "mire/metrology/pose_estimation.hpp"
 
