@@ -218,7 +218,7 @@ int runCalibrate(const CalibrateArguments& args) {
   const auto& p = result.camera.params;
   const auto sigma = result.camera.sigmas();
   const auto names = result.camera.parameterNames();
-  std::cout << "calibrated from " << result.used_views << " views (" << skipped << " images without the target, "
+  std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images") << " without the target, "
             << result.rejected_views << " views rejected), " << result.used_points << " points ("
             << result.rejected_points << " rejected as outliers beyond 5 sigma)\n";
   std::cout << "model " << calibration::distortionModelName(model) << (result.target_refined ? ", target refined" : "")

@@ -32,7 +32,7 @@ namespace mech = mire::mechanism;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct IdentifyArguments {
-  std::string poses, joints, covariances, nominal, model = "h4-12", variant, lines, output, report;
+  std::string poses, joints, covariances, nominal, model, variant, lines, output, report;
   std::vector<std::string> fix, priors, mc;
   bool robust = false, unweighted = false;
   int mc_repeats = 100, threads = 2;
@@ -123,21 +123,25 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     letter = static_cast<char>(std::toupper(static_cast<unsigned char>(args.variant[0])));
     mech::h4Variant(letter);  // throws for a letter outside A–H
   }
+  // Without --model, the variant's model (A–D: h4-12, E–H: h4-31c); default h4-12.
+  const std::string model = !args.model.empty() ? args.model
+                            : (letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera) ? "h4-31c"
+                                                                                                           : "h4-12";
   mech::H4ModelKind kind;
-  if (args.model == "h4-12") {
+  if (model == "h4-12") {
     kind = mech::H4ModelKind::Model12;
     if (!letter) letter = 'D';
-  } else if (args.model == "h4-31c") {
+  } else if (model == "h4-31c") {
     kind = mech::H4ModelKind::Model31Camera;
     if (!letter) letter = 'H';
-  } else if (args.model == "h4-31") {
+  } else if (model == "h4-31") {
     kind = mech::H4ModelKind::Model31;
     if (letter) throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
   } else {
-    throw std::invalid_argument("--model '" + args.model + "': expected h4-12, h4-31 or h4-31c");
+    throw std::invalid_argument("--model '" + model + "': expected h4-12, h4-31 or h4-31c");
   }
   if (letter && mech::h4Variant(letter).model != kind)
-    throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + args.model +
+    throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + model +
                                 " (A-D: h4-12, E-H: h4-31c)");
 
   // ---- inputs ----
@@ -167,7 +171,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     label = "h4-31 (base frame)";
   } else {
     initial = mech::makeH4VariantModel(letter, nominal, poses, options);
-    label = args.model + ", variant " + std::string(1, letter);
+    label = model + ", variant " + std::string(1, letter);
   }
   // Every name given on the command line must exist (h4a's identify also checks; this names the option).
   for (const auto& name : options.fix)
@@ -280,7 +284,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
 
   // ---- outputs (only now: every computation succeeded) ----
   std::vector<std::pair<std::string, std::string>> metadata{
-      {"model", kind == mech::H4ModelKind::Model31 ? "h4-31" : args.model},
+      {"model", model},
       {"variant", letter ? std::string(1, letter) : std::string("-")},
       {"external_form", mech::externalFormName(result.model.external.form())},
       {"poses", std::to_string(poses.size())},
@@ -322,8 +326,9 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_flag("--unweighted", args->unweighted, "ignore the pose covariances (plain least squares)");
   cmd->add_option("--nominal", args->nominal, "nominal model-12 geometry YAML (default datasets/specs/h4_nominal.yaml)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--model", args->model, "h4-12 (variants A-D), h4-31 (base frame) or h4-31c (camera frame, E-H)")
-      ->capture_default_str();
+  cmd->add_option("--model", args->model,
+                  "h4-12 (variants A-D), h4-31 (base frame) or h4-31c (camera frame, E-H); default: the "
+                  "variant's model, else h4-12");
   cmd->add_option("--variant", args->variant, "paper Table 2 variant A..H (default D for h4-12, H for h4-31c)");
   cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
   cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");
@@ -338,7 +343,7 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--report", args->report, "folder for report.md and its PNG charts");
   return [args] {
     std::string command_line = "mire identify --poses " + args->poses + " --joints " + args->joints + " --model " +
-                               args->model + (args->variant.empty() ? "" : " --variant " + args->variant) + " -o " +
+                               (args->model.empty() ? "(default)" : args->model) + (args->variant.empty() ? "" : " --variant " + args->variant) + " -o " +
                                args->output;
     return runIdentify(*args, command_line);
   };

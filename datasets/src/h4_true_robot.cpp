@@ -180,7 +180,7 @@ H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorS
   v.l += sizes.length_m * normal(model12_rng);
   v.h += sizes.length_m * normal(model12_rng);
   for (int i = 0; i < 4; ++i) v.alpha[i] += sizes.angle_rad * normal(model12_rng);
-  for (int i = 0; i < 4; ++i) v.q0[i] += sizes.angle_rad * normal(model12_rng);
+  for (int i = 0; i < 4; ++i) v.q0[i] += sizes.joint_offset_rad * normal(model12_rng);
   return v;
 }
 

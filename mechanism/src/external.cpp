@@ -40,10 +40,17 @@ double angleAboutZ(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
-// A rotation whose third column is `axis` (the minimal rotation from z).
+// A rotation whose third column is `axis`; its x column is the camera/target x (or y)
+// axis projected on the plane normal to `axis` (Gram–Schmidt: well conditioned even when
+// the axis is anti-parallel to z, unlike a minimal-rotation quaternion).
 Eigen::Matrix3d alignZ(const Eigen::Vector3d& axis) {
-  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis.normalized())
-      .toRotationMatrix();
+  const Eigen::Vector3d z = axis.normalized();
+  const Eigen::Vector3d seed =
+      std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d x = (seed - seed.dot(z) * z).normalized();
+  Eigen::Matrix3d R;
+  R << x, z.cross(x), z;
+  return R;
 }
 
 Parameter length(const std::string& name, const std::string& description, bool fixed = false) {

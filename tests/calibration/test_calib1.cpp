@@ -4,9 +4,8 @@
 //
 // Layout of the file (inspected): "640 480", "7 5", "7", then the 7 views' 35 object points
 // (x y z, cm), then the 7 views' 35 image points (u v), then Bouguet's fc (2), cc (2),
-// kc (4: k1 k2 p1 p2), the 7 rotation matrices (cTm, row-major), the 7 translations (cm) and
-// (stored transposed: each 3×3 block is the transpose of cRm, MATLAB column order), and
-// "pixel error" err = [0.10179 0.09492].
+// kc (4: k1 k2 p1 p2), the 7 rotation matrices (each 3×3 block as written is the TRANSPOSE of
+// cRm: MATLAB's column order), the 7 translations (cTm, cm) and "pixel error" err = [0.10179 0.09492].
 // What the file stores as the toolbox's "standard deviations": err is the toolbox's err_std =
 // std(ex')', the one-sigma standard deviation of the reprojection residuals along x and y — a
 // σ, not the 3σ "uncertainties" the toolbox prints beside fc/cc/kc (those are NOT in the

@@ -37,6 +37,7 @@ H4ErrorSizes testErrors(bool unmodelled_defects) {
   H4ErrorSizes sizes = unmodelled_defects ? H4ErrorSizes{} : H4ErrorSizes::withoutUnmodelledDefects();
   sizes.length_m *= 2.0;
   sizes.angle_rad *= 2.0;
+  sizes.joint_offset_rad *= 2.0;
   return sizes;
 }
 

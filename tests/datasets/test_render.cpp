@@ -1,5 +1,6 @@
 // The renderer (issue 3): exact inverse mapping, ground truth, and what a detector finds in
 // its images compared with that truth.
+#include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/datasets/simulation.hpp"
 #include "mire/metrology/detection.hpp"
@@ -356,6 +357,24 @@ TEST(Render, AprilTagGridIsDetectedWithItsIdsAtTheTruth) {
               << " tags decoded, corner RMS vs truth " << rms << " px\n";
     EXPECT_LT(rms, 0.3);
   }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(ReferenceCamera, SpecMatchesTheLensAndItsDistortionIsMonotonic) {
+  const Camera camera = mire::calibration::readCameraYaml(std::string(MIRE_DATASETS_DIR) + "/specs/reference_camera.yaml");
+  EXPECT_EQ(camera.width, 1024);
+  EXPECT_EQ(camera.height, 768);
+  EXPECT_NEAR(camera.fx(), 3.8e-3 / 4.65e-6, 1e-9);
+  // Undistorted radius of the image corners, then the radial map's slope from the centre to
+  // 1.5 x beyond it: positive everywhere (no fold-back inside the image).
+  Eigen::Vector2d corner_ray;
+  ASSERT_TRUE(camera.unproject(Eigen::Vector2d(-0.5, -0.5), &corner_ray));
+  const double k1 = camera.params[4], k2 = camera.params[5], k3 = camera.params[8];
+  for (double r = 0.0; r <= 1.5 * corner_ray.norm(); r += 1e-3)
+    EXPECT_GT(1 + 3 * k1 * r * r + 5 * k2 * std::pow(r, 4) + 7 * k3 * std::pow(r, 6), 0.0) << "r = " << r;
 }
 
 }  // namespace

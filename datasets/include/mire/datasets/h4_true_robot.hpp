@@ -81,7 +81,11 @@ H4TrueGeometry geometryFromModel12(const H4Model12Values& values);
 struct H4ErrorSizes {
   // Manufacturing errors model 12 CAN represent (BRIEF task: ≈1 mm / 0.5°).
   double length_m = 1e-3;         // R, L, l, h
-  double angle_rad = 0.5 * kH4Degree;  // α_i, q0_i
+  double angle_rad = 0.5 * kH4Degree;         // α_i
+  // q0_i: encoder zero offsets. The paper's robot was off by far more than 0.5° (V2 −98 %,
+  // square sides 4–7 mm, V3 1.8 mm before identification); a few degrees here reproduce
+  // those magnitudes (measured: 3° → V2 1.5e-2 rad, V3 0.30 mm before identification).
+  double joint_offset_rad = 0.5 * kH4Degree;
   // Defects model 12 can NOT represent (set all to 0 for a model-12-exact robot).
   double leg_length_m = 0.5e-3;   // per-leg differences of L_i and l_i
   double pivot_height_m = 1e-3;   // non-coplanar pivots (z of P_i)
