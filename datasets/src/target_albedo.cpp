@@ -2,7 +2,7 @@
 #include "target_albedo.hpp"
 
 // The tag-family table is metrology's (one list of AprilTag families in the project).
-#include "../../metrology/src/apriltag_family.hpp"
+#include "mire/metrology/apriltag_family.hpp"
 
 #include <apriltag/apriltag.h>
 #include <apriltag/common/image_types.h>

@@ -1,4 +1,4 @@
-#include "apriltag_family.hpp"
+#include "mire/metrology/apriltag_family.hpp"
 
 #include <apriltag/tag16h5.h>
 #include <apriltag/tag25h9.h>

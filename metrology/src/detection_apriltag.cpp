@@ -1,5 +1,5 @@
 // AprilTag grids through AprilTag 3 (BRIEF §10 target layout, detection.hpp).
-#include "apriltag_family.hpp"
+#include "mire/metrology/apriltag_family.hpp"
 #include "detection_internal.hpp"
 
 #include <apriltag/apriltag.h>

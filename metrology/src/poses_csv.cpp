@@ -4,7 +4,6 @@
 #include "mire/support/csv.hpp"
 
 #include <cmath>
-#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -92,64 +91,5 @@ std::filesystem::path covarianceSidePath(const std::filesystem::path& poses_csv)
   return result;
 }
 
-std::vector<PoseRecord> readPosesCsv(const std::filesystem::path& path, const std::filesystem::path& covariance_csv) {
-  const support::CsvTable table = support::readCsv(path);
-  const std::size_t id_column = table.column("pose_id");
-  const std::size_t used_column = table.column("images_used");
-  const std::size_t total_column = table.column("images_total");
-  const char* const value_names[6] = {"tx_m", "ty_m", "tz_m", "rx_rad", "ry_rad", "rz_rad"};
-  const char* const sigma_names[6] = {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm",
-                                      "sigma_rx_deg", "sigma_ry_deg", "sigma_rz_deg"};
-  std::size_t value_columns[6], sigma_columns[6];
-  for (int i = 0; i < 6; ++i) {
-    value_columns[i] = table.column(value_names[i]);
-    sigma_columns[i] = table.column(sigma_names[i]);
-  }
-  const std::size_t rms_column = table.column("rms_px");
-  std::vector<PoseRecord> records;
-  std::map<std::string, std::size_t> index;
-  for (std::size_t row = 0; row < table.rows.size(); ++row) {
-    PoseRecord record;
-    record.pose_id = table.rows[row][id_column];
-    if (record.pose_id.empty()) throw std::runtime_error(table.where(row) + ": empty pose_id");
-    if (!index.emplace(record.pose_id, records.size()).second)
-      throw std::runtime_error(table.where(row) + ": pose_id '" + record.pose_id + "' appears twice");
-    record.images_used = static_cast<int>(table.number(row, used_column));
-    record.images_total = static_cast<int>(table.number(row, total_column));
-    for (int i = 0; i < 3; ++i) {
-      record.translation[i] = table.number(row, value_columns[i]);
-      record.rotation_vector[i] = table.number(row, value_columns[3 + i]);
-    }
-    for (int i = 0; i < 6; ++i) {
-      const double sigma = table.number(row, sigma_columns[i]) / (i < 3 ? kMillimetresPerMetre : kDegreesPerRadian);
-      record.covariance(i, i) = sigma * sigma;
-    }
-    record.rms_px = table.number(row, rms_column);
-    records.push_back(record);
-  }
-  if (covariance_csv.empty()) return records;
-
-  const support::CsvTable covariance = support::readCsv(covariance_csv);
-  const std::size_t cov_id = covariance.column("pose_id");
-  const std::size_t part = covariance.column("part");
-  const std::size_t row_name = covariance.column("row");
-  std::size_t columns[6];
-  for (int i = 0; i < 6; ++i) columns[i] = covariance.column(kComponents[i]);
-  for (std::size_t row = 0; row < covariance.rows.size(); ++row) {
-    if (covariance.rows[row][part] != "total") continue;
-    const auto found = index.find(covariance.rows[row][cov_id]);
-    if (found == index.end())
-      throw std::runtime_error(covariance.where(row) + ": pose_id '" + covariance.rows[row][cov_id] +
-                               "' is not in " + path.string());
-    int r = -1;
-    for (int i = 0; i < 6; ++i)
-      if (covariance.rows[row][row_name] == kComponents[i]) r = i;
-    if (r < 0)
-      throw std::runtime_error(covariance.where(row) + ": row '" + covariance.rows[row][row_name] +
-                               "' is not one of tx, ty, tz, rx, ry, rz");
-    for (int c = 0; c < 6; ++c) records[found->second].covariance(r, c) = covariance.number(row, columns[c]);
-  }
-  return records;
-}
 
 }  // namespace mire::metrology

@@ -1,7 +1,7 @@
 // Planar targets: validation, feature layout in frame M and target.yaml (BRIEF §10).
 #include "mire/metrology/target.hpp"
 
-#include "apriltag_family.hpp"
+#include "mire/metrology/apriltag_family.hpp"
 
 #include <opencv2/core.hpp>
 

@@ -18,16 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string capture(const std::string& command, int* exit_code) {
-  std::string output;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return output;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  const int status = pclose(pipe);
-  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return output;
-}
 
 constexpr int kCols = 9, kRows = 6;
 constexpr double kSquare = 0.03;
@@ -80,7 +70,7 @@ TEST(CalibrateCli, EmptyFolderFailsWithoutOutput) {
   fs::create_directories(dir.path() / "images");
   writeTarget(dir.path() / "target.yaml");
   int code = 0;
-  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("no image"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -92,7 +82,7 @@ TEST(CalibrateCli, UnreadableImageIsNamed) {
   writeTarget(dir.path() / "target.yaml");
   std::ofstream(dir.path() / "images" / "broken.png") << "this is not a PNG";
   int code = 0;
-  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("broken.png"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -104,7 +94,7 @@ TEST(CalibrateCli, BadTargetSpecIsNamed) {
   cv::imwrite((dir.path() / "images" / "a.png").string(), cv::Mat(48, 64, CV_8U, cv::Scalar(200)));
   std::ofstream(dir.path() / "target.yaml") << "%YAML:1.0\n---\ntype: hexagons\ncols: 9\nrows: 6\n";
   int code = 0;
-  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("target"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -117,7 +107,7 @@ TEST(CalibrateCli, TooFewUsableViewsFailsWithoutOutput) {
   for (const char* name : {"a.png", "b.png"})
     cv::imwrite((dir.path() / "images" / name).string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
   int code = 0;
-  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("found in 0 of 2"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -141,7 +131,7 @@ TEST(CalibrateCli, CalibratesRenderedChessboards) {
   // One image without the board: listed and skipped, not fatal.
   cv::imwrite((dir.path() / "images" / "zz_empty.png").string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
   int code = -1;
-  const std::string out = capture(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml") +
+  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml") +
                                       " --model opencv4 --report " + (dir.path() / "report").string(),
                                   &code);
   ASSERT_EQ(code, 0) << out;

@@ -5,21 +5,11 @@
 #include <memory>
 
 namespace {
-std::string capture(const std::string& command, int* exit_code) {
-  std::string output;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return output;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  const int status = pclose(pipe);
-  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return output;
-}
 }  // namespace
 
 TEST(Cli, HelpListsEverySubcommand) {
   int code = -1;
-  const std::string out = capture(mire::test::mireBinary().string() + " --help", &code);
+  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " --help", &code);
   EXPECT_EQ(code, 0);
   for (const char* sub : {"calibrate", "measure", "identify", "simulate", "demo"})
     EXPECT_NE(out.find(sub), std::string::npos) << sub << " missing from:\n" << out;
@@ -27,14 +17,14 @@ TEST(Cli, HelpListsEverySubcommand) {
 
 TEST(Cli, VersionPrintsTheProjectVersion) {
   int code = -1;
-  const std::string out = capture(mire::test::mireBinary().string() + " --version", &code);
+  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " --version", &code);
   EXPECT_EQ(code, 0);
   EXPECT_NE(out.find("mire 0."), std::string::npos) << out;
 }
 
 TEST(Cli, UnknownSubcommandExitsTwoWithOneLine) {
   int code = -1;
-  const std::string out = capture(mire::test::mireBinary().string() + " frobnicate", &code);
+  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " frobnicate", &code);
   EXPECT_EQ(code, 2);
   EXPECT_EQ(out.rfind("mire: ", 0), 0u) << out;
   EXPECT_NE(out.find("frobnicate"), std::string::npos) << out;

@@ -3,7 +3,9 @@
 #include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/render.hpp"
+#include "mire/mechanism/io.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/support/csv.hpp"
 #include "mire/support/atomic_file.hpp"
 
 #include "test_support.hpp"
@@ -18,16 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string capture(const std::string& command, int* exit_code) {
-  std::string output;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return output;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  const int status = pclose(pipe);
-  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return output;
-}
 
 mire::metrology::Target board() {
   mire::metrology::TargetSpec spec;
@@ -95,7 +87,7 @@ TEST(MeasureCli, BadPoseFoldersAreReportedAndTheOthersWritten) {
   int code = -1;
   const fs::path output = dir.path() / "out" / "poses.csv";
   fs::create_directories(output.parent_path());
-  const std::string out = capture(mire::test::mireBinary().string() + " measure --camera " +
+  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " measure --camera " +
                                       (dir.path() / "camera.yaml").string() + " --target " +
                                       (dir.path() / "target.yaml").string() + " --poses " + poses.string() + " -o " +
                                       output.string(),
@@ -110,16 +102,18 @@ TEST(MeasureCli, BadPoseFoldersAreReportedAndTheOthersWritten) {
   EXPECT_NE(out.find("calibrated at 1024x768"), std::string::npos) << out;
   ASSERT_TRUE(fs::exists(output)) << out;
   ASSERT_TRUE(fs::exists(dir.path() / "out" / "poses_covariance.csv"));
-  const auto records = mire::metrology::readPosesCsv(output, dir.path() / "out" / "poses_covariance.csv");
+  const auto records = mire::mechanism::readPosesCsv(output, dir.path() / "out" / "poses_covariance.csv");
   ASSERT_EQ(records.size(), 2u);
-  EXPECT_EQ(records[0].pose_id, "good1");
-  EXPECT_EQ(records[1].pose_id, "good2");
-  EXPECT_EQ(records[0].images_used, 3);
-  EXPECT_EQ(records[0].images_total, 3);
+  EXPECT_EQ(records[0].observation.id, "good1");
+  EXPECT_EQ(records[1].observation.id, "good2");
+  const auto table = mire::support::readCsv(output);
+  EXPECT_EQ(table.number(0, table.column("images_used")), 3);
+  EXPECT_EQ(table.number(0, table.column("images_total")), 3);
   // Against the truth (rendered): within a millimetre / a tenth of a degree.
   const Eigen::Isometry3d truth = poseAt(0.0, 0.0, 0.6, 5);
-  EXPECT_LT((records[0].translation - truth.translation()).norm(), 1e-3);
-  EXPECT_LT((records[0].rotation_vector - mire::metrology::rotationVector(truth.linear())).norm(), 0.1 * M_PI / 180);
+  EXPECT_LT((records[0].observation.cTm.head<3>() - truth.translation()).norm(), 1e-3);
+  EXPECT_LT((records[0].observation.cTm.tail<3>() - mire::metrology::rotationVector(truth.linear())).norm(),
+            0.1 * M_PI / 180);
 }
 
 TEST(MeasureCli, NoPoseMeasuredExitsOneAndWritesNothing) {
@@ -130,7 +124,7 @@ TEST(MeasureCli, NoPoseMeasuredExitsOneAndWritesNothing) {
   fs::create_directories(dir.path() / "poses" / "blank");
   cv::imwrite((dir.path() / "poses" / "blank" / "a.png").string(), cv::Mat(768, 1024, CV_8UC1, cv::Scalar(128)));
   int code = -1;
-  const std::string out = capture(mire::test::mireBinary().string() + " measure --camera " +
+  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " measure --camera " +
                                       (dir.path() / "camera.yaml").string() + " --target " +
                                       (dir.path() / "target.yaml").string() + " --poses " +
                                       (dir.path() / "poses").string() + " -o " + (dir.path() / "poses.csv").string(),

@@ -54,7 +54,22 @@ int runCommand(const std::string& command);
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+
+namespace mire::test {
+// Runs a shell command with stderr merged into stdout; returns the output and sets the exit code.
+inline std::string captureCommand(const std::string& command, int* exit_code) {
+  std::string output;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return output;
+  char buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  const int status = pclose(pipe);
+  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return output;
+}
+}  // namespace mire::test
 
 inline int mire::test::runCommand(const std::string& command) {
   const int status = std::system(command.c_str());

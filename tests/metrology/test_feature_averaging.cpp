@@ -1,7 +1,9 @@
 // Multi-image averaging (outlier images, scatter) and the poses.csv files.
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/metrology/feature_averaging.hpp"
+#include "mire/mechanism/io.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/support/csv.hpp"
 #include "mire/metrology/target.hpp"
 
 #include "test_support.hpp"
@@ -108,15 +110,20 @@ TEST(PosesCsv, HeaderIsExactlyTheBriefsAndRoundTrips) {
                          0),
             0u)
       << header;
-  const auto records = mire::metrology::readPosesCsv(path, mire::metrology::covarianceSidePath(path));
+  // Read back by the reader `mire identify` uses.
+  const auto records = mire::mechanism::readPosesCsv(path, mire::metrology::covarianceSidePath(path));
   ASSERT_EQ(records.size(), 2u);
-  EXPECT_EQ(records[1].pose_id, "p02");
-  EXPECT_EQ(records[1].images_used, 9);
-  EXPECT_LT((records[0].translation - estimate.translation).norm(), 1e-15);
-  EXPECT_LT((records[0].rotation_vector - estimate.rotation_vector).norm(), 1e-15);
-  EXPECT_LT((records[0].covariance - estimate.covariance).norm(), 1e-12 * estimate.covariance.norm());
+  EXPECT_EQ(records[1].observation.id, "p02");
+  const auto table = mire::support::readCsv(path);
+  EXPECT_EQ(table.number(1, table.column("images_used")), 9);
+  const auto& first = records[0].observation;
+  EXPECT_LT((first.cTm.head<3>() - estimate.translation).norm(), 1e-15);
+  EXPECT_LT((first.cTm.tail<3>() - estimate.rotation_vector).norm(), 1e-15);
+  ASSERT_TRUE(first.covariance.has_value());
+  EXPECT_LT((*first.covariance - estimate.covariance).norm(), 1e-12 * estimate.covariance.norm());
   // Without the side file: the diagonal from the σ columns (6 significant digits).
-  const auto diagonal = mire::metrology::readPosesCsv(path);
+  const auto diagonal = mire::mechanism::readPosesCsv(path);
+  ASSERT_TRUE(diagonal[0].observation.covariance.has_value());
   for (int c = 0; c < 6; ++c)
-    EXPECT_NEAR(diagonal[0].covariance(c, c), estimate.covariance(c, c), 1e-5 * estimate.covariance(c, c));
+    EXPECT_NEAR((*diagonal[0].observation.covariance)(c, c), estimate.covariance(c, c), 1e-5 * estimate.covariance(c, c));
 }

@@ -43,19 +43,6 @@ void writePosesCovarianceCsv(const std::filesystem::path& path, const std::vecto
 // "poses.csv" → "poses_covariance.csv" beside it.
 std::filesystem::path covarianceSidePath(const std::filesystem::path& poses_csv);
 
-// Reads poses.csv back (the BRIEF §10 columns; extra columns ignored). The covariance is
-// diagonal from the σ columns unless `covariance_csv` is given (its `total` part is used).
-// Throws std::runtime_error naming file:line on a malformed file.
-struct PoseRecord {
-  std::string pose_id;
-  int images_used = 0;
-  int images_total = 0;
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  Eigen::Vector3d rotation_vector = Eigen::Vector3d::Zero();
-  Matrix6d covariance = Matrix6d::Zero();  // SI, order tx ty tz rx ry rz
-  double rms_px = 0.0;
-};
-std::vector<PoseRecord> readPosesCsv(const std::filesystem::path& path,
-                                     const std::filesystem::path& covariance_csv = {});
+// poses.csv is read back by mechanism::readPosesCsv (mire identify), the one reader of the format.
 
 }  // namespace mire::metrology
