@@ -29,12 +29,8 @@ TEST(VispCircles, CalibrationMatchesVispWithoutDistortion) {
     const cv::Mat gray =
         cv::imread((mire::test::sharedDir() / "datasets/external/visp-circles" / name).string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(gray.empty()) << name;
-    // Blob centres as found by the grid finder, without mire's sub-pixel refinement: ViSP's
-    // tutorial also uses blob centres of gravity (vpDot2), and at 320×240 with discs of ~17 px
-    // the refinement currently drops 1–10 discs per image and moves the result by ~2 px
-    // (reported to the metrology owner).
-    mire::metrology::DetectionOptions detection_options;
-    detection_options.subpixel = false;
+    // mire's default detection: grid finder, then each disc's ink centroid (sub-pixel).
+    const mire::metrology::DetectionOptions detection_options;
     const auto detection = mire::metrology::detectTarget(target, gray, detection_options);
     ASSERT_TRUE(detection.found) << name << ": " << detection.reason;
     EXPECT_EQ(detection.size(), 36u) << name << ": " << detection.reason;
