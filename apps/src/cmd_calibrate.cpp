@@ -3,25 +3,22 @@
 // target are listed and skipped; bad input (empty folder, unreadable image, bad target spec,
 // too few usable views) stops with a message naming the cause and writes nothing.
 #include "commands.hpp"
+#include "image_folders.hpp"
+#include "plot.hpp"
 
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/calibration_plots.hpp"
 #include "mire/calibration/camera_io.hpp"
-#include "mire/metrology/detection.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
-#include "mire/support/progress.hpp"
 
-#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -42,60 +39,6 @@ struct CalibrateArguments {
   std::string report_dir;
   int threads = 0;
 };
-
-struct ImageOutcome {
-  fs::path path;
-  bool read = false;
-  int width = 0, height = 0;
-  metrology::Detection detection;
-};
-
-bool isImageFile(const fs::path& path) {
-  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
-                                                     ".pgm", ".ppm", ".pnm", ".pbm", ".webp", ".jp2"};
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  return kExtensions.count(extension) > 0;
-}
-
-std::vector<fs::path> listImages(const fs::path& dir) {
-  if (!fs::is_directory(dir)) throw std::runtime_error("image folder '" + dir.string() + "' does not exist or is not a folder");
-  std::vector<fs::path> images;
-  for (const auto& entry : fs::directory_iterator(dir))
-    if (entry.is_regular_file() && isImageFile(entry.path())) images.push_back(entry.path());
-  std::sort(images.begin(), images.end());
-  if (images.empty())
-    throw std::runtime_error("image folder '" + dir.string() + "' holds no image (png, jpg, bmp, tif, pgm, ...)");
-  return images;
-}
-
-// Detection over all images on `threads` workers (an atomic work index: images differ in cost).
-std::vector<ImageOutcome> detectAll(const metrology::Target& target, const std::vector<fs::path>& images, int threads) {
-  std::vector<ImageOutcome> outcomes(images.size());
-  support::Progress progress("detecting", images.size());
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < images.size(); i = next++) {
-      ImageOutcome& outcome = outcomes[i];
-      outcome.path = images[i];
-      const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
-      if (!gray.empty()) {
-        outcome.read = true;
-        outcome.width = gray.cols;
-        outcome.height = gray.rows;
-        outcome.detection = metrology::detectTarget(target, gray);
-      }
-      progress.advance();
-    }
-  };
-  const int count = std::max(1, std::min<int>(threads, static_cast<int>(images.size())));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < count; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
-  progress.finish();
-  return outcomes;
-}
 
 std::string fixed(double value, int digits) {
   char buffer[64];
@@ -160,35 +103,16 @@ int runCalibrate(const CalibrateArguments& args) {
       throw std::runtime_error("target spec: " + std::string(error.what()));
     }
   }();
-  const std::vector<fs::path> images = listImages(args.images_dir);
   const int threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-
-  const std::vector<ImageOutcome> outcomes = detectAll(target, images, threads);
-  for (const auto& outcome : outcomes)
-    if (!outcome.read) throw std::runtime_error("cannot read image '" + outcome.path.string() + "' (not a decodable image)");
-  const int width = outcomes.front().width, height = outcomes.front().height;
-  for (const auto& outcome : outcomes)
-    if (outcome.width != width || outcome.height != height)
-      throw std::runtime_error("image '" + outcome.path.string() + "' is " + std::to_string(outcome.width) + "x" +
-                               std::to_string(outcome.height) + ", the first image is " + std::to_string(width) + "x" +
-                               std::to_string(height) + ": one camera, one size");
-
-  std::vector<calibration::CalibrationView> views;
-  int skipped = 0;
-  for (const auto& outcome : outcomes) {
-    const std::string name = outcome.path.filename().string();
-    if (!outcome.detection.found) {
-      std::cout << "skipped " << name << ": " << (outcome.detection.reason.empty() ? "target not found" : outcome.detection.reason)
-                << "\n";
-      ++skipped;
-      continue;
-    }
-    if (!outcome.detection.reason.empty()) std::cout << "note " << name << ": " << outcome.detection.reason << "\n";
-    views.push_back({name, outcome.detection.ids, outcome.detection.pixels});
-  }
+  const CalibrationFolder folder = detectCalibrationFolder(target, args.images_dir, threads);
+  for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
+  for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
+  const std::vector<calibration::CalibrationView>& views = folder.views;
+  const int skipped = static_cast<int>(folder.skipped.size());
+  const int width = folder.width, height = folder.height;
   if (views.size() < 3)
     throw std::runtime_error("the target was found in " + std::to_string(views.size()) + " of " +
-                             std::to_string(images.size()) + " images in '" + args.images_dir +
+                             std::to_string(folder.images) + " images in '" + args.images_dir +
                              "': calibration needs at least 3 (check target.yaml's cols/rows and type)");
 
   calibration::CalibrationOptions options;
@@ -203,12 +127,8 @@ int runCalibrate(const CalibrateArguments& args) {
   if (!args.report_dir.empty()) {
     const fs::path dir = args.report_dir;
     fs::create_directories(dir);
-    support::writeAtomically(dir / "residuals.png", [&](const fs::path& path) {
-      return cv::imwrite(path.string(), calibration::drawResidualMap(result));
-    });
-    support::writeAtomically(dir / "projection_uncertainty.png", [&](const fs::path& path) {
-      return cv::imwrite(path.string(), calibration::drawProjectionUncertaintyMap(result));
-    });
+    writePng(dir / "residuals.png", calibration::drawResidualMap(result));
+    writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
   }

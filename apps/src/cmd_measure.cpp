@@ -2,14 +2,13 @@
 // (../shared/BRIEF.md §3, §10). Poses are measured in parallel; a pose that fails is reported
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
+#include "image_folders.hpp"
 
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
-#include "mire/support/progress.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +16,6 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
-#include <thread>
 #include <vector>
 
 namespace mire::app {
@@ -36,34 +34,11 @@ struct MeasureSettings {
   double rejection_confidence = 0.999;
 };
 
-struct PoseJob {
-  std::string pose_id;
-  fs::path folder;
-  metrology::PoseMeasurement measurement;
-  int images_total = 0;
-};
-
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
   const std::size_t middle = values.size() / 2;
   return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
-
-void measureOne(const calibration::Camera& camera, const metrology::Target& target,
-                const metrology::MeasurementOptions& options, PoseJob* job) {
-  try {
-    const auto images = metrology::listPoseImages(job->folder);
-    job->images_total = static_cast<int>(images.size());
-    if (images.empty()) {
-      job->measurement.error = "no image files in " + job->folder.string();
-      return;
-    }
-    job->measurement = metrology::measurePoseFromFiles(camera, target, images, options);
-  } catch (const std::exception& e) {
-    job->measurement.ok = false;
-    job->measurement.error = e.what();
-  }
 }
 
 void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
@@ -96,20 +71,6 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
 int runMeasure(const MeasureSettings& settings) {
   const calibration::Camera camera = calibration::readCameraYaml(settings.camera_path);
   const metrology::Target target = metrology::Target::fromFile(settings.target_path);
-  const fs::path poses_dir = settings.poses_dir;
-  if (!fs::is_directory(poses_dir)) throw std::runtime_error(poses_dir.string() + ": not a directory");
-
-  std::vector<PoseJob> jobs;
-  for (const auto& entry : fs::directory_iterator(poses_dir)) {
-    if (!entry.is_directory()) continue;
-    const std::string id = entry.path().filename().string();
-    if (id.empty() || id[0] == '.') continue;
-    if (id.find_first_of(",\"") != std::string::npos)
-      throw std::runtime_error(entry.path().string() + ": a pose id (folder name) must not contain ',' or '\"'");
-    jobs.push_back({id, entry.path(), {}, 0});
-  }
-  if (jobs.empty()) throw std::runtime_error(poses_dir.string() + ": no pose subfolders (one folder per pose expected)");
-  std::sort(jobs.begin(), jobs.end(), [](const PoseJob& a, const PoseJob& b) { return a.pose_id < b.pose_id; });
   if (camera.covariance.size() == 0)
     std::cerr << "mire measure: warning: " << settings.camera_path
               << " has no covariance: sigmas include pixel noise only (too optimistic, see README)\n";
@@ -118,26 +79,12 @@ int runMeasure(const MeasureSettings& settings) {
   options.pose.ambiguity_ratio = settings.ambiguity_ratio;
   options.averaging.rejection_confidence = settings.rejection_confidence;
 
-  // Poses are independent: one worker per core, each taking the next pose.
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t workers =
-      std::min<std::size_t>(jobs.size(), settings.threads > 0 ? static_cast<std::size_t>(settings.threads) : cores);
-  support::Progress progress("measuring poses", jobs.size());
-  std::atomic<std::size_t> next{0};
-  std::vector<std::thread> threads;
-  for (std::size_t w = 0; w < workers; ++w)
-    threads.emplace_back([&] {
-      for (std::size_t i = next++; i < jobs.size(); i = next++) {
-        measureOne(camera, target, options, &jobs[i]);
-        progress.advance();
-      }
-    });
-  for (auto& thread : threads) thread.join();
-  progress.finish();
+  const std::vector<PoseFolderMeasurement> jobs =
+      measurePoseFolders(camera, target, settings.poses_dir, options, settings.threads);
 
   std::vector<metrology::MeasuredPose> measured;
   int failed = 0;
-  for (const PoseJob& job : jobs) {
+  for (const PoseFolderMeasurement& job : jobs) {
     for (const auto& warning : job.measurement.warnings)
       std::cerr << "mire measure: pose " << job.pose_id << ": warning: " << warning << "\n";
     if (!job.measurement.ok) {

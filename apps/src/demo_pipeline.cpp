@@ -2,6 +2,7 @@
 // exactly as a user would (calibrate from images, measure poses from images, identify from
 // poses.csv + joints.csv), and score against the simulator's truth only at the end.
 #include "demo.hpp"
+#include "image_folders.hpp"
 
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/camera_io.hpp"
@@ -10,14 +11,10 @@
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
-#include "mire/metrology/detection.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/progress.hpp"
-
-#include <opencv2/core/utility.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -48,35 +45,14 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-std::vector<fs::path> imagesIn(const fs::path& folder) { return metrology::listPoseImages(folder); }
-
 // Stage 2: detection on every image (parallel), then the bundle adjustment.
 calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const metrology::Target& target,
                                    const fs::path& output, DemoCalibration& summary) {
-  const std::vector<fs::path> images = imagesIn(campaign.calibration_images());
-  std::vector<metrology::Detection> detections(images.size());
-  cv::Size size;
-  {
-    support::Progress progress("calibration: detecting", images.size());
-    cv::parallel_for_(cv::Range(0, static_cast<int>(images.size())), [&](const cv::Range& range) {
-      for (int i = range.start; i < range.end; ++i) {
-        const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
-        if (gray.empty()) throw std::runtime_error(images[i].string() + ": unreadable image");
-        if (i == 0) size = gray.size();
-        detections[i] = metrology::detectTarget(target, gray);
-        progress.advance();
-      }
-    });
-  }
-  std::vector<calibration::CalibrationView> views;
-  for (std::size_t i = 0; i < images.size(); ++i) {
-    if (!detections[i].found) continue;
-    views.push_back({images[i].filename().string(), detections[i].ids, detections[i].pixels});
-  }
+  const CalibrationFolder folder = detectCalibrationFolder(target, campaign.calibration_images(), 0);
   calibration::CalibrationOptions options;
   options.model = calibration::DistortionModel::OpenCV5;
   const calibration::CalibrationResult result =
-      calibration::calibrateCamera(target.points(), views, size.width, size.height, options);
+      calibration::calibrateCamera(target.points(), folder.views, folder.width, folder.height, options);
   support::writeFileAtomically(output / "camera.yaml", calibration::cameraYamlString(result.camera));
 
   summary.names = result.camera.parameterNames();
@@ -85,7 +61,7 @@ calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const m
   summary.truth = campaign.camera.params;
   summary.rms_px = result.camera.rms_px;
   summary.views_used = result.used_views;
-  summary.views_total = static_cast<int>(images.size());
+  summary.views_total = static_cast<int>(folder.images);
   const auto uncertainty = calibration::summarizeProjectionUncertainty(result);
   summary.uncertainty_centre_px = uncertainty.centre_px;
   summary.uncertainty_corner_px = uncertainty.corner_px;
@@ -95,34 +71,25 @@ calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const m
 // Stage 3: one pose per folder (parallel), written as poses.csv + covariance side file.
 void measureStage(const datasets::H4Campaign& campaign, const calibration::Camera& camera,
                   const metrology::Target& target, const fs::path& poses_csv, DemoMeasurement& summary) {
-  const std::size_t count = campaign.pose_ids.size();
-  std::vector<metrology::PoseMeasurement> measurements(count);
-  {
-    support::Progress progress("measurement: poses", count);
-    cv::parallel_for_(cv::Range(0, static_cast<int>(count)), [&](const cv::Range& range) {
-      for (int i = range.start; i < range.end; ++i) {
-        measurements[i] = metrology::measurePoseFromFiles(camera, target, imagesIn(campaign.pose_images() / campaign.pose_ids[i]));
-        progress.advance();
-      }
-    });
-  }
+  const auto measurements =
+      measurePoseFolders(camera, target, campaign.pose_images(), metrology::MeasurementOptions{}, 0);
   std::vector<metrology::MeasuredPose> measured;
   std::vector<double> sigma[6];
   Eigen::Matrix<double, 6, 1> squared_error = Eigen::Matrix<double, 6, 1>::Zero();
   std::vector<double> normalized;
-  for (std::size_t i = 0; i < count; ++i) {
-    const auto& m = measurements[i];
+  for (const auto& pose : measurements) {
+    const auto& m = pose.measurement;
     if (!m.ok) {
-      std::cerr << "mire demo: pose " << campaign.pose_ids[i] << ": " << m.error << "\n";
+      std::cerr << "mire demo: pose " << pose.pose_id << ": " << m.error << "\n";
       continue;
     }
-    measured.push_back({campaign.pose_ids[i], m.features.images_used, m.features.images_total, m.estimate});
+    measured.push_back({pose.pose_id, m.features.images_used, pose.images_total, m.estimate});
     // Scoring against the simulator's truth.
-    const Eigen::Isometry3d truth = campaign.robot.cameraTMarker(campaign.poses[i]);
-    const Eigen::AngleAxisd truth_rotation(truth.linear());
+    const auto index = std::find(campaign.pose_ids.begin(), campaign.pose_ids.end(), pose.pose_id) - campaign.pose_ids.begin();
+    const Eigen::Isometry3d truth = campaign.robot.cameraTMarker(campaign.poses.at(static_cast<std::size_t>(index)));
     Eigen::Matrix<double, 6, 1> error;
     error << m.estimate.translation - truth.translation(),
-        m.estimate.rotation_vector - truth_rotation.axis() * truth_rotation.angle();
+        m.estimate.rotation_vector - metrology::rotationVector(truth.linear());
     const auto sigmas = metrology::PoseEstimate::sigmas(m.estimate.covariance);
     for (int k = 0; k < 6; ++k) {
       sigma[k].push_back(sigmas[k]);
@@ -135,7 +102,7 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
   metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
 
   summary.measured = static_cast<int>(measured.size());
-  summary.total = static_cast<int>(count);
+  summary.total = static_cast<int>(measurements.size());
   const double n = static_cast<double>(measured.size());
   for (int k = 0; k < 3; ++k) {
     summary.median_sigma_mm[k] = 1e3 * median(sigma[k]);

@@ -1,9 +1,9 @@
 // Report of `mire identify` (see identify_report.hpp).
 #include "identify_report.hpp"
+#include "plot.hpp"
 
 #include "mire/support/atomic_file.hpp"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -63,7 +63,7 @@ void writeResidualsPng(const std::filesystem::path& path, const IdentifyReportDa
     text(image, "leg " + std::to_string(leg + 1), {110 + leg * 120, 600});
   }
   text(image, "x: poses in file order", {620, 600});
-  support::writeAtomically(path, [&](const std::filesystem::path& tmp) { return cv::imwrite(tmp.string(), image); });
+  writePng(path, image);
 }
 
 void writeSingularValuesPng(const std::filesystem::path& path, const mechanism::IdentifiabilityReport& report) {
@@ -93,7 +93,7 @@ void writeSingularValuesPng(const std::filesystem::path& path, const mechanism::
   text(image, "index of the singular value (descending); rank " + std::to_string(report.rank) + " of " +
                   std::to_string(report.parameter_names.size()) + " free parameters",
        {area.x, 380});
-  support::writeAtomically(path, [&](const std::filesystem::path& tmp) { return cv::imwrite(tmp.string(), image); });
+  writePng(path, image);
 }
 
 void writeSpreadPng(const std::filesystem::path& path, const mechanism::MonteCarloStudy& study,
@@ -137,7 +137,7 @@ void writeSpreadPng(const std::filesystem::path& path, const mechanism::MonteCar
     text(image, std::to_string(study.summaries[static_cast<std::size_t>(s)].subset_size) + " poses",
          {area.x + s * 160 + 18, 451});
   }
-  support::writeAtomically(path, [&](const std::filesystem::path& tmp) { return cv::imwrite(tmp.string(), image); });
+  writePng(path, image);
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ template <typename T>
 Vec3<T> nacelleOffset(const H4TrueGeometry& g, int leg, const T& theta) {
   using std::cos;
   using std::sin;
-  const double eps = kLegEpsilon[leg], sig = kLegSigma[leg];
+  const double eps = mechanism::kH4Epsilon[leg], sig = mechanism::kH4Sigma[leg];
   return Vec3<T>(eps * g.h * cos(theta), eps * g.h * sin(theta) + T(sig * g.d), T(0.0));
 }
 
@@ -158,7 +158,7 @@ H4TrueGeometry geometryFromModel12(const H4Model12Values& v) {
   for (int i = 0; i < 4; ++i) {
     H4TrueLeg& leg = g.legs[i];
     // P_i = A_i(0) + R·(cos α_i, sin α_i, 0); model 12 is ψ_i = α_i + π, β_i = π/2 (BRIEF §5).
-    leg.pivot = Eigen::Vector3d(kLegEpsilon[i] * v.h, kLegSigma[i] * v.d, 0.0) +
+    leg.pivot = Eigen::Vector3d(mechanism::kH4Epsilon[i] * v.h, mechanism::kH4Sigma[i] * v.d, 0.0) +
                 v.R * Eigen::Vector3d(std::cos(v.alpha[i]), std::sin(v.alpha[i]), 0.0);
     leg.psi = v.alpha[i] + kH4Pi;
     leg.beta = 0.5 * kH4Pi;

@@ -21,9 +21,9 @@ TEST(H4TrueRobot, NominalIkmMatchesBriefClosedForm) {
   for (int i = 0; i < 4; ++i) {
     const double alpha = (0.25 + 0.5 * i) * kH4Pi;
     const Eigen::Vector3d u(std::cos(alpha), std::sin(alpha), 0.0);
-    const Eigen::Vector3d a = x.head<3>() + kLegEpsilon[i] * h * Eigen::Vector3d(std::cos(x[3]), std::sin(x[3]), 0) +
-                              kLegSigma[i] * d * Eigen::Vector3d::UnitY();
-    const Eigen::Vector3d p = Eigen::Vector3d(kLegEpsilon[i] * h, kLegSigma[i] * d, 0.0) + R * u;
+    const Eigen::Vector3d a = x.head<3>() + mechanism::kH4Epsilon[i] * h * Eigen::Vector3d(std::cos(x[3]), std::sin(x[3]), 0) +
+                              mechanism::kH4Sigma[i] * d * Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d p = Eigen::Vector3d(mechanism::kH4Epsilon[i] * h, mechanism::kH4Sigma[i] * d, 0.0) + R * u;
     const Eigen::Vector3d w = a - p;
     const double aa = w.dot(u), bb = -w.z(), cc = (w.squaredNorm() + L * L - l * l) / (2 * L);
     const double phi = std::atan2(bb, aa) - std::acos(cc / std::hypot(aa, bb));

@@ -70,9 +70,7 @@ struct H4TrueGeometry {
 // module's nominal struct (R, L, l, h, d, α_i, q0_i, amplification k).
 using H4Model12Values = mechanism::H4Nominal;
 
-// Leg signs (ε_i, σ_i) of BRIEF §4: 1 (+,+), 2 (−,+), 3 (−,−), 4 (+,−).
-constexpr std::array<int, 4> kLegEpsilon{+1, -1, -1, +1};
-constexpr std::array<int, 4> kLegSigma{+1, +1, -1, -1};
+// Leg signs (ε_i, σ_i) of BRIEF §4 are the mechanism module's mechanism::kH4Epsilon, kH4Sigma.
 
 // Exactly the geometry model 12 describes for `values` (no unmodelled defect).
 H4TrueGeometry geometryFromModel12(const H4Model12Values& values);

@@ -1,0 +1,132 @@
+#include "image_folders.hpp"
+
+#include "mire/metrology/detection.hpp"
+#include "mire/support/progress.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+namespace mire::app {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool isImageFile(const fs::path& path) {
+  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
+                                                     ".pgm", ".ppm", ".pnm", ".pbm", ".webp", ".jp2"};
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return kExtensions.count(extension) > 0;
+}
+
+std::vector<fs::path> listImages(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw std::runtime_error("image folder '" + dir.string() + "' does not exist or is not a folder");
+  std::vector<fs::path> images;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file() && isImageFile(entry.path())) images.push_back(entry.path());
+  std::sort(images.begin(), images.end());
+  if (images.empty())
+    throw std::runtime_error("image folder '" + dir.string() + "' holds no image (png, jpg, bmp, tif, pgm, ...)");
+  return images;
+}
+
+struct ImageOutcome {
+  bool read = false;
+  int width = 0, height = 0;
+  metrology::Detection detection;
+};
+
+}  // namespace
+
+void parallelForEach(std::size_t count, int threads, const std::function<void(std::size_t)>& work) {
+  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t workers = std::min(count, threads > 0 ? static_cast<std::size_t>(threads) : cores);
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    for (std::size_t i = next++; i < count; i = next++) work(i);
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(worker);
+  worker();
+  for (auto& thread : pool) thread.join();
+}
+
+CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const fs::path& folder, int threads) {
+  const std::vector<fs::path> images = listImages(folder);
+  std::vector<ImageOutcome> outcomes(images.size());
+  {
+    support::Progress progress("detecting", images.size());
+    parallelForEach(images.size(), threads, [&](std::size_t i) {
+      const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
+      if (!gray.empty()) {
+        outcomes[i] = {true, gray.cols, gray.rows, metrology::detectTarget(target, gray)};
+      }
+      progress.advance();
+    });
+  }
+  CalibrationFolder result;
+  result.images = images.size();
+  for (std::size_t i = 0; i < images.size(); ++i)
+    if (!outcomes[i].read) throw std::runtime_error("cannot read image '" + images[i].string() + "' (not a decodable image)");
+  result.width = outcomes.front().width;
+  result.height = outcomes.front().height;
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const ImageOutcome& outcome = outcomes[i];
+    if (outcome.width != result.width || outcome.height != result.height)
+      throw std::runtime_error("image '" + images[i].string() + "' is " + std::to_string(outcome.width) + "x" +
+                               std::to_string(outcome.height) + ", the first image is " + std::to_string(result.width) +
+                               "x" + std::to_string(result.height) + ": one camera, one size");
+    const std::string name = images[i].filename().string();
+    if (!outcome.detection.found) {
+      result.skipped.emplace_back(name, outcome.detection.reason.empty() ? "target not found" : outcome.detection.reason);
+      continue;
+    }
+    if (!outcome.detection.reason.empty()) result.notes.emplace_back(name, outcome.detection.reason);
+    result.views.push_back({name, outcome.detection.ids, outcome.detection.pixels});
+  }
+  return result;
+}
+
+std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera, const metrology::Target& target,
+                                                      const fs::path& folder,
+                                                      const metrology::MeasurementOptions& options, int threads) {
+  if (!fs::is_directory(folder)) throw std::runtime_error(folder.string() + ": not a directory");
+  std::vector<PoseFolderMeasurement> poses;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (!entry.is_directory()) continue;
+    const std::string id = entry.path().filename().string();
+    if (id.empty() || id[0] == '.') continue;
+    if (id.find_first_of(",\"") != std::string::npos)
+      throw std::runtime_error(entry.path().string() + ": a pose id (folder name) must not contain ',' or '\"'");
+    poses.push_back({id, entry.path(), {}, 0});
+  }
+  if (poses.empty()) throw std::runtime_error(folder.string() + ": no pose subfolders (one folder per pose expected)");
+  std::sort(poses.begin(), poses.end(),
+            [](const PoseFolderMeasurement& a, const PoseFolderMeasurement& b) { return a.pose_id < b.pose_id; });
+
+  support::Progress progress("measuring poses", poses.size());
+  parallelForEach(poses.size(), threads, [&](std::size_t i) {
+    PoseFolderMeasurement& pose = poses[i];
+    try {
+      const auto images = metrology::listPoseImages(pose.folder);
+      pose.images_total = static_cast<int>(images.size());
+      if (images.empty())
+        pose.measurement.error = "no image files in " + pose.folder.string();
+      else
+        pose.measurement = metrology::measurePoseFromFiles(camera, target, images, options);
+    } catch (const std::exception& e) {
+      pose.measurement.ok = false;
+      pose.measurement.error = e.what();
+    }
+    progress.advance();
+  });
+  return poses;
+}
+
+}  // namespace mire::app

@@ -1,0 +1,51 @@
+#pragma once
+// The image-folder stages shared by `mire calibrate`, `mire measure` and `mire demo`: the
+// target detected in every image of a calibration folder, and one pose measured per pose
+// subfolder (BRIEF §10), each in parallel with a progress bar.
+#include "mire/calibration/calibrate.hpp"
+#include "mire/calibration/camera_model.hpp"
+#include "mire/metrology/pose_measurement.hpp"
+#include "mire/metrology/target.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace mire::app {
+
+// Runs work(i) for i in [0, count) on `threads` workers (0 = all cores), each taking the next
+// index (items differ in cost).
+void parallelForEach(std::size_t count, int threads, const std::function<void(std::size_t)>& work);
+
+struct CalibrationFolder {
+  std::vector<calibration::CalibrationView> views;          // images where the target was found
+  std::vector<std::pair<std::string, std::string>> skipped;  // image name, why the target was not used
+  std::vector<std::pair<std::string, std::string>> notes;    // image name, remark on a found target
+  std::size_t images = 0;
+  int width = 0, height = 0;
+};
+
+// Detects the target in every image of `folder`. Throws std::runtime_error naming the folder
+// or the image when the folder is missing or holds no image, an image is unreadable, or the
+// images differ in size.
+CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const std::filesystem::path& folder,
+                                          int threads);
+
+struct PoseFolderMeasurement {
+  std::string pose_id;  // the subfolder's name
+  std::filesystem::path folder;
+  metrology::PoseMeasurement measurement;  // ok == false with the reason when the pose failed
+  int images_total = 0;
+};
+
+// One measurement per pose subfolder of `folder`, in pose-id order. A failing pose is reported
+// in its entry, never thrown. Throws std::runtime_error when `folder` is not a folder, holds no
+// pose subfolder, or a pose id contains ',' or '"'.
+std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera, const metrology::Target& target,
+                                                      const std::filesystem::path& folder,
+                                                      const metrology::MeasurementOptions& options, int threads);
+
+}  // namespace mire::app
