@@ -30,10 +30,15 @@ inline bool projectPoint(const T* params, int distortion_count, const T* point_c
   return true;
 }
 
+// Lens models. OpenCV: the radial-tangential model of calib3d with 0 (pinhole), 4, 5, 8 or 12
+// coefficients; Fisheye: OpenCV's cv::fisheye equidistant model, coefficients k1..k4.
+enum class LensModel { OpenCV, Fisheye };
+
 // A calibrated camera: geometry, and what the calibration knows about its own precision.
 struct Camera {
   int width = 0;
   int height = 0;
+  LensModel lens = LensModel::OpenCV;
   // fx fy cx cy followed by the distortion coefficients in OpenCV's order.
   std::vector<double> params;
 
