@@ -348,9 +348,11 @@ YamlMatrix YamlNode::asMatrix(YamlRange range) const {
     checkKeys({"rows", "cols", "dt", "data"});
     matrix.rows = static_cast<int>(integer("rows", 0, 100000));
     matrix.cols = static_cast<int>(integer("cols", 0, 100000));
-    const std::string dt = trim(string("dt"));
-    if (dt.empty() || dt.find_first_not_of("1234567890ucswifdh") != std::string::npos)
-      at("dt").fail("'" + dt + "' is not an OpenCV element type (u, c, w, s, i, f, d)");
+    if (const auto dt_node = find("dt")) {  // OpenCV writes it; ROS camera_info does not
+      const std::string dt = trim(dt_node->asString());
+      if (dt.empty() || dt.find_first_not_of("1234567890ucswifdh") != std::string::npos)
+        dt_node->fail("'" + dt + "' is not an OpenCV element type (u, c, w, s, i, f, d)");
+    }
     matrix.data = at("data").asDoubles(range);
     const auto expected = static_cast<std::size_t>(matrix.rows) * static_cast<std::size_t>(matrix.cols);
     if (matrix.data.size() != expected)

@@ -28,7 +28,8 @@ struct YamlRange {
   double max;
 };
 
-// A numeric matrix read from YAML: an OpenCV "!!opencv-matrix" map (rows, cols, dt, data), a
+// A numeric matrix read from YAML: an OpenCV "!!opencv-matrix" map (rows, cols, dt, data; dt
+// optional, as ROS camera_info writes these maps without it), a
 // flat sequence (one row), or a sequence of equal-length sequences. Row-major.
 struct YamlMatrix {
   int rows = 0;
