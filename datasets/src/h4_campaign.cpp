@@ -1,5 +1,6 @@
 #include "mire/datasets/h4_campaign.hpp"
 
+#include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/support/atomic_file.hpp"
@@ -88,7 +89,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   const H4CampaignSpec defaults = H4CampaignSpec::reference();
   const fs::path camera_file = spec.camera_file.empty() ? defaults.camera_file : spec.camera_file;
   const fs::path target_file = spec.target_file.empty() ? defaults.target_file : spec.target_file;
-  const calibration::Camera camera = calibration::readCameraYaml(camera_file);
+  const calibration::Camera camera = calibration::readCamera(camera_file);
   const metrology::Target target = metrology::Target::fromFile(target_file);
 
   const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.seed);

@@ -1,6 +1,7 @@
 // Simulation specs and the image sets they describe (simulation.hpp).
 #include "mire/datasets/simulation.hpp"
 
+#include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_types.hpp"
 #include "mire/support/atomic_file.hpp"
@@ -172,7 +173,7 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   spec.file = path;
   if (!root.has("camera")) root.fail("camera", "missing (a camera.yaml path or an inline camera)");
   if (root.node("camera").isString())
-    spec.camera = calibration::readCameraYaml(resolve(root.text("camera", "")));
+    spec.camera = calibration::readCamera(resolve(root.text("camera", "")));
   else
     spec.camera = readInlineCamera(root.child("camera"), file);
   if (!root.has("target")) root.fail("target", "missing (a target.yaml path)");
