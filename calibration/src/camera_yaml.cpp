@@ -285,7 +285,11 @@ std::vector<double> writtenCoefficients(const Camera& camera) {
 
 Camera readCameraYaml(const std::filesystem::path& path) {
   const support::YamlFile file = support::YamlFile::load(path);
-  const YamlNode& root = file.rootMap();
+  return cameraFromYaml(file.rootMap());
+}
+
+Camera cameraFromYaml(const YamlNode& root) {
+  root.requireMap();
   root.checkKeys(knownKeys());
   Camera camera;
   readImageSize(root, camera);
@@ -295,7 +299,7 @@ Camera readCameraYaml(const std::filesystem::path& path) {
   try {
     camera.validate();
   } catch (const std::invalid_argument& error) {
-    throw support::YamlError(path.string() + ": " + error.what());
+    root.fail(error.what());
   }
   return camera;
 }

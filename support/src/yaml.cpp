@@ -381,6 +381,8 @@ YamlMatrix YamlNode::asMatrix(YamlRange range) const {
 
 // ---------------------------------------------------------------- formatting
 
+std::optional<double> parseYamlNumber(const std::string& text) { return parseNumber(text); }
+
 std::string formatYamlNumber(double value) {
   if (std::isnan(value)) return ".nan";
   if (std::isinf(value)) return value > 0 ? ".inf" : "-.inf";

@@ -1,6 +1,7 @@
 #pragma once
 // camera.yaml (OpenCV FileStorage, ../shared/BRIEF.md §10) and ViSP's camera XML.
 #include "mire/calibration/camera_model.hpp"
+#include "mire/support/yaml.hpp"
 
 #include <filesystem>
 #include <string>
@@ -14,6 +15,8 @@ namespace mire::calibration {
 // support::YamlError (a std::runtime_error) naming the file, the line and the key.
 // readCamera (camera_formats.hpp) also reads the other formats.
 Camera readCameraYaml(const std::filesystem::path& path);
+// The same from a YAML map already loaded (e.g. a camera inline in a simulation spec).
+Camera cameraFromYaml(const support::YamlNode& map);
 
 // Serialises to camera.yaml text (write it with support::writeFileAtomically): plain YAML
 // with OpenCV's !!opencv-matrix nodes, so that cv::FileStorage reads it.

@@ -137,6 +137,10 @@ class YamlFile {
 // (always a '.' and a signed exponent: 1.0e-05, not 1e-05 which PyYAML reads as a string).
 std::string formatYamlNumber(double value);
 
+// A YAML scalar's text read as a number, as YamlNode::asDouble reads it (any YAML/OpenCV syntax;
+// .inf/.nan read as non-finite values for the caller to refuse); nullopt if it is no number.
+std::optional<double> parseYamlNumber(const std::string& text);
+
 // A number for messages (%.6g), the project's convention.
 std::string formatMessageNumber(double value);
 
