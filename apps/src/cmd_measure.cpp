@@ -4,6 +4,7 @@
 #include "commands.hpp"
 #include "image_folders.hpp"
 
+#include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
@@ -69,7 +70,7 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
 }
 
 int runMeasure(const MeasureSettings& settings) {
-  const calibration::Camera camera = calibration::readCameraYaml(settings.camera_path);
+  const calibration::Camera camera = calibration::readCamera(settings.camera_path);
   const metrology::Target target = metrology::Target::fromFile(settings.target_path);
   if (camera.covariance.size() == 0)
     std::cerr << "mire measure: warning: " << settings.camera_path
@@ -119,7 +120,7 @@ Runner addMeasureCommand(CLI::App& app) {
   auto settings = std::make_shared<MeasureSettings>();
   CLI::App* command = app.add_subcommand(
       "measure", "measure target poses cTm (with their precision) from one image folder per pose");
-  command->add_option("--camera", settings->camera_path, "camera.yaml (intrinsics, distortion, covariance)")
+  command->add_option("--camera", settings->camera_path, "camera file: camera.yaml, ROS camera_info, ViSP XML or Kalibr camchain (detected from the content)")
       ->required()
       ->check(CLI::ExistingFile);
   command->add_option("--target", settings->target_path, "target.yaml")->required()->check(CLI::ExistingFile);

@@ -24,6 +24,7 @@ Runner addMeasureCommand(CLI::App& app);
 Runner addIdentifyCommand(CLI::App& app);
 Runner addSimulateCommand(CLI::App& app);
 Runner addDemoCommand(CLI::App& app);
+Runner addConvertCommand(CLI::App& app);
 
 // The version string printed by `mire --version`.
 std::string versionString();

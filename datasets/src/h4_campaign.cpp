@@ -1,8 +1,10 @@
 #include "mire/datasets/h4_campaign.hpp"
 
+#include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/yaml.hpp"
 
 #include <cstdio>
 #include <random>
@@ -50,26 +52,27 @@ Eigen::Isometry3d markerTEffectorFor(const metrology::Target& target) {
   return marker_T_effector;
 }
 
+// Numbers as floats that YAML 1.1 readers (PyYAML) also read as numbers (doc/files.md).
 std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform) {
   std::ostringstream out;
-  out.precision(17);
   out << key << ": [";
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out << transform.matrix()(r, c) << (r == 3 && c == 3 ? "" : ", ");
+    for (int c = 0; c < 4; ++c)
+      out << support::formatYamlNumber(transform.matrix()(r, c)) << (r == 3 && c == 3 ? "" : ", ");
   out << "]\n";
   return out.str();
 }
 
 std::string geometryYaml(const H4TrueGeometry& geometry) {
+  const auto n = [](double value) { return support::formatYamlNumber(value); };
   std::ostringstream out;
-  out.precision(17);
-  out << "h: " << geometry.h << "\nd: " << geometry.d << "\nbar_spacing: " << geometry.bar_spacing
-      << "\nrotation_ratio: " << geometry.rotation_ratio << "\nlegs:\n";
+  out << "h: " << n(geometry.h) << "\nd: " << n(geometry.d) << "\nbar_spacing: " << n(geometry.bar_spacing)
+      << "\nrotation_ratio: " << n(geometry.rotation_ratio) << "\nlegs:\n";
   for (const auto& leg : geometry.legs) {
-    out << "  - { pivot: [" << leg.pivot.x() << ", " << leg.pivot.y() << ", " << leg.pivot.z()
-        << "], psi: " << leg.psi << ", beta: " << leg.beta << ", L: " << leg.arm_length
-        << ", l: " << leg.forearm_length << ", q0: " << leg.joint_offset
-        << ", bar_mismatch: " << leg.bar_mismatch << " }\n";
+    out << "  - { pivot: [" << n(leg.pivot.x()) << ", " << n(leg.pivot.y()) << ", " << n(leg.pivot.z())
+        << "], psi: " << n(leg.psi) << ", beta: " << n(leg.beta) << ", L: " << n(leg.arm_length)
+        << ", l: " << n(leg.forearm_length) << ", q0: " << n(leg.joint_offset)
+        << ", bar_mismatch: " << n(leg.bar_mismatch) << " }\n";
   }
   return out.str();
 }
@@ -88,7 +91,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   const H4CampaignSpec defaults = H4CampaignSpec::reference();
   const fs::path camera_file = spec.camera_file.empty() ? defaults.camera_file : spec.camera_file;
   const fs::path target_file = spec.target_file.empty() ? defaults.target_file : spec.target_file;
-  const calibration::Camera camera = calibration::readCameraYaml(camera_file);
+  const calibration::Camera camera = calibration::readCamera(camera_file);
   const metrology::Target target = metrology::Target::fromFile(target_file);
 
   const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.seed);

@@ -1,15 +1,19 @@
 // Simulation specs and the image sets they describe (simulation.hpp).
 #include "mire/datasets/simulation.hpp"
 
+#include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_types.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/yaml.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,78 +21,60 @@ namespace mire::datasets {
 namespace {
 
 
-// Reads the keys of one spec node with errors naming the file and the full key.
-class NodeReader {
+// Optional keys of one spec section, with their defaults; errors name the file, the line and
+// the full key (support/yaml.hpp). An absent section reads as all defaults.
+class SpecSection {
  public:
-  NodeReader(cv::FileNode node, std::string file, std::string prefix)
-      : node_(std::move(node)), file_(std::move(file)), prefix_(std::move(prefix)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw std::runtime_error(file_ + ": key '" + prefix_ + key + "': " + what);
+  explicit SpecSection(std::optional<support::YamlNode> node) : node_(std::move(node)) {
+    if (node_) node_->requireMap();
   }
-  bool has(const std::string& key) const { return !node_.empty() && node_.isMap() && !node_[key].empty(); }
-  cv::FileNode node(const std::string& key) const { return has(key) ? node_[key] : cv::FileNode(); }
-  NodeReader child(const std::string& key) const { return NodeReader(node(key), file_, prefix_ + key + "."); }
-
+  // Unknown keys are errors (a misspelt `nosie:` would silently render without noise).
+  void allow(const std::vector<std::string>& keys) const {
+    if (node_) node_->checkKeys(keys);
+  }
+  std::optional<support::YamlNode> find(const std::string& key) const {
+    if (!node_) return std::nullopt;
+    auto found = node_->find(key);
+    if (found && found->isNull()) return std::nullopt;
+    return found;
+  }
+  bool has(const std::string& key) const { return find(key).has_value(); }
+  SpecSection child(const std::string& key) const { return SpecSection(find(key)); }
   double number(const std::string& key, double fallback, double minimum, double maximum) const {
-    if (!has(key)) return fallback;
-    const cv::FileNode value = node_[key];
-    if (!value.isReal() && !value.isInt()) fail(key, "must be a number");
-    const double result = static_cast<double>(value);
-    if (!(result >= minimum && result <= maximum))
-      fail(key, "must be between " + std::to_string(minimum) + " and " + std::to_string(maximum));
-    return result;
+    const auto value = find(key);
+    return value ? value->asDouble({minimum, maximum}) : fallback;
   }
   int integer(const std::string& key, int fallback, int minimum, int maximum) const {
-    if (!has(key)) return fallback;
-    if (!node_[key].isInt()) fail(key, "must be an integer");
-    const int result = static_cast<int>(node_[key]);
-    if (result < minimum || result > maximum)
-      fail(key, "must be between " + std::to_string(minimum) + " and " + std::to_string(maximum));
-    return result;
+    const auto value = find(key);
+    return value ? static_cast<int>(value->asInt(minimum, maximum)) : fallback;
   }
-  bool flag(const std::string& key, bool fallback) const { return integer(key, fallback ? 1 : 0, 0, 1) == 1; }
+  bool flag(const std::string& key, bool fallback) const {
+    const auto value = find(key);
+    if (!value) return fallback;
+    // 0/1 as the specs always wrote them, or true/false.
+    if (const auto number = support::parseYamlNumber(value->asString())) return value->asInt(0, 1) == 1;
+    return value->asBool();
+  }
   std::string text(const std::string& key, const std::string& fallback) const {
-    if (!has(key)) return fallback;
-    if (!node_[key].isString()) fail(key, "must be a string");
-    return node_[key].string();
+    const auto value = find(key);
+    return value ? value->asString() : fallback;
   }
-  std::vector<double> numbers(const std::string& key, std::size_t size) const {
-    const cv::FileNode value = node_[key];
-    if (!value.isSeq()) fail(key, "must be a list of numbers");
-    std::vector<double> result;
-    for (const cv::FileNode& item : value) {
-      if (!item.isReal() && !item.isInt()) fail(key, "must be a list of numbers");
-      result.push_back(static_cast<double>(item));
-    }
-    if (size != 0 && result.size() != size) fail(key, "must have " + std::to_string(size) + " values");
+  std::vector<double> numbers(const std::string& key, std::size_t size, double minimum, double maximum) const {
+    const auto value = find(key);
+    if (!value) throw support::YamlError(where() + ": missing key '" + key + "'");
+    const std::vector<double> result = value->asDoubles({minimum, maximum});
+    if (size != 0 && result.size() != size) value->fail("must have " + std::to_string(size) + " values");
     return result;
   }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    if (const auto value = find(key)) value->fail(what);
+    throw support::YamlError(where() + ": key '" + key + "': " + what);
+  }
+  std::string where() const { return node_ ? node_->where() : std::string("(absent section)"); }
 
  private:
-  cv::FileNode node_;
-  std::string file_;
-  std::string prefix_;
+  std::optional<support::YamlNode> node_;
 };
-
-calibration::Camera readInlineCamera(const NodeReader& camera, const std::string& file) {
-  const int width = camera.integer("image_width", 0, 1, 1 << 16);
-  const int height = camera.integer("image_height", 0, 1, 1 << 16);
-  if (width == 0 || height == 0) camera.fail("image_width", "inline camera needs image_width and image_height");
-  cv::Mat matrix, distortion;
-  camera.node("camera_matrix") >> matrix;
-  camera.node("distortion_coefficients") >> distortion;
-  if (matrix.rows != 3 || matrix.cols != 3) camera.fail("camera_matrix", "must be a 3x3 matrix");
-  matrix.convertTo(matrix, CV_64F);
-  distortion.convertTo(distortion, CV_64F);
-  const std::vector<double> coefficients(distortion.begin<double>(), distortion.end<double>());
-  try {
-    return calibration::cameraFromOpenCV(width, height, matrix.at<double>(0, 0), matrix.at<double>(1, 1),
-                                         matrix.at<double>(0, 2), matrix.at<double>(1, 2), coefficients);
-  } catch (const std::invalid_argument& error) {
-    throw std::runtime_error(file + ": key 'camera': " + error.what());
-  }
-}
 
 // The noise seed of image `image` of view/pose `item`: distinct, reproducible streams.
 std::uint64_t noiseSeed(std::uint64_t seed, std::size_t item, std::size_t image) {
@@ -137,6 +123,14 @@ cv::FileStorage openTruth(const SimulationSpec& spec, const char* kind) {
   return out;
 }
 
+// OpenCV's "%YAML:1.0" first line is no YAML directive (PyYAML stops there); "%YAML 1.2" is
+// standard and cv::FileStorage reads it too. The features matrices keep OpenCV's tag.
+std::string truthText(cv::FileStorage& truth) {
+  std::string text = truth.releaseAndGetString();
+  if (text.compare(0, 9, "%YAML:1.0") == 0) text.replace(0, 9, "%YAML 1.2");
+  return text;
+}
+
 void writeCommonFiles(const SimulationSpec& spec, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
   support::writeFileAtomically(dir / "camera.yaml", calibration::cameraYamlString(spec.camera));
@@ -151,35 +145,11 @@ std::string formatNumber(double value) {
 
 }  // namespace
 
-SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(file + ": cannot open simulation spec");
-  cv::FileStorage storage;
-  try {
-    storage.open(file, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& error) {
-    throw std::runtime_error(file + ": not a valid YAML spec (" + error.err + ")");
-  }
-  if (!storage.isOpened()) throw std::runtime_error(file + ": cannot open simulation spec");
-  const NodeReader root(storage.root(), file, "");
-  const std::filesystem::path base = path.parent_path();
-  const auto resolve = [&](const std::string& relative) {
-    const std::filesystem::path p(relative);
-    return p.is_absolute() ? p : base / p;
-  };
+namespace {
 
-  SimulationSpec spec;
-  spec.file = path;
-  if (!root.has("camera")) root.fail("camera", "missing (a camera.yaml path or an inline camera)");
-  if (root.node("camera").isString())
-    spec.camera = calibration::readCameraYaml(resolve(root.text("camera", "")));
-  else
-    spec.camera = readInlineCamera(root.child("camera"), file);
-  if (!root.has("target")) root.fail("target", "missing (a target.yaml path)");
-  spec.target = metrology::Target::fromFile(resolve(root.text("target", "")));
-  spec.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0, 1 << 30));
-
-  const NodeReader render = root.child("render");
+void readRender(const SpecSection& render, SimulationSpec& spec) {
+  render.allow({"supersampling", "adaptive", "dark_level", "light_level", "background_level", "cluttered_background",
+                "blur_sigma_px", "vignetting", "vignetting_coefficients"});
   spec.render.supersampling = render.integer("supersampling", 4, 1, 16);
   spec.render.adaptive = render.flag("adaptive", true);
   spec.render.dark_level = render.number("dark_level", spec.render.dark_level, 0, 255);
@@ -188,26 +158,25 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   spec.render.cluttered_background = render.flag("cluttered_background", false);
   spec.render.blur_sigma_px = render.number("blur_sigma_px", 0.0, 0.0, 20.0);
   const std::string vignetting = render.text("vignetting", "none");
-  if (vignetting == "none")
+  if (vignetting == "none") {
     spec.render.vignetting = Vignetting::None;
-  else if (vignetting == "cos4")
+  } else if (vignetting == "cos4") {
     spec.render.vignetting = Vignetting::Cos4;
-  else if (vignetting == "polynomial") {
+  } else if (vignetting == "polynomial") {
     spec.render.vignetting = Vignetting::Polynomial;
-    if (!render.has("vignetting_coefficients")) render.fail("vignetting_coefficients", "missing (polynomial vignetting)");
-    spec.render.vignetting_coefficients = render.numbers("vignetting_coefficients", 0);
-  } else
+    if (!render.has("vignetting_coefficients")) render.fail("vignetting", "'polynomial' needs vignetting_coefficients");
+    spec.render.vignetting_coefficients = render.numbers("vignetting_coefficients", 0, -100.0, 100.0);
+  } else {
     render.fail("vignetting", "'" + vignetting + "' is not one of none, cos4, polynomial");
+  }
   spec.render.seed = spec.seed;
+}
 
-  const NodeReader noise = root.child("noise");
-  spec.noise.gaussian_sigma = noise.number("gaussian_sigma", 0.0, 0.0, 100.0);
-  spec.noise.shot_noise_gain = noise.number("shot_noise_gain", 0.0, 0.0, 1e9);
-
-  const NodeReader calibration = root.child("calibration");
+void readCalibrationViews(const SpecSection& calibration, SimulationSpec& spec) {
+  calibration.allow({"views", "images_per_view", "distance_m", "max_tilt_deg", "max_roll_deg", "margin_px"});
   spec.calibration.views = calibration.integer("views", 25, 1, 10000);
   if (calibration.has("distance_m")) {
-    const std::vector<double> range = calibration.numbers("distance_m", 2);
+    const std::vector<double> range = calibration.numbers("distance_m", 2, 0.0, 1000.0);
     if (!(range[0] > 0.0 && range[1] >= range[0])) calibration.fail("distance_m", "must be [min, max] with 0 < min <= max");
     spec.calibration.min_distance_m = range[0], spec.calibration.max_distance_m = range[1];
   }
@@ -215,43 +184,88 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   spec.calibration.max_roll_deg = calibration.number("max_roll_deg", 20.0, 0.0, 180.0);
   spec.calibration.margin_px = calibration.number("margin_px", 15.0, 0.0, 1000.0);
   spec.images_per_view = calibration.integer("images_per_view", 1, 1, 1000);
+}
 
-  const NodeReader poses = root.child("poses");
-  spec.images_per_pose = poses.integer("images_per_pose", 10, 1, 1000);
-  if (poses.has("list")) {
-    spec.poses_from_grid = false;
-    int index = 0;
-    for (const cv::FileNode& item : poses.node("list")) {
-      const NodeReader entry(item, file, "poses.list[" + std::to_string(index) + "].");
-      SimulatedPose pose;
-      pose.id = entry.text("id", "");
-      if (pose.id.empty() || pose.id.find_first_of("/\\ ") != std::string::npos)
-        entry.fail("id", "missing, or not usable as a folder name");
-      const std::vector<double> t = entry.numbers("t", 3), r = entry.numbers("r", 3);
-      pose.camera_T_target = metrology::isometryFromVectors(Eigen::Vector3d(t[0], t[1], t[2]), Eigen::Vector3d(r[0], r[1], r[2]));
-      spec.poses.push_back(pose);
-      ++index;
-    }
-    if (spec.poses.empty()) poses.fail("list", "is empty");
-  } else {
-    const NodeReader grid = poses.child("grid");
-    if (grid.has("size_m")) {
-      const std::vector<double> size = grid.numbers("size_m", 3);
-      spec.grid.size_m = Eigen::Vector3d(size[0], size[1], size[2]);
-    }
-    if (grid.has("counts")) {
-      const std::vector<double> counts = grid.numbers("counts", 3);
-      for (int i = 0; i < 3; ++i) {
-        if (counts[static_cast<std::size_t>(i)] < 1 || counts[static_cast<std::size_t>(i)] > 100)
-          grid.fail("counts", "must be 3 integers between 1 and 100");
-        spec.grid.counts[i] = static_cast<int>(counts[static_cast<std::size_t>(i)]);
-      }
-    }
-    if (grid.has("theta_deg")) spec.grid.theta_deg = grid.numbers("theta_deg", 0);
-    spec.grid.camera_distance_m = grid.number("camera_distance_m", spec.grid.camera_distance_m, 0.01, 100.0);
-    spec.grid.camera_tilt_deg = grid.number("camera_tilt_deg", spec.grid.camera_tilt_deg, -80.0, 80.0);
-    spec.poses = generatePoseGrid(spec.target, spec.grid);
+// An explicit pose list: ids become folder names, so they must be plain and unique.
+void readPoseList(const support::YamlNode& list, SimulationSpec& spec) {
+  spec.poses_from_grid = false;
+  std::map<std::string, int> lines;
+  for (const support::YamlNode& item : list.items()) {
+    item.requireMap();
+    item.checkKeys({"id", "t", "r"});
+    const support::YamlNode id = item.at("id");
+    SimulatedPose pose;
+    pose.id = id.asString();
+    if (pose.id.empty() || pose.id == "." || pose.id == ".." ||
+        pose.id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+      id.fail("'" + pose.id + "' is not usable as a folder name (letters, digits, '_', '-', '.')");
+    const auto [it, inserted] = lines.emplace(pose.id, id.line());
+    if (!inserted) id.fail("'" + pose.id + "' is given twice (first at line " + std::to_string(it->second) + ")");
+    const std::vector<double> t = item.at("t").asDoubles({-1000.0, 1000.0});
+    const std::vector<double> r = item.at("r").asDoubles({-100.0, 100.0});
+    if (t.size() != 3) item.at("t").fail("must have 3 values (metres)");
+    if (r.size() != 3) item.at("r").fail("must have 3 values (a rotation vector, radians)");
+    if (!(t[2] > 0.0)) item.at("t").fail("z = " + support::formatMessageNumber(t[2]) + " m puts the target behind the camera");
+    pose.camera_T_target = metrology::isometryFromVectors(Eigen::Vector3d(t[0], t[1], t[2]), Eigen::Vector3d(r[0], r[1], r[2]));
+    spec.poses.push_back(pose);
   }
+  if (spec.poses.empty()) list.fail("is empty");
+}
+
+void readPoseGrid(const SpecSection& grid, SimulationSpec& spec) {
+  grid.allow({"size_m", "counts", "theta_deg", "camera_distance_m", "camera_tilt_deg"});
+  if (grid.has("size_m")) {
+    const std::vector<double> size = grid.numbers("size_m", 3, 0.0, 100.0);
+    spec.grid.size_m = Eigen::Vector3d(size[0], size[1], size[2]);
+  }
+  if (const auto counts = grid.find("counts")) {
+    const auto items = counts->items();
+    if (items.size() != 3) counts->fail("must be 3 integers between 1 and 100");
+    for (int i = 0; i < 3; ++i) spec.grid.counts[i] = static_cast<int>(items[static_cast<std::size_t>(i)].asInt(1, 100));
+  }
+  if (grid.has("theta_deg")) spec.grid.theta_deg = grid.numbers("theta_deg", 0, -360.0, 360.0);
+  spec.grid.camera_distance_m = grid.number("camera_distance_m", spec.grid.camera_distance_m, 0.01, 100.0);
+  spec.grid.camera_tilt_deg = grid.number("camera_tilt_deg", spec.grid.camera_tilt_deg, -80.0, 80.0);
+  spec.poses = generatePoseGrid(spec.target, spec.grid);
+}
+
+void readPoses(const SpecSection& poses, SimulationSpec& spec) {
+  poses.allow({"images_per_pose", "list", "grid"});
+  spec.images_per_pose = poses.integer("images_per_pose", 10, 1, 1000);
+  if (const auto list = poses.find("list")) {
+    if (poses.has("grid")) list->fail("give either 'list' or 'grid', not both");
+    readPoseList(*list, spec);
+  } else {
+    readPoseGrid(poses.child("grid"), spec);
+  }
+}
+
+}  // namespace
+
+SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
+  const support::YamlFile yaml = support::YamlFile::load(path);
+  const support::YamlNode& root = yaml.rootMap();
+  root.checkKeys({"camera", "target", "seed", "render", "noise", "calibration", "poses"});
+  const std::filesystem::path base = path.parent_path();
+  const auto resolve = [&](const std::string& relative) {
+    const std::filesystem::path p(relative);
+    return p.is_absolute() ? p : base / p;
+  };
+
+  SimulationSpec spec;
+  spec.file = path;
+  const support::YamlNode camera = root.at("camera");
+  spec.camera = camera.isScalar() ? calibration::readCamera(resolve(camera.asString())) : calibration::cameraFromYaml(camera);
+  spec.target = metrology::Target::fromFile(resolve(root.string("target")));
+  const SpecSection top(root);
+  spec.seed = static_cast<std::uint64_t>(top.integer("seed", 1, 0, 1 << 30));
+  readRender(top.child("render"), spec);
+  const SpecSection noise = top.child("noise");
+  noise.allow({"gaussian_sigma", "shot_noise_gain"});
+  spec.noise.gaussian_sigma = noise.number("gaussian_sigma", 0.0, 0.0, 100.0);
+  spec.noise.shot_noise_gain = noise.number("shot_noise_gain", 0.0, 0.0, 1e9);
+  readCalibrationViews(top.child("calibration"), spec);
+  readPoses(top.child("poses"), spec);
   return spec;
 }
 
@@ -295,7 +309,7 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
     features += rendering.truth.pixels.size();
   }
   truth << "]";
-  support::writeFileAtomically(output_dir / "truth.yaml", truth.releaseAndGetString());
+  support::writeFileAtomically(output_dir / "truth.yaml", truthText(truth));
   result.views_or_poses = views.size();
   result.visible_fraction = features ? static_cast<double>(visible) / features : 0.0;
   return result;
@@ -350,7 +364,7 @@ SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem
     features += rendering.truth.pixels.size();
   }
   truth << "]";
-  support::writeFileAtomically(output_dir / "truth.yaml", truth.releaseAndGetString());
+  support::writeFileAtomically(output_dir / "truth.yaml", truthText(truth));
   support::writeFileAtomically(output_dir / "truth_poses.csv", csv.str());
   result.views_or_poses = spec.poses.size();
   result.visible_fraction = features ? static_cast<double>(visible) / features : 0.0;

@@ -145,7 +145,7 @@ TEST(ParameterFile, WriteReadRoundTripAndErrors) {
   EXPECT_NE(e.find("p.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("not a finite number"), std::string::npos) << e;
   write(path, "R: 0.22\nR: 0.23\n");
-  EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("duplicate key 'R'"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("p.yaml:2: key 'R' appears twice"), std::string::npos);
   write(path, "just text\n");
   EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("p.yaml:1"), std::string::npos);
 }

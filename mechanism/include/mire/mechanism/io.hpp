@@ -70,8 +70,8 @@ struct LineRecord {
 std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv, int joint_count = 4);
 void writeLinesCsv(const std::filesystem::path& lines_csv, const std::vector<LineRecord>& lines);
 
-// ---- mechanism parameter YAML -----------------------------------------------------------
-// A flat YAML mapping (OpenCV's "%YAML:1.0" / "---" lines and '#' comments allowed):
+// ---- mechanism parameter YAML (parameters_yaml.cpp) -------------------------------------
+// A flat YAML mapping, any YAML syntax (support/yaml.hpp; OpenCV's "%YAML:1.0" too):
 //   <parameter name>: <value, SI>          e.g.  R: 0.22
 //   sigma_<parameter name>: <σ, SI>        identified files
 //   <metadata key>: <text>                 model, variant, external_form, ... (see below)
@@ -89,7 +89,8 @@ struct ParameterFile {
   double number(const ParameterFileEntry& entry) const;
   std::string where(const ParameterFileEntry& entry) const;  // "path:line"
 };
-// Throws naming path:line on a syntax error, a duplicate key or an empty value.
+// Throws naming path:line on a syntax error, an empty file, a duplicate key or a value that is
+// not a single scalar.
 ParameterFile readParameterFile(const std::filesystem::path& path);
 
 // Text keys a parameter file may hold besides parameters and sigma_<name>.
@@ -97,12 +98,17 @@ const std::vector<std::string>& parameterFileMetadataKeys();
 
 // Copies the file's values into `parameters` (by name). Every key must be a parameter of
 // `parameters`, a sigma_<parameter>, a metadata key, or listed in `also_allowed` (accepted
-// and ignored); otherwise throws "path:line: unknown parameter name 'x' (known: ...)".
-// Non-finite values are errors. Returns the names that were set.
+// and ignored); otherwise throws "path:line: unknown parameter name 'x' (did you mean 'y'?)".
+// Every parameter of `parameters` must be given, except those named in `may_default` (which
+// keep their value when absent): a missing one is an error naming them all. Non-finite values
+// are errors, and so is an angle (unit rad) of magnitude over 2π, which is degrees typed by
+// mistake. Returns the names that were set.
 std::vector<std::string> applyParameterFile(const ParameterFile& file, ParameterSet& parameters,
-                                            const std::vector<std::string>& also_allowed = {});
+                                            const std::vector<std::string>& also_allowed = {},
+                                            const std::vector<std::string>& may_default = {});
 
-// Writes `parameters` (name: value, SI; one comment line per parameter with its unit, its
+// Writes `parameters` as plain YAML that YAML 1.1 readers (PyYAML) read too (name: value, SI,
+// 17 significant digits; one comment line per parameter with its unit, its
 // human value in mm/deg and whether it was fixed), then sigma_<name> for every σ > 0 in
 // `sigma` (same order as `parameters`, may be empty), preceded by `metadata` (key, text)
 // and a '#' header `comment`. Atomic (support::writeFileAtomically).
