@@ -1,4 +1,4 @@
-// camera.yaml (BRIEF §10) and ViSP's camera XML.
+// ViSP's camera XML writer (camera.yaml and ROS YAML are in camera_yaml.cpp).
 #include "mire/calibration/camera_io.hpp"
 
 #include <opencv2/core.hpp>
@@ -12,34 +12,6 @@
 
 namespace mire::calibration {
 namespace {
-
-[[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& what) {
-  throw std::runtime_error(file + ": key '" + key + "': " + what);
-}
-
-cv::Mat readMatrix(const cv::FileNode& node, const std::string& file, const std::string& key) {
-  cv::Mat matrix;
-  try {
-    node >> matrix;
-  } catch (const cv::Exception&) {
-    fail(file, key, "not an OpenCV matrix (!!opencv-matrix)");
-  }
-  if (matrix.empty()) fail(file, key, "not an OpenCV matrix (!!opencv-matrix)");
-  if (matrix.channels() != 1) fail(file, key, "must have one channel");
-  cv::Mat values;
-  matrix.convertTo(values, CV_64F);
-  return values;
-}
-
-std::vector<double> readNumberList(const cv::FileNode& node, const std::string& file, const std::string& key) {
-  if (!node.isSeq()) fail(file, key, "must be a list of numbers");
-  std::vector<double> values;
-  for (const cv::FileNode& item : node) {
-    if (!item.isReal() && !item.isInt()) fail(file, key, "must be a list of numbers");
-    values.push_back(static_cast<double>(item));
-  }
-  return values;
-}
 
 // "opencv" or "opencv<N>" with N the coefficient count.
 std::string modelName(int distortion_count) { return "opencv" + std::to_string(distortion_count); }
@@ -123,143 +95,30 @@ std::string shortNumber(double value) {
 
 }  // namespace
 
-Camera readCameraYaml(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(file + ": cannot open camera file");
-  cv::FileStorage storage;
-  try {
-    storage.open(file, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& error) {
-    throw std::runtime_error(file + ": not a valid OpenCV YAML camera file (" + error.err + ")");
-  }
-  if (!storage.isOpened()) throw std::runtime_error(file + ": cannot open camera file");
-
-  const auto integer = [&](const char* key) {
-    const cv::FileNode node = storage[key];
-    if (node.empty()) fail(file, key, "missing");
-    if (!node.isInt()) fail(file, key, "must be an integer");
-    const int value = static_cast<int>(node);
-    if (value <= 0) fail(file, key, "must be positive");
-    return value;
-  };
-  Camera camera;
-  camera.width = integer("image_width");
-  camera.height = integer("image_height");
-
-  if (storage["camera_matrix"].empty()) fail(file, "camera_matrix", "missing");
-  const cv::Mat k = readMatrix(storage["camera_matrix"], file, "camera_matrix");
-  if (k.rows != 3 || k.cols != 3) fail(file, "camera_matrix", "must be 3x3");
-  if (k.at<double>(0, 1) != 0.0) fail(file, "camera_matrix", "skew (element 0,1) must be 0: mire's model has none");
-  if (k.at<double>(1, 0) != 0.0 || k.at<double>(2, 0) != 0.0 || k.at<double>(2, 1) != 0.0 || k.at<double>(2, 2) != 1.0)
-    fail(file, "camera_matrix", "must be [fx 0 cx; 0 fy cy; 0 0 1]");
-
-  if (storage["distortion_coefficients"].empty()) fail(file, "distortion_coefficients", "missing");
-  const cv::Mat d = readMatrix(storage["distortion_coefficients"], file, "distortion_coefficients");
-  if (d.rows != 1 && d.cols != 1) fail(file, "distortion_coefficients", "must be 1xN or Nx1");
-  const int count = static_cast<int>(d.total());
-  if (!isSupportedDistortionCount(count))
-    fail(file, "distortion_coefficients", "has " + std::to_string(count) + " values; 4, 5, 8 or 12 are supported");
-  camera.params = {k.at<double>(0, 0), k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2)};
-  for (int i = 0; i < count; ++i) camera.params.push_back(d.at<double>(i));
-
-  if (!storage["model"].empty()) {
-    const cv::FileNode node = storage["model"];
-    const std::string model = node.isString() ? node.string() : std::string();
-    if (model != "opencv" && model != modelName(count))
-      fail(file, "model", "'" + model + "' does not describe " + std::to_string(count) + " OpenCV coefficients (expected \"" +
-                              modelName(count) + "\" or \"opencv\")");
-  }
-  if (!storage["rms_px"].empty()) {
-    const cv::FileNode node = storage["rms_px"];
-    if (!node.isReal() && !node.isInt()) fail(file, "rms_px", "must be a number");
-    camera.rms_px = static_cast<double>(node);
-    if (!(camera.rms_px >= 0.0) || !std::isfinite(camera.rms_px)) fail(file, "rms_px", "must be finite and >= 0");
-  }
-  const std::vector<std::string> names = camera.parameterNames();
-  if (!storage["covariance"].empty()) {
-    const cv::Mat c = readMatrix(storage["covariance"], file, "covariance");
-    const int n = static_cast<int>(camera.params.size());
-    if (c.rows != n || c.cols != n)
-      fail(file, "covariance", "must be " + std::to_string(n) + "x" + std::to_string(n) + " (one row per parameter)");
-    // The file's order, by name; defaults to this camera's order.
-    std::vector<int> order(n);
-    for (int i = 0; i < n; ++i) order[i] = i;
-    if (!storage["covariance_parameters"].empty()) {
-      const cv::FileNode list = storage["covariance_parameters"];
-      if (!list.isSeq() || static_cast<int>(list.size()) != n)
-        fail(file, "covariance_parameters", "must list the " + std::to_string(n) + " parameter names");
-      int i = 0;
-      for (const cv::FileNode& item : list) {
-        const std::string name = item.isString() ? item.string() : std::string();
-        const auto found = std::find(names.begin(), names.end(), name);
-        if (found == names.end()) fail(file, "covariance_parameters", "unknown parameter '" + name + "'");
-        order[i++] = static_cast<int>(found - names.begin());
-      }
-      std::vector<int> sorted = order;
-      std::sort(sorted.begin(), sorted.end());
-      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-        fail(file, "covariance_parameters", "names a parameter twice");
-    }
-    camera.covariance = Eigen::MatrixXd::Zero(n, n);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) camera.covariance(order[i], order[j]) = c.at<double>(i, j);
-    if (!camera.covariance.allFinite()) fail(file, "covariance", "must be finite");
-    const double scale = std::max(1e-300, camera.covariance.cwiseAbs().maxCoeff());
-    if ((camera.covariance - camera.covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
-      fail(file, "covariance", "must be symmetric");
-    for (int i = 0; i < n; ++i)
-      if (camera.covariance(i, i) < 0.0) fail(file, "covariance", "has a negative variance for " + names[i]);
-  } else if (!storage["covariance_parameters"].empty()) {
-    fail(file, "covariance_parameters", "given without 'covariance'");
-  }
-  if (!storage["sigma"].empty()) {
-    // Derived from the covariance (written for people); checked for size only.
-    const std::vector<double> sigma = readNumberList(storage["sigma"], file, "sigma");
-    if (sigma.size() != camera.params.size())
-      fail(file, "sigma", "must have " + std::to_string(camera.params.size()) + " values (one per parameter)");
-  }
-  try {
-    camera.validate();
-  } catch (const std::invalid_argument& error) {
-    throw std::runtime_error(file + ": " + error.what());
-  }
-  return camera;
+namespace {
+// ViSP's perspectiveProjWithoutDistortion: the pinhole camera, exactly.
+std::string vispPinholeXml(const Camera& camera, const std::string& camera_name) {
+  std::ostringstream xml;
+  xml.precision(17);
+  xml << "<?xml version=\"1.0\"?>\n<root>\n"
+      << "  <!-- Written by mire from a pinhole camera (no distortion). Pixel convention: integer coordinates\n"
+      << "       at pixel centres (as OpenCV). -->\n"
+      << "  <camera>\n    <name>" << escapeXml(camera_name) << "</name>\n"
+      << "    <image_width>" << camera.width << "</image_width>\n"
+      << "    <image_height>" << camera.height << "</image_height>\n"
+      << "    <model>\n      <type>perspectiveProjWithoutDistortion</type>\n"
+      << "      <px>" << camera.fx() << "</px>\n      <py>" << camera.fy() << "</py>\n"
+      << "      <u0>" << camera.cx() << "</u0>\n      <v0>" << camera.cy() << "</v0>\n"
+      << "    </model>\n  </camera>\n</root>\n";
+  return xml.str();
 }
-
-std::string cameraYamlString(const Camera& camera) {
-  camera.validate();
-  cv::FileStorage storage(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
-  storage.writeComment(
-      " mire camera (BRIEF §10). OpenCV keys: pixels, OpenCV's pixel convention (integer coordinates at pixel centres);\n"
-      " distortion in OpenCV's order k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]]. mire keys: model, rms_px (reprojection RMS, px),\n"
-      " covariance of the parameters in the order of covariance_parameters (pixels^2 for fx fy cx cy, unitless^2 otherwise),\n"
-      " sigma = square roots of its diagonal.");
-  storage << "image_width" << camera.width;
-  storage << "image_height" << camera.height;
-  storage << "model" << modelName(camera.distortionCount());
-  const cv::Matx33d k(camera.fx(), 0.0, camera.cx(), 0.0, camera.fy(), camera.cy(), 0.0, 0.0, 1.0);
-  storage << "camera_matrix" << cv::Mat(k);
-  const cv::Mat d(1, camera.distortionCount(), CV_64F, const_cast<double*>(camera.params.data() + kIntrinsicCount));
-  storage << "distortion_coefficients" << d;
-  storage << "rms_px" << camera.rms_px;
-  if (camera.covariance.size() != 0) {
-    const int n = static_cast<int>(camera.params.size());
-    cv::Mat c(n, n, CV_64F);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) c.at<double>(i, j) = camera.covariance(i, j);
-    storage << "covariance" << c;
-    storage << "covariance_parameters" << "[";
-    for (const std::string& name : camera.parameterNames()) storage << name;
-    storage << "]";
-    storage << "sigma" << "[";
-    for (const double sigma : camera.sigmas()) storage << sigma;
-    storage << "]";
-  }
-  return storage.releaseAndGetString();
-}
+}  // namespace
 
 std::string cameraVispXmlString(const Camera& camera, const std::string& camera_name) {
   camera.validate();
+  if (camera.lens == LensModel::Fisheye)
+    throw std::invalid_argument("ViSP's camera XML has no fisheye (equidistant) model: write ros, kalibr or opencv");
+  if (camera.distortionCount() == 0) return vispPinholeXml(camera, camera_name);
   const std::vector<FieldSample> samples = sampleField(camera);
   // ViSP (3.5) perspectiveProjWithDistortion: u = u0 + px·x·(1 + kud·r²) with (x, y) the
   // undistorted ray, and back x = (u − u0)/px·(1 + kdu·r_d²). Each single term is fitted

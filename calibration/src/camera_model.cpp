@@ -27,9 +27,11 @@ std::vector<double> Camera::sigmas() const {
 
 void Camera::validate() const {
   if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
-  if (params.size() < kIntrinsicCount || !isSupportedDistortionCount(distortionCount()))
-    throw std::invalid_argument("distortion must have 4, 5, 8 or 12 coefficients, not " +
+  if (params.size() < kIntrinsicCount || (distortionCount() != 0 && !isSupportedDistortionCount(distortionCount())))
+    throw std::invalid_argument("distortion must have 0 (pinhole), 4, 5, 8 or 12 coefficients, not " +
                                 std::to_string(distortionCount()));
+  if (lens == LensModel::Fisheye && distortionCount() != 4)
+    throw std::invalid_argument("a fisheye camera has 4 coefficients k1..k4, not " + std::to_string(distortionCount()));
   for (const double value : params)
     if (!std::isfinite(value)) throw std::invalid_argument("camera parameters must be finite");
   if (!(fx() > 0.0) || !(fy() > 0.0)) throw std::invalid_argument("focal lengths must be positive");
