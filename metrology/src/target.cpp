@@ -3,8 +3,8 @@
 
 #include "mire/metrology/apriltag_family.hpp"
 #include "mire/metrology/aruco_boards.hpp"
+#include "mire/support/yaml.hpp"
 
-#include <opencv2/core.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -178,55 +178,125 @@ std::vector<Eigen::Vector3d> featurePoints(const TargetSpec& spec, const std::ve
   return points;
 }
 
-// Reading one key of target.yaml with errors naming the file and the key.
-class SpecReader {
- public:
-  SpecReader(const cv::FileStorage& storage, std::string file) : storage_(storage), file_(std::move(file)) {}
+// target.yaml through the YAML layer: errors name the file, the line and the key.
+constexpr support::YamlRange kLengthRange{0.0, 10.0};  // metres: a printed target, not a room
+constexpr support::YamlRange kPositionRange{-10.0, 10.0};
 
-  bool has(const char* key) const { return !storage_[key].empty(); }
+double length(const support::YamlNode& root, const char* key) {
+  const double value = root.number(key, kLengthRange);
+  if (!(value > 0.0)) root.at(key).fail("must be a positive length in metres");
+  return value;
+}
 
-  void fail(const char* key, const std::string& what) const {
-    throw std::runtime_error(file_ + ": key '" + key + "': " + what);
-  }
+int count(const support::YamlNode& root, const char* key) { return static_cast<int>(root.integer(key, 1, 10000)); }
 
-  std::string text(const char* key) const {
-    const cv::FileNode node = storage_[key];
-    if (node.empty()) fail(key, "missing");
-    if (!node.isString()) fail(key, "must be a string");
-    return node.string();
-  }
-  int integer(const char* key) const {
-    const cv::FileNode node = storage_[key];
-    if (node.empty()) fail(key, "missing");
-    if (!node.isInt()) fail(key, "must be an integer");
-    return static_cast<int>(node);
-  }
-  double real(const char* key) const {
-    const cv::FileNode node = storage_[key];
-    if (node.empty()) fail(key, "missing");
-    if (!node.isReal() && !node.isInt()) fail(key, "must be a number");
-    const double value = static_cast<double>(node);
-    if (!isPositiveFinite(value)) fail(key, "must be a positive length in metres");
-    return value;
-  }
-  std::vector<TagPlacement> tags(const char* key) const {
-    const cv::FileNode node = storage_[key];
-    if (!node.isSeq() || node.size() == 0) fail(key, "must be a non-empty list of {id, x, y}");
-    std::vector<TagPlacement> tags;
-    for (const cv::FileNode& entry : node) {
-      const std::string where = "entry " + std::to_string(tags.size());
-      if (!entry.isMap() || !entry["id"].isInt()) fail(key, where + ": needs an integer 'id'");
-      for (const char* coordinate : {"x", "y"})
-        if (!entry[coordinate].isReal() && !entry[coordinate].isInt()) fail(key, where + ": needs a number '" + coordinate + "' (metres)");
-      tags.push_back({static_cast<int>(entry["id"]), static_cast<double>(entry["x"]), static_cast<double>(entry["y"])});
+int firstId(const support::YamlNode& root) {
+  return root.has("first_id") ? static_cast<int>(root.integer("first_id", 0, 1000000)) : 0;
+}
+
+std::string dictionaryName(const support::YamlNode& root) {
+  const std::string name = root.string("dictionary");
+  if (!arucoDictionary(name))
+    root.at("dictionary").fail("unknown dictionary '" + name + "' (known: " + joined(arucoDictionaryNames()) + ")");
+  return name;
+}
+
+std::string familyName(const support::YamlNode& root) {
+  const std::string name = root.string("family");
+  if (!detail::createTagFamily(name))
+    root.at("family").fail("unknown AprilTag family '" + name + "' (known: " + joined(detail::tagFamilyNames()) + ")");
+  return name;
+}
+
+// `tags: [ {id: 8, x: 0, y: 0}, ... ]`; entries checked one by one, with their line.
+std::vector<TagPlacement> tagList(const support::YamlNode& root, const TargetSpec& spec) {
+  const support::YamlNode list = root.at("tags");
+  if (!list.isSequence() || list.size() == 0) list.fail("must be a non-empty list of {id, x, y} (metres)");
+  std::vector<TagPlacement> tags;
+  for (const support::YamlNode& entry : list.items()) {
+    if (!entry.isMap()) entry.fail("each tag must be a map {id, x, y} (x, y: its top-left corner in metres)");
+    entry.checkKeys({"id", "x", "y"});
+    const TagPlacement tag{static_cast<int>(entry.integer("id", 0, 1000000)), entry.number("x", kPositionRange),
+                           entry.number("y", kPositionRange)};
+    TargetSpec partial = spec;
+    partial.tags = tags;
+    partial.tags.push_back(tag);
+    try {
+      validateAprilTag(partial);  // id in the family, not repeated, no overlap
+    } catch (const std::invalid_argument& error) {
+      entry.fail(error.what());
     }
-    return tags;
+    tags.push_back(tag);
   }
+  return tags;
+}
 
- private:
-  const cv::FileStorage& storage_;
-  std::string file_;
-};
+std::vector<std::string> knownKeys(TargetType type, bool tag_list) {
+  switch (type) {
+    case TargetType::Chessboard:
+      return {"type", "cols", "rows", "square_size_m"};
+    case TargetType::Circles:
+    case TargetType::AsymmetricCircles:
+      return {"type", "cols", "rows", "spacing_m", "diameter_m"};
+    case TargetType::AprilTag:
+      if (tag_list) return {"type", "family", "tag_size_m", "tags"};
+      return {"type", "cols", "rows", "family", "tag_size_m", "tag_spacing_m", "first_id"};
+    case TargetType::Charuco:
+      return {"type", "cols", "rows", "square_size_m", "marker_size_m", "dictionary"};
+    case TargetType::ArucoGrid:
+      return {"type", "cols", "rows", "marker_size_m", "marker_spacing_m", "dictionary", "first_id"};
+  }
+  return {};
+}
+
+TargetSpec parseSpec(const support::YamlNode& root) {
+  TargetSpec spec;
+  const std::string type = root.string("type");
+  bool known = false;
+  for (const TypeName& entry : kTypeNames)
+    if (type == entry.name) spec.type = entry.type, known = true;
+  if (!known)
+    root.at("type").fail("'" + type + "' is not one of chessboard, circles, acircles, apriltag, charuco, aruco_grid");
+  const bool tag_list = spec.type == TargetType::AprilTag && root.has("tags");
+  root.checkKeys(knownKeys(spec.type, tag_list));
+  if (!tag_list) {
+    spec.cols = count(root, "cols");
+    spec.rows = count(root, "rows");
+  }
+  switch (spec.type) {
+    case TargetType::Chessboard:
+      spec.square_size_m = length(root, "square_size_m");
+      break;
+    case TargetType::Circles:
+    case TargetType::AsymmetricCircles:
+      spec.spacing_m = length(root, "spacing_m");
+      spec.diameter_m = length(root, "diameter_m");
+      break;
+    case TargetType::AprilTag:
+      spec.family = familyName(root);
+      spec.tag_size_m = length(root, "tag_size_m");
+      if (tag_list) {
+        spec.tags = tagList(root, spec);
+      } else {
+        // A single tag needs no spacing.
+        if (spec.cols * spec.rows != 1 || root.has("tag_spacing_m")) spec.tag_spacing_m = length(root, "tag_spacing_m");
+        spec.first_id = firstId(root);
+      }
+      break;
+    case TargetType::Charuco:
+      spec.square_size_m = length(root, "square_size_m");
+      spec.marker_size_m = length(root, "marker_size_m");
+      spec.dictionary = dictionaryName(root);
+      break;
+    case TargetType::ArucoGrid:
+      spec.marker_size_m = length(root, "marker_size_m");
+      spec.marker_spacing_m = length(root, "marker_spacing_m");
+      spec.dictionary = dictionaryName(root);
+      spec.first_id = firstId(root);
+      break;
+  }
+  return spec;
+}
 
 }  // namespace
 
@@ -243,64 +313,13 @@ Target::Target(TargetSpec spec) : spec_(std::move(spec)) {
 }
 
 Target Target::fromFile(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  cv::FileStorage storage;
-  try {
-    if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(file + ": cannot open target file");
-    storage.open(file, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& error) {
-    throw std::runtime_error(file + ": not a valid YAML target file (" + error.err + ")");
-  }
-  if (!storage.isOpened()) throw std::runtime_error(file + ": cannot open target file");
-  const SpecReader reader(storage, file);
-
-  TargetSpec spec;
-  const std::string type = reader.text("type");
-  bool known = false;
-  for (const TypeName& entry : kTypeNames)
-    if (type == entry.name) spec.type = entry.type, known = true;
-  if (!known)
-    reader.fail("type", "'" + type + "' is not one of chessboard, circles, acircles, apriltag, charuco, aruco_grid");
-  const bool tag_list = spec.type == TargetType::AprilTag && reader.has("tags");
-  if (!tag_list) {
-    spec.cols = reader.integer("cols");
-    spec.rows = reader.integer("rows");
-  }
-  switch (spec.type) {
-    case TargetType::Chessboard:
-      spec.square_size_m = reader.real("square_size_m");
-      break;
-    case TargetType::Circles:
-    case TargetType::AsymmetricCircles:
-      spec.spacing_m = reader.real("spacing_m");
-      spec.diameter_m = reader.real("diameter_m");
-      break;
-    case TargetType::AprilTag:
-      spec.family = reader.text("family");
-      spec.tag_size_m = reader.real("tag_size_m");
-      if (tag_list) {
-        spec.tags = reader.tags("tags");
-      } else {
-        if (spec.cols * spec.rows != 1 || reader.has("tag_spacing_m")) spec.tag_spacing_m = reader.real("tag_spacing_m");
-        spec.first_id = reader.has("first_id") ? reader.integer("first_id") : 0;
-      }
-      break;
-    case TargetType::Charuco:
-      spec.square_size_m = reader.real("square_size_m");
-      spec.marker_size_m = reader.real("marker_size_m");
-      spec.dictionary = reader.text("dictionary");
-      break;
-    case TargetType::ArucoGrid:
-      spec.marker_size_m = reader.real("marker_size_m");
-      spec.marker_spacing_m = reader.real("marker_spacing_m");
-      spec.dictionary = reader.text("dictionary");
-      spec.first_id = reader.has("first_id") ? reader.integer("first_id") : 0;
-      break;
-  }
+  const support::YamlFile file = support::YamlFile::load(path);
+  const support::YamlNode& root = file.rootMap();
+  const TargetSpec spec = parseSpec(root);
   try {
     return Target(spec);
   } catch (const std::invalid_argument& error) {
-    throw std::runtime_error(file + ": " + error.what());
+    root.fail(error.what());  // a rule between keys (e.g. diameter_m < spacing_m)
   }
 }
 
@@ -350,8 +369,6 @@ int Target::tagIndex(int tag_id) const {
 
 std::string Target::yamlString() const {
   std::ostringstream out;
-  out.precision(17);
-  out << "%YAML:1.0\n---\n";
   out << "# mire target (lengths in metres); frame M and feature order: doc/targets.md\n";
   out << "type: " << targetTypeName(spec_.type) << "\n";
   if (spec_.type != TargetType::AprilTag || spec_.tags.empty()) {
@@ -360,33 +377,33 @@ std::string Target::yamlString() const {
   }
   switch (spec_.type) {
     case TargetType::Chessboard:
-      out << "square_size_m: " << spec_.square_size_m << "\n";
+      out << "square_size_m: " << support::formatYamlNumber(spec_.square_size_m) << "\n";
       break;
     case TargetType::Circles:
     case TargetType::AsymmetricCircles:
-      out << "spacing_m: " << spec_.spacing_m << "\n";
-      out << "diameter_m: " << spec_.diameter_m << "\n";
+      out << "spacing_m: " << support::formatYamlNumber(spec_.spacing_m) << "\n";
+      out << "diameter_m: " << support::formatYamlNumber(spec_.diameter_m) << "\n";
       break;
     case TargetType::AprilTag:
       out << "family: " << spec_.family << "\n";
-      out << "tag_size_m: " << spec_.tag_size_m << "\n";
+      out << "tag_size_m: " << support::formatYamlNumber(spec_.tag_size_m) << "\n";
       if (spec_.tags.empty()) {
-        if (spec_.tag_spacing_m > 0.0) out << "tag_spacing_m: " << spec_.tag_spacing_m << "\n";
+        if (spec_.tag_spacing_m > 0.0) out << "tag_spacing_m: " << support::formatYamlNumber(spec_.tag_spacing_m) << "\n";
         out << "first_id: " << spec_.first_id << "\n";
       } else {
         out << "tags:\n";
         for (const TagPlacement& tag : spec_.tags)
-          out << "  - {id: " << tag.id << ", x: " << tag.x_m << ", y: " << tag.y_m << "}\n";
+          out << "  - {id: " << tag.id << ", x: " << support::formatYamlNumber(tag.x_m) << ", y: " << support::formatYamlNumber(tag.y_m) << "}\n";
       }
       break;
     case TargetType::Charuco:
-      out << "square_size_m: " << spec_.square_size_m << "\n";
-      out << "marker_size_m: " << spec_.marker_size_m << "\n";
+      out << "square_size_m: " << support::formatYamlNumber(spec_.square_size_m) << "\n";
+      out << "marker_size_m: " << support::formatYamlNumber(spec_.marker_size_m) << "\n";
       out << "dictionary: " << spec_.dictionary << "\n";
       break;
     case TargetType::ArucoGrid:
-      out << "marker_size_m: " << spec_.marker_size_m << "\n";
-      out << "marker_spacing_m: " << spec_.marker_spacing_m << "\n";
+      out << "marker_size_m: " << support::formatYamlNumber(spec_.marker_size_m) << "\n";
+      out << "marker_spacing_m: " << support::formatYamlNumber(spec_.marker_spacing_m) << "\n";
       out << "dictionary: " << spec_.dictionary << "\n";
       out << "first_id: " << spec_.first_id << "\n";
       break;
