@@ -122,7 +122,9 @@ Detection detectCharuco(const Target& target, const cv::Mat& gray, const Detecti
 
 std::vector<Detection> detectArucoGridCandidates(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
   const cv::Ptr<cv::aruco::GridBoard> board = arucoGridBoard(target);
-  const int refinement = options.subpixel ? cv::aruco::CORNER_REFINE_CONTOUR : cv::aruco::CORNER_REFINE_NONE;
+  // Of OpenCV's marker corner refinements, SUBPIX measured best on renders (0.19 px RMS against
+  // 0.61 for CONTOUR and 0.69 for APRILTAG, tests/metrology/test_detection_tag_layouts.cpp).
+  const int refinement = options.subpixel ? cv::aruco::CORNER_REFINE_SUBPIX : cv::aruco::CORNER_REFINE_NONE;
   std::vector<Detection> candidates =
       layoutDetections(target, detectArucoMarkers(gray, board->dictionary, refinement), options, "markers");
   if (candidates.empty()) {
