@@ -44,41 +44,50 @@ SquareLayout boardLayout(const cv::aruco::Board& board) {
   return layout;
 }
 
-// Smallest image distance between neighbouring ChArUco corners (both detected).
-double charucoSpacingPx(const Target& target, const std::vector<int>& ids, const std::vector<cv::Point2f>& pixels) {
+// Each corner's smallest image distance to a detected neighbour along the board's rows and
+// columns (the foreshortening differs across a tilted board); the overall smallest for a corner
+// without a detected neighbour.
+std::vector<double> charucoSpacingsPx(const Target& target, const std::vector<int>& ids,
+                                      const std::vector<cv::Point2f>& pixels) {
   const int cols = target.spec().cols - 1;
   std::map<int, cv::Point2f> by_id;
   for (std::size_t i = 0; i < ids.size(); ++i) by_id.emplace(ids[i], pixels[i]);
-  double spacing = std::numeric_limits<double>::infinity();
-  for (const auto& [id, pixel] : by_id) {
-    for (const int neighbour : {id % cols + 1 < cols ? id + 1 : -1, id + cols}) {
+  std::vector<double> spacings(ids.size(), std::numeric_limits<double>::infinity());
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const int id = ids[i];
+    for (const int neighbour : {id % cols + 1 < cols ? id + 1 : -1, id % cols > 0 ? id - 1 : -1, id + cols, id - cols}) {
       const auto other = by_id.find(neighbour);
-      if (other != by_id.end()) spacing = std::min(spacing, static_cast<double>(cv::norm(other->second - pixel)));
+      if (other != by_id.end()) spacings[i] = std::min(spacings[i], static_cast<double>(cv::norm(other->second - pixels[i])));
     }
+    smallest = std::min(smallest, spacings[i]);
   }
-  return spacing;
+  for (double& spacing : spacings)
+    if (!std::isfinite(spacing)) spacing = smallest;
+  return spacings;
 }
 
-// cornerSubPix as for chessboards, with a window that stays inside the squares' margin around
-// the markers (a marker edge inside the window would pull the corner).
+// cornerSubPix as for chessboards, with a window per corner that stays inside the squares'
+// margin around the markers (a marker edge inside the window would pull the corner).
 void refineCharucoCorners(const Target& target, const cv::Mat& gray, const DetectionOptions& options, std::vector<int>* ids,
                           std::vector<cv::Point2f>* pixels) {
-  const double spacing = charucoSpacingPx(target, *ids, *pixels);
+  const std::vector<double> spacings = charucoSpacingsPx(target, *ids, *pixels);
   const TargetSpec& spec = target.spec();
   const double clear_fraction = 0.5 * (spec.square_size_m - spec.marker_size_m) / spec.square_size_m;
-  int window = options.subpixel_window_px;
-  if (window <= 0)
-    window = std::isfinite(spacing) ? std::clamp(static_cast<int>(std::floor(0.8 * clear_fraction * spacing)), 2, 15) : 3;
-  std::vector<cv::Point2f> refined = *pixels;
-  cv::cornerSubPix(gray, refined, cv::Size(window, window), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
   std::vector<int> kept_ids;
   std::vector<cv::Point2f> kept;
-  for (std::size_t i = 0; i < refined.size(); ++i) {
-    const bool inside = refined[i].x >= 0 && refined[i].y >= 0 && refined[i].x <= gray.cols - 1 && refined[i].y <= gray.rows - 1;
-    if (!inside || cv::norm(refined[i] - (*pixels)[i]) > 0.5 * window) continue;  // did not converge on the X-junction
+  for (std::size_t i = 0; i < ids->size(); ++i) {
+    int window = options.subpixel_window_px;
+    if (window <= 0)
+      window = std::isfinite(spacings[i]) ? std::clamp(static_cast<int>(std::floor(0.8 * clear_fraction * spacings[i])), 2, 15) : 3;
+    std::vector<cv::Point2f> refined = {(*pixels)[i]};
+    cv::cornerSubPix(gray, refined, cv::Size(window, window), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
+    const cv::Point2f& p = refined.front();
+    const bool inside = p.x >= 0 && p.y >= 0 && p.x <= gray.cols - 1 && p.y <= gray.rows - 1;
+    if (!inside || cv::norm(p - (*pixels)[i]) > 0.5 * window) continue;  // did not converge on the X-junction
     kept_ids.push_back((*ids)[i]);
-    kept.push_back(refined[i]);
+    kept.push_back(p);
   }
   *ids = std::move(kept_ids);
   *pixels = std::move(kept);
