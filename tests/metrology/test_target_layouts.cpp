@@ -99,6 +99,13 @@ TEST(TargetLayouts, PlainYamlRoundTripsOfTheNewExamples) {
     for (const char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
     writeText(dir.path() / "crlf.yaml", crlf);
     EXPECT_EQ(Target::fromFile(dir.path() / "crlf.yaml").yamlString(), text) << name;
+    // Plain YAML that PyYAML (python3-yaml, scripts/setup.sh) reads, with the same numbers.
+    int code = 0;
+    const std::string check = "python3 -c \"import sys, yaml; d = yaml.safe_load(open(sys.argv[1])); "
+                              "sys.exit(0 if isinstance(d['" + std::string(std::string(name) == "target_apriltag_layout.yaml" ? "tag_size_m" : "marker_size_m") +
+                              "'], float) else 3)\" " + (dir.path() / "copy.yaml").string();
+    const std::string out = test::captureCommand(check, &code);
+    EXPECT_EQ(code, 0) << name << ": " << out;
   }
 }
 
