@@ -3,6 +3,7 @@
 // target are listed and skipped; bad input (empty folder, unreadable image, bad target spec,
 // too few usable views) stops with a message naming the cause and writes nothing.
 #include "commands.hpp"
+#include "detections_io.hpp"
 #include "image_folders.hpp"
 #include "plot.hpp"
 
@@ -38,6 +39,9 @@ struct CalibrateArguments {
   std::string output_path;
   std::string report_dir;
   int threads = 0;
+  std::string save_detections;    // CSV of every view's detections (doc/targets.md)
+  std::string detections_path;    // calibrate from this file instead of images
+  std::vector<int> image_size;    // width height, for a detections file that does not say
 };
 
 std::string fixed(double value, int digits) {
@@ -104,7 +108,11 @@ int runCalibrate(const CalibrateArguments& args) {
     }
   }();
   const int threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const CalibrationFolder folder = detectCalibrationFolder(target, args.images_dir, threads);
+  if (args.images_dir.empty() == args.detections_path.empty())
+    throw std::runtime_error("give either --images or --detections");
+  const CalibrationFolder folder = args.detections_path.empty()
+                                       ? detectCalibrationFolder(target, args.images_dir, threads)
+                                       : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
   const std::vector<calibration::CalibrationView>& views = folder.views;
@@ -112,7 +120,8 @@ int runCalibrate(const CalibrateArguments& args) {
   const int width = folder.width, height = folder.height;
   if (views.size() < 3)
     throw std::runtime_error("the target was found in " + std::to_string(views.size()) + " of " +
-                             std::to_string(folder.images) + " images in '" + args.images_dir +
+                             std::to_string(folder.images) + " images in '" +
+                             (args.detections_path.empty() ? args.images_dir : args.detections_path) +
                              "': calibration needs at least 3 (check target.yaml's cols/rows and type)");
 
   calibration::CalibrationOptions options;
@@ -132,6 +141,9 @@ int runCalibrate(const CalibrateArguments& args) {
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
   }
+  if (!args.save_detections.empty())
+    support::writeFileAtomically(args.save_detections,
+                                 metrology::detectionsCsv(target, calibrationDetections(folder), width, height));
   support::writeFileAtomically(args.output_path, calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
 
   // Summary.
@@ -174,7 +186,12 @@ Runner addCalibrateCommand(CLI::App& app) {
   auto args = std::make_shared<CalibrateArguments>();
   CLI::App* command = app.add_subcommand("calibrate", "Calibrate the camera (intrinsics + distortion) from target images");
   command->add_option("--target", args->target_path, "target.yaml describing the board")->required();
-  command->add_option("--images", args->images_dir, "folder of calibration images")->required();
+  command->add_option("--images", args->images_dir, "folder of calibration images");
+  command->add_option("--detections", args->detections_path,
+                      "calibrate from a detections file instead of images (mire's CSV or mrcal's corners vnlog)");
+  command->add_option("--image-size", args->image_size, "WIDTH HEIGHT of the images, for a detections file without it")
+      ->expected(2);
+  command->add_option("--save-detections", args->save_detections, "write every view's detections (CSV, doc/targets.md)");
   command->add_option("--model", args->model, "distortion model: opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational)")
       ->check(CLI::IsMember({"opencv4", "opencv5", "opencv8"}));
   command->add_flag("--refine-target", args->refine_target,

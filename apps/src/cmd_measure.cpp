@@ -2,12 +2,14 @@
 // (../shared/BRIEF.md §3, §10). Poses are measured in parallel; a pose that fails is reported
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
+#include "detections_io.hpp"
 #include "image_folders.hpp"
 
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/support/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,6 +35,7 @@ struct MeasureSettings {
   int threads = 0;              // 0 = all cores
   double ambiguity_ratio = 4.0;
   double rejection_confidence = 0.999;
+  std::string save_detections;  // CSV of every image's detections (doc/targets.md)
 };
 
 double median(std::vector<double> values) {
@@ -102,6 +105,9 @@ int runMeasure(const MeasureSettings& settings) {
   const fs::path output = settings.output_path;
   const fs::path covariance =
       settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
+  if (!settings.save_detections.empty())
+    support::writeFileAtomically(settings.save_detections,
+                                 metrology::detectionsCsv(target, measureDetections(jobs), camera.width, camera.height));
   metrology::writePosesCsv(output, measured);
   metrology::writePosesCovarianceCsv(covariance, measured);
   std::printf("measured %zu of %zu poses -> %s (covariances: %s)\n", measured.size(), jobs.size(),
@@ -139,6 +145,8 @@ Runner addMeasureCommand(CLI::App& app) {
                       "chi-square confidence of the outlier-image test")
       ->check(CLI::Range(0.5, 0.999999999))
       ->capture_default_str();
+  command->add_option("--save-detections", settings->save_detections,
+                      "write every image's detections (CSV, doc/targets.md)");
   return [settings] { return runMeasure(*settings); };
 }
 

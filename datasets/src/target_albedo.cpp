@@ -3,6 +3,7 @@
 
 // The tag-family table is metrology's (one list of AprilTag families in the project).
 #include "mire/metrology/apriltag_family.hpp"
+#include "mire/metrology/aruco_boards.hpp"
 
 #include <apriltag/apriltag.h>
 #include <apriltag/common/image_types.h>
@@ -58,9 +59,10 @@ TargetAlbedo::TargetAlbedo(const metrology::Target& target, float dark_level, fl
       // corners); the bitmap (total_width cells) is centred on it.
       tag_cell_ = spec_.tag_size_m / family->width_at_border;
       const int border_start = (family->total_width - family->width_at_border) / 2;
-      const int count = spec_.cols * spec_.rows;
+      const int count = static_cast<int>(target.tagLayout().size());
       for (int k = 0; k < count; ++k) {
-        const std::unique_ptr<image_u8_t, ImageDeleter> image(apriltag_to_image(family.get(), spec_.first_id + k));
+        const std::unique_ptr<image_u8_t, ImageDeleter> image(
+            apriltag_to_image(family.get(), static_cast<uint32_t>(target.tagLayout()[static_cast<std::size_t>(k)].id)));
         Bitmap bitmap;
         bitmap.size = image->width;
         bitmap.dark.resize(static_cast<std::size_t>(bitmap.size) * bitmap.size);
@@ -78,6 +80,10 @@ TargetAlbedo::TargetAlbedo(const metrology::Target& target, float dark_level, fl
       bucket_size_ = family->total_width * tag_cell_;
       break;
     }
+    case TargetType::Charuco:
+    case TargetType::ArucoGrid:
+      margin = addArucoMarkers(target, &min_x, &min_y, &max_x, &max_y);
+      break;
   }
   paper_min_x_ = min_x - margin, paper_max_x_ = max_x + margin;
   paper_min_y_ = min_y - margin, paper_max_y_ = max_y + margin;
@@ -106,8 +112,50 @@ TargetAlbedo::TargetAlbedo(const metrology::Target& target, float dark_level, fl
   }
 }
 
+double TargetAlbedo::addArucoMarkers(const metrology::Target& target, double* min_x, double* min_y, double* max_x,
+                                     double* max_y) {
+  // The marker bits are OpenCV's own (cv::aruco::drawMarker, one pixel per cell, one-cell black
+  // border); the marker corners are the boards' object points, which agree with
+  // Target::points() (OpenCV's CharucoBoard / GridBoard layouts, doc/targets.md).
+  const bool charuco = spec_.type == metrology::TargetType::Charuco;
+  const cv::Ptr<cv::aruco::Board> board =
+      charuco ? cv::Ptr<cv::aruco::Board>(metrology::charucoBoard(target)) : cv::Ptr<cv::aruco::Board>(metrology::arucoGridBoard(target));
+  const int cells = board->dictionary->markerSize + 2;
+  tag_cell_ = spec_.marker_size_m / cells;
+  for (std::size_t k = 0; k < board->ids.size(); ++k) {
+    cv::Mat image;
+    cv::aruco::drawMarker(board->dictionary, board->ids[k], cells, image, 1);
+    Bitmap bitmap;
+    bitmap.size = cells;
+    bitmap.dark.resize(static_cast<std::size_t>(cells) * cells);
+    for (int row = 0; row < cells; ++row)
+      for (int col = 0; col < cells; ++col)
+        bitmap.dark[static_cast<std::size_t>(row) * cells + col] = image.at<unsigned char>(row, col) < 128;
+    bitmaps_.push_back(std::move(bitmap));
+    const cv::Point3f& top_left = board->objPoints[k][0];
+    tags_.push_back({top_left.x, top_left.y, static_cast<int>(k)});
+  }
+  bucket_size_ = spec_.marker_size_m;
+  if (charuco) {  // the squares run from 0 to cols·s (features are the inner corners)
+    *min_x = 0.0, *min_y = 0.0;
+    *max_x = spec_.cols * spec_.square_size_m, *max_y = spec_.rows * spec_.square_size_m;
+    return spec_.square_size_m;
+  }
+  // aruco_grid: the feature points already span the markers' outer corners.
+  return std::max(spec_.marker_spacing_m, 2.0 * tag_cell_);
+}
+
 float TargetAlbedo::printed(double x, double y) const {
-  return spec_.type == metrology::TargetType::Chessboard ? chessboard(x, y) : items(x, y);
+  if (spec_.type == metrology::TargetType::Chessboard) return chessboard(x, y);
+  if (spec_.type == metrology::TargetType::Charuco) {
+    const double s = spec_.square_size_m;
+    const int ix = static_cast<int>(std::floor(x / s));
+    const int iy = static_cast<int>(std::floor(y / s));
+    if (ix < 0 || ix >= spec_.cols || iy < 0 || iy >= spec_.rows) return light_;  // margin
+    // OpenCV's board: square (0, 0) is dark, markers sit in the light squares.
+    if (((ix + iy) & 1) == 0) return dark_;
+  }
+  return items(x, y);
 }
 
 float TargetAlbedo::chessboard(double x, double y) const {

@@ -28,13 +28,15 @@ class TargetAlbedo {
  private:
   float printed(double x, double y) const;
   float chessboard(double x, double y) const;
-  float items(double x, double y) const;  // discs or tags, through the bucket grid
+  float items(double x, double y) const;  // discs, tags or markers, through the bucket grid
+  // ArUco markers of a charuco / aruco_grid target; sets the paper's extent, returns its margin.
+  double addArucoMarkers(const metrology::Target& target, double* min_x, double* min_y, double* max_x, double* max_y);
 
   struct Disc {
     double cx, cy, radius2;
   };
   struct Tag {
-    double x0, y0;  // top-left corner of the tag's bitmap (outer white ring included)
+    double x0, y0;  // top-left corner of the tag's bitmap (AprilTag: outer white ring included)
     int bitmap;     // index into bitmaps_
   };
   struct Bitmap {
@@ -54,7 +56,7 @@ class TargetAlbedo {
   std::vector<Disc> discs_;
   std::vector<Tag> tags_;
   std::vector<Bitmap> bitmaps_;
-  double tag_cell_ = 0.0;  // AprilTag bit cell size (m)
+  double tag_cell_ = 0.0;  // AprilTag / ArUco bit cell size (m)
 };
 
 }  // namespace mire::datasets

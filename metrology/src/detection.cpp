@@ -331,6 +331,10 @@ Detection detectTarget(const Target& target, const cv::Mat& image, const Detecti
       return detectCircles(target, gray, options);
     case TargetType::AprilTag:
       return detail::detectAprilTagGrid(target, gray, options);
+    case TargetType::Charuco:
+      return detail::detectCharuco(target, gray, options);
+    case TargetType::ArucoGrid:
+      return detail::detectArucoGridCandidates(target, gray, options).front();
   }
   return {};
 }
@@ -348,16 +352,18 @@ Detection refineDetection(const Target& target, const cv::Mat& image, const Dete
       result.found = !result.ids.empty();
       return result;
     }
-    case TargetType::AprilTag: {
-      // A full AprilTag detection is cheap enough; keep only the tags seen initially.
-      const Detection fresh = detail::detectAprilTagGrid(target, gray, options);
+    case TargetType::AprilTag:
+    case TargetType::Charuco:
+    case TargetType::ArucoGrid: {
+      // A full marker detection is cheap enough; keep only the features seen initially.
+      const Detection fresh = detectTarget(target, gray, options);
       Detection result;
       std::vector<bool> wanted(target.points().size(), false);
       for (const int id : initial.ids) wanted[id] = true;
       for (std::size_t i = 0; i < fresh.ids.size(); ++i)
         if (wanted[fresh.ids[i]]) result.ids.push_back(fresh.ids[i]), result.pixels.push_back(fresh.pixels[i]);
       result.found = !result.ids.empty();
-      result.reason = result.found ? fresh.reason : "no tag of the initial detection found again";
+      result.reason = result.found ? fresh.reason : "no feature of the initial detection found again";
       return result;
     }
   }

@@ -7,7 +7,6 @@
 
 #include <array>
 #include <stdexcept>
-#include <map>
 #include <memory>
 
 namespace mire::metrology::detail {
@@ -66,34 +65,23 @@ std::vector<TagDetection> detectAprilTags(const cv::Mat& gray, const std::string
 
 namespace detail {
 
-Detection detectAprilTagGrid(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
-  const TargetSpec& spec = target.spec();
-  // Tag index -> corners; a tag seen twice is ambiguous and dropped.
-  std::map<int, std::array<Eigen::Vector2d, 4>> tags;
-  std::vector<int> duplicated;
-  for (const TagDetection& tag : detectAprilTags(gray, spec.family, options.subpixel)) {
-    const int index = target.tagIndex(tag.id);
-    if (index < 0) continue;  // another tag in the scene
-    if (!tags.emplace(index, tag.corners).second) duplicated.push_back(index);
+std::vector<Detection> detectAprilTagCandidates(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
+  // Repeated ids and ids outside the layout are sorted out by the layout's geometry
+  // (detection_tag_layout.cpp).
+  std::vector<SquareInstance> instances;
+  for (const TagDetection& tag : detectAprilTags(gray, target.spec().family, options.subpixel))
+    instances.push_back({tag.id, tag.corners});
+  std::vector<Detection> candidates = layoutDetections(target, instances, options, "tags");
+  if (candidates.empty()) {
+    Detection none;
+    none.reason = "no tag of the target (" + target.spec().family + ") found";
+    candidates.push_back(none);
   }
-  for (const int index : duplicated) tags.erase(index);
+  return candidates;
+}
 
-  Detection result;
-  const int expected = spec.cols * spec.rows;
-  for (const auto& [index, corners] : tags) {
-    for (int j = 0; j < 4; ++j) {
-      result.ids.push_back(4 * index + j);
-      result.pixels.push_back(corners[j]);
-    }
-  }
-  const int found = static_cast<int>(tags.size());
-  result.found = found == expected || (options.allow_partial && found > 0);
-  if (found < expected)
-    result.reason = std::to_string(found) + " of " + std::to_string(expected) + " tags (" + spec.family + " ids " +
-                    std::to_string(spec.first_id) + ".." + std::to_string(spec.first_id + expected - 1) + ") found";
-  if (!duplicated.empty())
-    result.reason += (result.reason.empty() ? "" : "; ") + std::to_string(duplicated.size()) + " tag id(s) seen twice, ignored";
-  return result;
+Detection detectAprilTagGrid(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
+  return detectAprilTagCandidates(target, gray, options).front();
 }
 
 }  // namespace detail

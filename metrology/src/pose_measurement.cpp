@@ -67,6 +67,7 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
   }
 
   result.features = averageDetections(detections, options.averaging);
+  result.detections = detections;
   for (const int j : result.features.rejected_images)
     result.warnings.push_back(imageName(names, static_cast<std::size_t>(j)) +
                               ": rejected as an outlier (whole-image displacement, chi-square test)");

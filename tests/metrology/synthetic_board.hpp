@@ -109,6 +109,9 @@ class SyntheticAlbedo {
         if (ix < 0 || iy < 0 || ix >= total_ || iy >= total_) return 0.0;
         return bitmaps_[r * spec_.cols + c][iy * total_ + ix] < 128 ? 1.0 : 0.0;
       }
+      case TargetType::Charuco:  // rendered by datasets' TargetAlbedo
+      case TargetType::ArucoGrid:
+        break;
     }
     return 0.0;
   }

@@ -104,13 +104,13 @@ TEST(Target, BadSpecsAreRejectedNamingFileAndKey) {
     EXPECT_NE(message.find(path.string()), std::string::npos) << message;
     EXPECT_NE(message.find(needle), std::string::npos) << "expected '" << needle << "' in: " << message;
   };
-  expectError("cols: 9\nrows: 6\nsquare_size_m: 0.02\n", "'type': missing");
+  expectError("cols: 9\nrows: 6\nsquare_size_m: 0.02\n", "missing key 'type'");
   expectError("type: hexagons\ncols: 9\nrows: 6\n", "'type'");
-  expectError("type: chessboard\ncols: 9\nsquare_size_m: 0.02\n", "'rows': missing");
-  expectError("type: chessboard\ncols: 9.5\nrows: 6\nsquare_size_m: 0.02\n", "'cols': must be an integer");
+  expectError("type: chessboard\ncols: 9\nsquare_size_m: 0.02\n", "missing key 'rows'");
+  expectError("type: chessboard\ncols: 9.5\nrows: 6\nsquare_size_m: 0.02\n", "key 'cols': '9.5' is not an integer");
   expectError("type: chessboard\ncols: 9\nrows: 6\nsquare_size_m: -0.02\n", "'square_size_m'");
   expectError("type: chessboard\ncols: 2\nrows: 6\nsquare_size_m: 0.02\n", "at least 3");
-  expectError("type: circles\ncols: 9\nrows: 6\nspacing_m: 0.02\n", "'diameter_m': missing");
+  expectError("type: circles\ncols: 9\nrows: 6\nspacing_m: 0.02\n", "missing key 'diameter_m'");
   expectError("type: circles\ncols: 9\nrows: 6\nspacing_m: 0.02\ndiameter_m: 0.03\n", "diameter_m must be smaller");
   expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag99h1\ntag_size_m: 0.04\ntag_spacing_m: 0.05\n", "unknown AprilTag family");
   expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag36h11\ntag_size_m: 0.04\ntag_spacing_m: 0.03\n", "tag_spacing_m");
@@ -118,7 +118,7 @@ TEST(Target, BadSpecsAreRejectedNamingFileAndKey) {
               "do not exist");
   writeText(path, "type: [unclosed\n");
   EXPECT_NE(loadError(path).find(path.string()), std::string::npos);
-  EXPECT_NE(loadError(dir.path() / "absent.yaml").find("cannot open"), std::string::npos);
+  EXPECT_NE(loadError(dir.path() / "absent.yaml").find("absent.yaml"), std::string::npos);
 }
 
 }  // namespace

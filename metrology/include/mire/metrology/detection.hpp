@@ -1,6 +1,7 @@
 #pragma once
-// Finding a target's features in an image (OpenCV for chessboards and circle grids,
-// AprilTag 3 for tag grids). Pixel convention: OpenCV's.
+// Finding a target's features in an image (OpenCV for chessboards and circle grids, OpenCV's
+// aruco module for ChArUco and ArUco grid boards, AprilTag 3 for tag targets). Pixel
+// convention: OpenCV's.
 #include "mire/metrology/target.hpp"
 
 #include <Eigen/Core>
@@ -43,6 +44,14 @@ std::vector<TagDetection> detectAprilTags(const cv::Mat& gray, const std::string
 
 // Detects the target in an 8-bit grey image (BGR is converted).
 Detection detectTarget(const Target& target, const cv::Mat& gray, const DetectionOptions& options = {});
+
+// Every candidate detection of the target, best first (doc/targets.md, "Repeated and foreign
+// ids"). For AprilTag targets and ArUco grids: groups of tags/markers that each fit the layout
+// (one instance per id), the largest group first, then by image area; a single-tag layout
+// gives one candidate per instance of its tag in the scene. Other types: detectTarget's result.
+// detectTarget returns the first candidate.
+std::vector<Detection> detectTargetCandidates(const Target& target, const cv::Mat& gray,
+                                              const DetectionOptions& options = {});
 
 // Cheap re-detection in another image of the same scene: refines `initial`'s features in
 // `gray` (sub-pixel), without the full search. Features that cannot be refined are dropped.

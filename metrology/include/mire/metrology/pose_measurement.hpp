@@ -29,6 +29,7 @@ struct PoseMeasurement {
   std::vector<std::string> warnings;  // e.g. images where the target was not found or rejected
   AveragedFeatures features;
   PoseEstimate estimate;
+  std::vector<Detection> detections;  // per input image, same order (for --save-detections)
 };
 
 // `images`: 8-bit grey images of one static pose; `names` (same size, may be empty) name
