@@ -244,22 +244,19 @@ cv::Mat addNoise(const cv::Mat& radiance, const NoiseOptions& noise, std::uint64
   if (radiance.type() != CV_32F) throw std::invalid_argument("addNoise expects a CV_32F radiance image");
   if (!(noise.gaussian_sigma >= 0.0) || !(noise.shot_noise_gain >= 0.0))
     throw std::invalid_argument("noise sigma and gain must be >= 0");
+  // Read noise N(0, σ²) plus shot noise: Poisson(I·g)/g has mean I and variance I/g, and at
+  // these signal levels its Gaussian approximation is indistinguishable. The sum of the two
+  // independent Gaussians is one Gaussian of variance σ² + I/g: one normal draw per pixel.
   cv::RNG rng(seed);
-  cv::Mat noisy = radiance.clone();
-  if (noise.gaussian_sigma > 0.0) {
-    cv::Mat read_noise(radiance.size(), CV_32F);
-    rng.fill(read_noise, cv::RNG::NORMAL, 0.0, noise.gaussian_sigma);
-    noisy += read_noise;
-  }
-  if (noise.shot_noise_gain > 0.0) {
-    // Poisson(I·g)/g has mean I and variance I/g; at these signal levels its Gaussian
-    // approximation is indistinguishable.
-    cv::Mat shot(radiance.size(), CV_32F);
-    rng.fill(shot, cv::RNG::NORMAL, 0.0, 1.0);
-    cv::Mat sigma;
-    cv::max(radiance, 0.0, sigma);
-    cv::sqrt(sigma / noise.shot_noise_gain, sigma);
-    noisy += shot.mul(sigma);
+  cv::Mat noisy(radiance.size(), CV_32F);
+  rng.fill(noisy, cv::RNG::NORMAL, 0.0, 1.0);
+  const float read_variance = static_cast<float>(noise.gaussian_sigma * noise.gaussian_sigma);
+  const float inverse_gain = noise.shot_noise_gain > 0.0 ? static_cast<float>(1.0 / noise.shot_noise_gain) : 0.0f;
+  for (int v = 0; v < radiance.rows; ++v) {
+    const float* level = radiance.ptr<float>(v);
+    float* out = noisy.ptr<float>(v);
+    for (int u = 0; u < radiance.cols; ++u)
+      out[u] = level[u] + out[u] * std::sqrt(read_variance + std::max(level[u], 0.0f) * inverse_gain);
   }
   return quantize(noisy);
 }
