@@ -122,8 +122,10 @@ std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vecto
     for (int item = range.start; item < range.end; ++item) {
       const auto k = static_cast<std::size_t>(item);
       const Rendering rendering = renderer.render(poses[k]);
+      const cv::Mat sigma = noiseSigma(rendering.radiance, noise);
       for (int image = 0; image < images_per_item; ++image) {
-        writePng(image_path(k, image), addNoise(rendering.radiance, noise, noiseSeed(seed, k, static_cast<std::size_t>(image))));
+        writePng(image_path(k, image),
+                 addNoiseWithSigma(rendering.radiance, sigma, noiseSeed(seed, k, static_cast<std::size_t>(image))));
         const std::lock_guard<std::mutex> lock(progress_mutex);
         ++done;
         if (progress) progress(done, total);
