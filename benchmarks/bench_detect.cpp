@@ -381,8 +381,9 @@ int main(int argc, char** argv) {
   const fs::path demo = argc > 1 ? fs::path(argv[1]) : fs::path();
   const fs::path external = argc > 2 ? fs::path(argv[2]) : fs::path("../shared/datasets/external");
   std::vector<BenchImage> images;
-  for (const auto& [w, h] : {std::pair{640, 480}, std::pair{1024, 768}, std::pair{2048, 1536}})
-    addRenderedScenes(w, h, &images);
+  if (!std::getenv("BENCH_DETECT_NO_RENDERED"))  // set: only the photos and the demo sets
+    for (const auto& [w, h] : {std::pair{640, 480}, std::pair{1024, 768}, std::pair{2048, 1536}})
+      addRenderedScenes(w, h, &images);
   addRealPhotos(external, &images);
   if (!demo.empty()) addDemoViews(demo, external, &images);
 
@@ -406,9 +407,9 @@ int main(int argc, char** argv) {
     row.size = gray.size();
     row.mire = runMire(images[k], gray);
     // The classic finder takes minutes on a large image without the board: it can be skipped
-    // above a width (BENCH_DETECT_CLASSIC_MAX_WIDTH), reported as "skipped".
+    // above a width (BENCH_DETECT_CLASSIC_MAX_WIDTH) where the board is not complete, reported as "skipped".
     const char* classic_max = std::getenv("BENCH_DETECT_CLASSIC_MAX_WIDTH");
-    if (classic_max && gray.cols > std::atoi(classic_max) && images[k].truth.empty())
+    if (classic_max && gray.cols > std::atoi(classic_max) && !images[k].board_complete)
       row.classic.seconds = std::nan("");
     else
       row.classic = runClassic(images[k], gray);
