@@ -8,12 +8,15 @@
 #include "mire/support/yaml.hpp"
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <functional>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -86,6 +89,37 @@ std::uint64_t noiseSeed(std::uint64_t seed, std::size_t item, std::size_t image)
 
 void writePng(const std::filesystem::path& path, const cv::Mat& image) {
   support::writeAtomically(path, [&](const std::filesystem::path& temporary) { return cv::imwrite(temporary.string(), image); });
+}
+
+// Renders every item (a view or a pose) once and writes its noisy images, items in parallel
+// (issue 18: the PNG encoding, single-threaded in OpenCV, cost more than the render). Each
+// item's render runs serially inside its worker (nested parallel_for_); the output does not
+// depend on the schedule (per-pixel jitter, noise seeded by item and image). Returns each
+// item's feature truth; `progress` is called under a lock, one image at a time.
+std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vector<Eigen::Isometry3d>& poses,
+                                      int images_per_item, const NoiseOptions& noise, std::uint64_t seed,
+                                      const std::function<std::filesystem::path(std::size_t, int)>& image_path,
+                                      const ProgressCallback& progress) {
+  std::vector<FeatureTruth> truths(poses.size());
+  const std::size_t total = poses.size() * static_cast<std::size_t>(images_per_item);
+  std::mutex progress_mutex;
+  std::size_t done = 0;
+  cv::parallel_for_(cv::Range(0, static_cast<int>(poses.size())), [&](const cv::Range& range) {
+    for (int item = range.start; item < range.end; ++item) {
+      const auto k = static_cast<std::size_t>(item);
+      const Rendering rendering = renderer.render(poses[k]);
+      const cv::Mat sigma = noiseSigma(rendering.radiance, noise);
+      for (int image = 0; image < images_per_item; ++image) {
+        writePng(image_path(k, image),
+                 addNoiseWithSigma(rendering.radiance, sigma, noiseSeed(seed, k, static_cast<std::size_t>(image))));
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        ++done;
+        if (progress) progress(done, total);
+      }
+      truths[k] = rendering.truth;
+    }
+  });
+  return truths;
 }
 
 void writePose(cv::FileStorage& out, const Eigen::Isometry3d& pose) {
@@ -280,33 +314,35 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
   cv::FileStorage truth = openTruth(spec, "calibration");
   truth << "views" << "[";
   SimulationResult result;
-  const std::size_t total = views.size() * static_cast<std::size_t>(spec.images_per_view);
-  std::size_t visible = 0, features = 0;
-  for (std::size_t k = 0; k < views.size(); ++k) {
-    const Rendering rendering = renderer.render(views[k]);
+  const auto view_name = [](std::size_t k) {
     char name[32];
     std::snprintf(name, sizeof name, "view_%03zu", k);
-    truth << "{" << "id" << name;
-    truth << "images" << "[";
-    for (int image = 0; image < spec.images_per_view; ++image) {
-      std::string file = std::string("images/") + name;
-      if (spec.images_per_view > 1) {
-        char suffix[16];
-        std::snprintf(suffix, sizeof suffix, "_%02d", image);
-        file += suffix;
-      }
-      file += ".png";
-      writePng(output_dir / file, addNoise(rendering.radiance, spec.noise, noiseSeed(spec.seed, k, static_cast<std::size_t>(image))));
-      truth << file;
-      ++result.images;
-      if (progress) progress(result.images, total);
+    return std::string(name);
+  };
+  const auto image_file = [&](std::size_t k, int image) {
+    std::string file = "images/" + view_name(k);
+    if (spec.images_per_view > 1) {
+      char suffix[16];
+      std::snprintf(suffix, sizeof suffix, "_%02d", image);
+      file += suffix;
     }
+    return file + ".png";
+  };
+  const std::vector<FeatureTruth> truths =
+      renderItems(renderer, views, spec.images_per_view, spec.noise, spec.seed,
+                  [&](std::size_t k, int image) { return output_dir / image_file(k, image); }, progress);
+  std::size_t visible = 0, features = 0;
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    truth << "{" << "id" << view_name(k);
+    truth << "images" << "[";
+    for (int image = 0; image < spec.images_per_view; ++image) truth << image_file(k, image);
+    result.images += static_cast<std::size_t>(spec.images_per_view);
     truth << "]";
     writePose(truth, views[k]);
-    writeFeatures(truth, rendering.truth);
+    writeFeatures(truth, truths[k]);
     truth << "}";
-    visible += rendering.truth.visibleCount();
-    features += rendering.truth.pixels.size();
+    visible += truths[k].visibleCount();
+    features += truths[k].pixels.size();
   }
   truth << "]";
   support::writeFileAtomically(output_dir / "truth.yaml", truthText(truth));
@@ -335,33 +371,37 @@ SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem
   csv << "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,"
          "sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n";
   SimulationResult result;
-  const std::size_t total = spec.poses.size() * static_cast<std::size_t>(spec.images_per_pose);
+  std::vector<Eigen::Isometry3d> poses;
+  for (const SimulatedPose& pose : spec.poses) {
+    std::filesystem::create_directories(output_dir / "poses" / pose.id);
+    poses.push_back(pose.camera_T_target);
+  }
+  // The robot is static while its images are taken: one render, independent noise each.
+  const std::vector<FeatureTruth> truths = renderItems(
+      renderer, poses, spec.images_per_pose, spec.noise, spec.seed,
+      [&](std::size_t k, int image) {
+        char name[32];
+        std::snprintf(name, sizeof name, "img_%02d.png", image);
+        return output_dir / "poses" / spec.poses[k].id / name;
+      },
+      progress);
   std::size_t visible = 0, features = 0;
   for (std::size_t k = 0; k < spec.poses.size(); ++k) {
     const SimulatedPose& pose = spec.poses[k];
-    // The robot is static while its images are taken: one render, independent noise each.
-    const Rendering rendering = renderer.render(pose.camera_T_target);
-    const std::filesystem::path folder = output_dir / "poses" / pose.id;
-    std::filesystem::create_directories(folder);
-    for (int image = 0; image < spec.images_per_pose; ++image) {
-      char name[32];
-      std::snprintf(name, sizeof name, "img_%02d.png", image);
-      writePng(folder / name, addNoise(rendering.radiance, spec.noise, noiseSeed(spec.seed, k, static_cast<std::size_t>(image))));
-      ++result.images;
-      if (progress) progress(result.images, total);
-    }
+    const FeatureTruth& feature_truth = truths[k];
+    result.images += static_cast<std::size_t>(spec.images_per_pose);
     truth << "{" << "id" << pose.id;
     writePose(truth, pose.camera_T_target);
     if (pose.has_effector) truth << "effector" << "[:" << pose.effector[0] << pose.effector[1] << pose.effector[2] << pose.effector[3] << "]";
-    writeFeatures(truth, rendering.truth);
+    writeFeatures(truth, feature_truth);
     truth << "}";
     const Eigen::Vector3d t = pose.camera_T_target.translation();
     const Eigen::Vector3d r = metrology::rotationVector(pose.camera_T_target.linear());
     csv << pose.id << ',' << spec.images_per_pose << ',' << spec.images_per_pose;
     for (const double value : {t.x(), t.y(), t.z(), r.x(), r.y(), r.z()}) csv << ',' << formatNumber(value);
     csv << ",0,0,0,0,0,0,0\n";
-    visible += rendering.truth.visibleCount();
-    features += rendering.truth.pixels.size();
+    visible += feature_truth.visibleCount();
+    features += feature_truth.pixels.size();
   }
   truth << "]";
   support::writeFileAtomically(output_dir / "truth.yaml", truthText(truth));

@@ -224,36 +224,38 @@ cv::Mat toGray(const cv::Mat& image) {
 Detection refineChessboard(const Target& target, const cv::Mat& gray, const Detection& initial,
                            const DetectionOptions& options);
 
-// Images at least this large are searched at half size first.
-constexpr int kCoarseSearchMinSidePx = 480;
+// Images whose long side exceeds this are searched at half size first (then at full size).
+constexpr int kHalfSizeSearchMinSidePx = 1400;
+
+// The chessboard search, cheap path first and bounded (issue 18, doc/detection-speed.md).
+// OpenCV's classic finder with CALIB_CB_FAST_CHECK and its global (histogram) threshold:
+// the fast check rejects an image without a board in a few ms, and the quad search runs at
+// most 16 passes. Its adaptive-threshold passes (48 more) and the search without the fast
+// check are what took 0.8 s to 42 s on one 1024x768 image with a partial board, a board
+// whose cols/rows differ from the target file's, or clutter, and findChessboardCornersSB
+// costs 0.1-0.7 s: neither runs by default. The corners only seed the full-resolution
+// cornerSubPix (refineChessboard), so the finder's own accuracy does not matter.
+bool findChessboardFast(const cv::Mat& gray, cv::Size pattern, std::vector<cv::Point2f>* corners) {
+  const int flags = cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK;
+  if (std::max(gray.cols, gray.rows) >= kHalfSizeSearchMinSidePx) {
+    cv::Mat half;
+    cv::pyrDown(gray, half);
+    if (cv::findChessboardCorners(half, pattern, *corners, flags)) {
+      // A half-size pixel i covers full-size pixels 2i and 2i+1 (centre 2i + 0.5).
+      for (cv::Point2f& corner : *corners) corner = 2.0f * corner + cv::Point2f(0.5f, 0.5f);
+      return true;
+    }
+  }
+  return cv::findChessboardCorners(gray, pattern, *corners, flags);
+}
 
 // findChessboardCorners + cornerSubPix (window from the corner spacing) measured 10×
 // more accurate than findChessboardCornersSB on area-sampled renders (0.026 px RMS against
-// 0.3–0.7 px, README "Detection accuracy"), and faster; SB only as a fallback finder.
+// 0.3–0.7 px, README "Detection accuracy"), and faster.
 Detection detectChessboard(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
   const cv::Size pattern(target.spec().cols, target.spec().rows);
   std::vector<cv::Point2f> corners;
-  // Coarse to fine. The classic finder's full quad search (without CALIB_CB_FAST_CHECK)
-  // took 34 s on one 1024x768 image with a small, steeply tilted board, and under a second at
-  // half size; its corners only seed the full-resolution cornerSubPix below, so the coarse
-  // search loses no accuracy. A half-size pixel i covers full-size pixels 2i and 2i+1 (centre
-  // 2i + 0.5, OpenCV's convention). At full size only the fast check runs, then SB (< 0.5 s).
-  bool found = false;
-  if (std::min(gray.cols, gray.rows) >= kCoarseSearchMinSidePx) {
-    cv::Mat half;
-    cv::pyrDown(gray, half);
-    if (detail::findChessboardClassic(half, pattern, 0, &corners)) {
-      for (cv::Point2f& corner : corners) corner = 2.0f * corner + cv::Point2f(0.5f, 0.5f);
-      found = true;
-    }
-    found = found || cv::findChessboardCorners(gray, pattern, corners,
-                                               cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE |
-                                                   cv::CALIB_CB_FAST_CHECK);
-  } else {
-    found = detail::findChessboardClassic(gray, pattern, 0, &corners);
-  }
-  found = found || detail::findChessboardSB(gray, pattern, &corners);
-  if (!found) {
+  if (!findChessboardFast(gray, pattern, &corners)) {
     Detection failed;
     failed.reason = "chessboard " + std::to_string(pattern.width) + "x" + std::to_string(pattern.height) +
                     " (inner corners) not found";

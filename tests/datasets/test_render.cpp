@@ -86,7 +86,7 @@ TEST(RayGrid, CornersAreExactAndInterpolationErrorIsBelow1e4Px) {
   const double refined = grid.maxInterpolationErrorPx(camera, 7, 4, true);
   std::cout << "[ render ] ray inside a pixel, max error over 4x4 sub-samples (every 7th pixel + the image "
                "corners): bilinear "
-            << bilinear << " px, bilinear + 1 Newton step (what the renderer uses) " << refined << " px\n";
+            << bilinear << " px, bilinear + 2 Newton steps with the pixel's Jacobian (what the renderer uses) " << refined << " px\n";
   EXPECT_LT(bilinear, 1e-3);
   EXPECT_LT(refined, 1e-4);
   EXPECT_LT(refined, 1e-9);
