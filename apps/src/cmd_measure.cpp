@@ -5,6 +5,7 @@
 #include "image_folders.hpp"
 
 #include "mire/calibration/camera_io.hpp"
+#include "mire/metrology/campaign_screening.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 
@@ -32,6 +33,7 @@ struct MeasureSettings {
   int threads = 0;              // 0 = all cores
   double ambiguity_ratio = 4.0;
   double rejection_confidence = 0.999;
+  std::string split_moving = "fail";  // static-pose integrity: fail | keep-largest
 };
 
 double median(std::vector<double> values) {
@@ -68,6 +70,19 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
   std::printf("\n");
 }
 
+// Campaign-level screening (campaign_screening.hpp): flags in poses.csv, reasons here.
+void reportScreening(std::vector<metrology::MeasuredPose>* measured) {
+  const metrology::ScreeningResult screening = metrology::screenCampaign(measured);
+  int flagged = 0;
+  for (std::size_t i = 0; i < measured->size(); ++i) {
+    for (const auto& reason : screening.reasons[i])
+      std::cerr << "mire measure: pose " << (*measured)[i].pose_id << ": FLAGGED: " << reason << "\n";
+    flagged += screening.reasons[i].empty() ? 0 : 1;
+  }
+  if (flagged > 0)
+    std::cerr << "mire measure: " << flagged << " pose(s) stand out from the campaign (column 'flags' of poses.csv)\n";
+}
+
 int runMeasure(const MeasureSettings& settings) {
   const calibration::Camera camera = calibration::readCameraYaml(settings.camera_path);
   const metrology::Target target = metrology::Target::fromFile(settings.target_path);
@@ -78,6 +93,8 @@ int runMeasure(const MeasureSettings& settings) {
   metrology::MeasurementOptions options;
   options.pose.ambiguity_ratio = settings.ambiguity_ratio;
   options.averaging.rejection_confidence = settings.rejection_confidence;
+  options.integrity.split =
+      settings.split_moving == "keep-largest" ? metrology::SplitPolicy::KeepLargest : metrology::SplitPolicy::Fail;
 
   const std::vector<PoseFolderMeasurement> jobs =
       measurePoseFolders(camera, target, settings.poses_dir, options, settings.threads);
@@ -87,13 +104,17 @@ int runMeasure(const MeasureSettings& settings) {
   for (const PoseFolderMeasurement& job : jobs) {
     for (const auto& warning : job.measurement.warnings)
       std::cerr << "mire measure: pose " << job.pose_id << ": warning: " << warning << "\n";
+    for (const auto& note : job.measurement.notes)
+      std::cerr << "mire measure: pose " << job.pose_id << ": note: " << note << "\n";
     if (!job.measurement.ok) {
       ++failed;
       std::cerr << "mire measure: pose " << job.pose_id << ": FAILED: " << job.measurement.error << "\n";
       continue;
     }
-    measured.push_back({job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate});
+    measured.push_back({job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate,
+                        metrology::measurementFlags(job.measurement)});
   }
+  reportScreening(&measured);
   if (measured.empty()) {
     std::cerr << "mire measure: error: no pose could be measured (" << failed << " failed); nothing written\n";
     return kFailure;
@@ -137,6 +158,11 @@ Runner addMeasureCommand(CLI::App& app) {
   command->add_option("--rejection-confidence", settings->rejection_confidence,
                       "chi-square confidence of the outlier-image test")
       ->check(CLI::Range(0.5, 0.999999999))
+      ->capture_default_str();
+  command->add_option("--split-moving", settings->split_moving,
+                      "when a pose's images do not show one static pose: fail it, or keep the largest consistent "
+                      "group (more than half of the images) and list the rest")
+      ->check(CLI::IsMember({"fail", "keep-largest"}))
       ->capture_default_str();
   return [settings] { return runMeasure(*settings); };
 }
