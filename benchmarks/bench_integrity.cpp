@@ -87,7 +87,8 @@ int main(int argc, char** argv) {
   std::vector<std::vector<cv::Mat>> pose_images;
   int failed = 0;
   double worst_ratio = 0.0, time_with = 0.0, time_without = 0.0;
-  std::vector<double> ratios;
+  std::vector<double> ratios, q_ratios;
+  double q_sum = 0.0, q_dof = 0.0;
   for (const auto& folder : folders) {
     const auto files = mire::metrology::listPoseImages(folder);
     const auto images = readGrey(files);
@@ -104,6 +105,9 @@ int main(int argc, char** argv) {
     }
     const double ratio = with_test.integrity.max_statistic / with_test.integrity.threshold;
     ratios.push_back(ratio);
+    q_ratios.push_back(with_test.integrity.global_statistic / with_test.integrity.global_threshold);
+    q_sum += with_test.integrity.global_statistic;
+    q_dof += 6.0 * (with_test.integrity.tested_images - 1);
     worst_ratio = std::max(worst_ratio, ratio);
     poses.emplace_back(folder.filename().string(), with_test.features.images_used, static_cast<int>(files.size()),
                        with_test.estimate, mire::metrology::measurementFlags(with_test));
@@ -114,6 +118,11 @@ int main(int argc, char** argv) {
   std::printf("static poses: %zu, failed by the integrity test: %d; max pairwise chi2 / threshold: median %.2f, "
               "worst %.2f\n",
               folders.size(), failed, ratios.empty() ? 0.0 : ratios[ratios.size() / 2], worst_ratio);
+  std::sort(q_ratios.begin(), q_ratios.end());
+  std::printf("homogeneity Q / threshold: median %.2f, worst %.2f; sum Q / sum dof %.3f (1 when the noise model "
+              "holds)\n",
+              q_ratios.empty() ? 0.0 : q_ratios[q_ratios.size() / 2], q_ratios.empty() ? 0.0 : q_ratios.back(),
+              q_sum / q_dof);
   std::printf("time for %zu poses: %.1f s with the test, %.1f s without (ratio %.2f)\n", folders.size(), time_with,
               time_without, time_with / time_without);
   auto screened = poses;
@@ -181,7 +190,8 @@ int main(int argc, char** argv) {
       }
       images.push_back(image);
     }
-    std::vector<std::string> image_names(images.size(), "img");
+    std::vector<std::string> image_names;
+    for (std::size_t i = 0; i < images.size(); ++i) image_names.push_back("img_" + std::to_string(i));
     const PoseMeasurement result = mire::metrology::measurePose(camera, target, images, image_names);
     if (!result.ok) {
       std::printf("%s pose failed: %s\n", which == downscaled ? "downscaled" : "blurred", result.error.c_str());

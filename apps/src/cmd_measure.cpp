@@ -156,7 +156,7 @@ Runner addMeasureCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   command->add_option("--rejection-confidence", settings->rejection_confidence,
-                      "chi-square confidence of the outlier-image test")
+                      "chi-square confidence of the outlier-observation test (a moved image is the static-pose test's business, see --split-moving)")
       ->check(CLI::Range(0.5, 0.999999999))
       ->capture_default_str();
   command->add_option("--split-moving", settings->split_moving,

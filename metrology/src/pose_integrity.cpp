@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -169,11 +170,17 @@ Eigen::Matrix<double, 6, 6> poseCovariance(const Eigen::MatrixXd& jacobian, cons
   return inverse * middle * inverse;
 }
 
-// T_jk for every pair of images, for observation noise Σ.
-Eigen::MatrixXd pairwiseStatistics(const std::vector<ImagePose>& images, const Eigen::Matrix2d& noise) {
-  const std::size_t n = images.size();
-  std::vector<Eigen::Matrix<double, 6, 6>> covariance;
+using Covariances = std::vector<Eigen::Matrix<double, 6, 6>>;
+
+Covariances poseCovariances(const std::vector<ImagePose>& images, const Eigen::Matrix2d& noise) {
+  Covariances covariance;
   for (const ImagePose& image : images) covariance.push_back(poseCovariance(image.jacobian, noise));
+  return covariance;
+}
+
+// T_jk for every pair of images, for the per-image pose covariances.
+Eigen::MatrixXd pairwiseStatistics(const std::vector<ImagePose>& images, const Covariances& covariance) {
+  const std::size_t n = images.size();
   Eigen::MatrixXd statistic = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = a + 1; b < n; ++b) {
@@ -183,6 +190,66 @@ Eigen::MatrixXd pairwiseStatistics(const std::vector<ImagePose>& images, const E
       statistic(ia, ib) = statistic(ib, ia) = difference.dot(sum.fullPivLu().solve(difference));
     }
   return statistic;
+}
+
+// Cochran's homogeneity statistic Q = Σ_j (p_j − p̄)ᵀ C_j⁻¹ (p_j − p̄) over `members`, p̄ the
+// weighted mean: χ² with 6(m − 1) dof for a static pose. Pools the evidence of every image,
+// so it sees a small motion of a group of images that no single pair shows.
+double homogeneity(const std::vector<ImagePose>& images, const Covariances& covariance, const std::vector<int>& members) {
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> weighted = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<Eigen::Matrix<double, 6, 6>> weights;
+  for (const int m : members) {
+    weights.push_back(covariance[static_cast<std::size_t>(m)].fullPivLu().inverse());
+    information += weights.back();
+    weighted += weights.back() * images[static_cast<std::size_t>(m)].pose;
+  }
+  const Eigen::Matrix<double, 6, 1> mean = information.fullPivLu().solve(weighted);
+  double q = 0.0;
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    const Eigen::Matrix<double, 6, 1> d = images[static_cast<std::size_t>(members[k])].pose - mean;
+    q += d.dot(weights[k] * d);
+  }
+  return q;
+}
+
+// Two clusters of images (2-means in the per-image pose, Mahalanobis with each image's
+// covariance), seeded by the most disagreeing pair; returns the larger cluster.
+std::vector<int> largerOfTwoClusters(const std::vector<ImagePose>& images, const Covariances& covariance,
+                                     const Eigen::MatrixXd& statistic) {
+  const int n = static_cast<int>(images.size());
+  Eigen::Index a = 0, b = 0;
+  statistic.maxCoeff(&a, &b);
+  std::array<Eigen::Matrix<double, 6, 1>, 2> centre = {images[static_cast<std::size_t>(a)].pose,
+                                                       images[static_cast<std::size_t>(b)].pose};
+  std::vector<int> label(static_cast<std::size_t>(n), 0);
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    std::array<Eigen::Matrix<double, 6, 6>, 2> information{Eigen::Matrix<double, 6, 6>::Zero(),
+                                                           Eigen::Matrix<double, 6, 6>::Zero()};
+    std::array<Eigen::Matrix<double, 6, 1>, 2> weighted{Eigen::Matrix<double, 6, 1>::Zero(),
+                                                        Eigen::Matrix<double, 6, 1>::Zero()};
+    for (int j = 0; j < n; ++j) {
+      const auto& image = images[static_cast<std::size_t>(j)];
+      const Eigen::Matrix<double, 6, 6> weight = covariance[static_cast<std::size_t>(j)].fullPivLu().inverse();
+      const Eigen::Matrix<double, 6, 1> d0 = image.pose - centre[0], d1 = image.pose - centre[1];
+      const int c = d0.dot(weight * d0) <= d1.dot(weight * d1) ? 0 : 1;
+      label[static_cast<std::size_t>(j)] = c;
+      information[static_cast<std::size_t>(c)] += weight;
+      weighted[static_cast<std::size_t>(c)] += weight * image.pose;
+    }
+    for (int c = 0; c < 2; ++c)
+      if (information[static_cast<std::size_t>(c)].trace() > 0.0)
+        centre[static_cast<std::size_t>(c)] = information[static_cast<std::size_t>(c)].fullPivLu().solve(weighted[static_cast<std::size_t>(c)]);
+  }
+  std::array<std::vector<int>, 2> clusters;
+  for (int j = 0; j < n; ++j) clusters[static_cast<std::size_t>(label[static_cast<std::size_t>(j)])].push_back(j);
+  if (clusters[0].empty() || clusters[1].empty()) {  // no second cluster: the seed stands apart
+    std::vector<int> rest;
+    for (int j = 0; j < n; ++j)
+      if (j != static_cast<int>(b)) rest.push_back(j);
+    return rest;
+  }
+  return clusters[0].size() >= clusters[1].size() ? clusters[0] : clusters[1];
 }
 
 // Largest set of mutually agreeing images: from each seed, its agreeing neighbours, pruned of
@@ -248,9 +315,15 @@ void markDuplicates(const std::vector<Detection>& detections, const std::vector<
 
 }  // namespace
 
-double chiSquare6UpperQuantile(double tail) {
+double chiSquareEvenUpperQuantile(int dof, double tail) {
   if (!(tail > 0.0 && tail < 1.0)) throw std::invalid_argument("chi-square tail probability must be in (0, 1)");
-  const auto survival = [](double x) { return std::exp(-0.5 * x) * (1.0 + 0.5 * x + x * x / 8.0); };
+  if (dof < 2 || dof % 2 != 0) throw std::invalid_argument("chi-square degrees of freedom must be even and >= 2");
+  // Survival function of χ² with even dof k: e^{−x/2} Σ_{i<k/2} (x/2)^i / i!.
+  const auto survival = [dof](double x) {
+    double term = 1.0, sum = 1.0;
+    for (int i = 1; i < dof / 2; ++i) sum += (term *= 0.5 * x / i);
+    return std::exp(-0.5 * x) * sum;
+  };
   double low = 0.0, high = 1.0;
   while (survival(high) > tail) high *= 2.0;
   for (int i = 0; i < 200 && high - low > 1e-12 * high; ++i) {
@@ -259,6 +332,8 @@ double chiSquare6UpperQuantile(double tail) {
   }
   return 0.5 * (low + high);
 }
+
+double chiSquare6UpperQuantile(double tail) { return chiSquareEvenUpperQuantile(6, tail); }
 
 IntegrityResult checkStaticPose(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                                 const std::vector<Detection>& detections, const std::vector<std::string>& names,
@@ -287,16 +362,31 @@ IntegrityResult checkStaticPose(const calibration::Camera& camera, const std::ve
   // Pairwise χ² of the per-image pose differences: a first pass with the robust noise (two
   // views would inflate a mean-based one) finds the consistent group; the noise is then
   // re-estimated within that group (mean, exact degrees of freedom) and the test repeated.
+  // Half of the false-alarm budget α goes to the pairwise tests (Bonferroni over the pairs),
+  // half to the global homogeneity test below.
   const int n = static_cast<int>(images.size());
   const double pairs = 0.5 * n * (n - 1);
-  result.threshold = chiSquare6UpperQuantile(options.false_alarm / pairs);
+  const bool global = n >= 3;
+  result.threshold = chiSquare6UpperQuantile(options.false_alarm / (global ? 2.0 : 1.0) / pairs);
   std::vector<int> everyone(static_cast<std::size_t>(n));
   for (int a = 0; a < n; ++a) everyone[static_cast<std::size_t>(a)] = a;
-  Eigen::MatrixXd statistic = pairwiseStatistics(images, observationNoise(images, everyone, detections, true));
+  Eigen::MatrixXd statistic =
+      pairwiseStatistics(images, poseCovariances(images, observationNoise(images, everyone, detections, true)));
   std::vector<int> group = largestConsistentGroup(statistic, result.threshold);
   result.noise_covariance = observationNoise(images, group.size() >= 2 ? group : everyone, detections, false);
-  statistic = pairwiseStatistics(images, result.noise_covariance);
+  const Covariances covariance = poseCovariances(images, result.noise_covariance);
+  statistic = pairwiseStatistics(images, covariance);
   group = largestConsistentGroup(statistic, result.threshold);
+  std::ostringstream evidence;
+  evidence.precision(3);
+  if (global) {
+    result.global_threshold = chiSquareEvenUpperQuantile(6 * (n - 1), options.false_alarm / 2.0);
+    result.global_statistic = homogeneity(images, covariance, everyone);
+    if (static_cast<int>(group.size()) == n && result.global_statistic > result.global_threshold)
+      group = largerOfTwoClusters(images, covariance, statistic);
+    evidence << "homogeneity chi-square of the per-image poses " << result.global_statistic << " (" << 6 * (n - 1)
+             << " dof, threshold " << result.global_threshold << "), ";
+  }
   std::vector<int> kept, moved;
   for (int a = 0; a < n; ++a) {
     const int index = images[static_cast<std::size_t>(a)].index;
@@ -315,8 +405,8 @@ IntegrityResult checkStaticPose(const calibration::Camera& camera, const std::ve
   text << "the images do not show one static pose (the robot or the target moved, or an image belongs to "
           "another pose): "
        << nameList(names, moved) << " disagree with " << nameList(names, kept)
-       << " (per-image pose difference chi-square, 6 dof, up to " << worst << " > threshold " << result.threshold
-       << ")";
+       << " (" << evidence.str() << "pairwise pose difference chi-square up to " << worst << ", 6 dof, threshold "
+       << result.threshold << ")";
   result.moved = moved;
   const bool majority = 2 * kept.size() > static_cast<std::size_t>(n);
   if (options.split == SplitPolicy::KeepLargest && majority) {

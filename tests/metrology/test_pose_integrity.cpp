@@ -107,6 +107,8 @@ TEST(PoseIntegrity, ChiSquare6Quantile) {
   // Tabulated χ²₆ upper quantiles.
   EXPECT_NEAR(mire::metrology::chiSquare6UpperQuantile(0.05), 12.5916, 1e-3);
   EXPECT_NEAR(mire::metrology::chiSquare6UpperQuantile(1e-3), 22.4577, 1e-3);
+  EXPECT_NEAR(mire::metrology::chiSquareEvenUpperQuantile(10, 1e-3), 29.5883, 1e-3);
+  EXPECT_NEAR(mire::metrology::chiSquareEvenUpperQuantile(2, 0.05), 5.9915, 1e-3);
 }
 
 // Two views 1 mm or 0.1° apart, 6 + 4 images interleaved: the pose fails naming the 4; with
@@ -171,13 +173,16 @@ TEST(PoseIntegrity, StaticPosesWithRealisticNoiseAreNotFlagged) {
     const auto images = mixedImages(renderer, pose, pose, 10, {}, 5000 + 100 * p);
     const PoseMeasurement result = mire::metrology::measurePose(camera, target, images, names);
     ASSERT_TRUE(result.ok) << result.error;
-    std::printf("static pose %d: max pairwise chi2 %.1f (threshold %.1f), noise sigma %.4f %.4f px\n", p,
-                result.integrity.max_statistic, result.integrity.threshold,
+    std::printf("static pose %d: max pairwise chi2 %.1f (threshold %.1f), Q %.1f (threshold %.1f), noise sigma %.4f "
+                "%.4f px\n",
+                p, result.integrity.max_statistic, result.integrity.threshold, result.integrity.global_statistic,
+                result.integrity.global_threshold,
                 std::sqrt(result.integrity.noise_covariance(0, 0)), std::sqrt(result.integrity.noise_covariance(1, 1)));
     EXPECT_EQ(result.features.images_used, 10);
     EXPECT_TRUE(result.warnings.empty());
     EXPECT_TRUE(result.notes.empty());
     EXPECT_LT(result.integrity.max_statistic, result.integrity.threshold);
+    EXPECT_LT(result.integrity.global_statistic, result.integrity.global_threshold);
   }
 }
 
@@ -219,9 +224,11 @@ TEST(PoseIntegrity, IdenticalFramesCountOnceWithTheOneImageSigma) {
   EXPECT_EQ(averaged.rejected_observations, 0);
 }
 
-// A campaign of 10 poses (3 images each) with one blurred and one downscaled pose: those two
-// are flagged for their reprojection RMS, the others not.
-TEST(CampaignScreening, BlurredAndDownscaledPosesAreFlagged) {
+// A campaign of 10 poses (3 images each) with one downscaled and one blurred pose: the
+// downscaled one (its pose off by a fraction of a millimetre) is flagged for its reprojection
+// RMS and σ, the others not. Defocus (σ = 3 px) does not bias the chessboard corners: that pose
+// stays accurate and is rightly not flagged (doc/measure-integrity.md).
+TEST(CampaignScreening, DownscaledPoseIsFlaggedBlurredPoseStaysAccurate) {
   const auto camera = mire::datasets::referenceCamera();
   const auto target = board();
   const mire::datasets::Renderer sharp(camera, target, softOptics());
@@ -255,7 +262,12 @@ TEST(CampaignScreening, BlurredAndDownscaledPosesAreFlagged) {
     std::printf("pose %d: rms %.3f px, sigma t %.4f mm, chi2 %.1f, flags: %s\n", p, pose.estimate.rms_px,
                 1e3 * std::sqrt(pose.estimate.covariance_noise.topLeftCorner<3, 3>().trace()), pose.estimate.reduced_chi2,
                 flags.c_str());
-    const bool expected = p == kBlurred || p == kDownscaled;
+    const Eigen::Vector3d error = pose.estimate.translation - nominalPose(400 + p).translation();
+    std::printf("         translation error %.3f mm\n", 1e3 * error.norm());
+    if (p == kBlurred) {
+      EXPECT_LT(error.norm(), 0.3e-3);
+    }
+    const bool expected = p == kDownscaled;
     EXPECT_EQ(!screening.reasons[static_cast<std::size_t>(p)].empty(), expected) << "pose " << p << ": " << flags;
     if (expected && !pose.flags.empty()) {
       EXPECT_EQ(pose.flags.front().rfind("rms_high:", 0), 0u) << flags;

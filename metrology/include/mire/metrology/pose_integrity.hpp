@@ -15,11 +15,15 @@
 //     reprojection Jacobian of its features at the pooled pose),
 //        T_jk = (p_j − p_k)ᵀ (I_j⁻¹ + I_k⁻¹)⁻¹ (p_j − p_k)  ~  χ²(6)  for a static pose.
 //     A common bias moves p_j and p_k alike and cancels in the difference. Images j, k agree
-//     when T_jk ≤ χ²₆ quantile at 1 − α/P, P = n(n − 1)/2 pairs (Bonferroni: a static pose is
-//     failed with probability ≤ α, default 1e-3).
-//  5. The largest group of mutually agreeing images is found; when it is not every image, the
-//     pose fails naming the images outside it (or, with SplitPolicy::KeepLargest, keeps the
-//     group when it holds more than half the images, and lists the rest).
+//     when T_jk ≤ χ²₆ quantile at 1 − α/(2P), P = n(n − 1)/2 pairs (Bonferroni).
+//  5. Global homogeneity (n ≥ 3), which pools every image and so sees a small motion of a
+//     group that no single pair shows: Q = Σ_j (p_j − p̄)ᵀ C_j⁻¹ (p_j − p̄), p̄ the weighted
+//     mean, C_j = I_j⁻¹; static: Q ~ χ²(6(n − 1)); threshold at 1 − α/2. A static pose fails
+//     4 or 5 with probability ≤ α (default 1e-3).
+//  6. The largest group of mutually agreeing images is found (pairwise; when only Q fails, the
+//     larger of two clusters of the per-image poses); when it is not every image, the pose
+//     fails naming the images outside it (or, with SplitPolicy::KeepLargest, keeps the group
+//     when it holds more than half the images, and lists the rest).
 #include "mire/calibration/camera_model.hpp"
 #include "mire/metrology/detection.hpp"
 
@@ -48,6 +52,8 @@ struct IntegrityResult {
   std::vector<bool> use;              // per input image: enters the average
   double threshold = 0.0;             // χ²₆ threshold applied to each pair
   double max_statistic = 0.0;         // largest T_jk among the images used (0 when < 2 images)
+  double global_statistic = 0.0;      // Q over every tested image (0 when < 3 images)
+  double global_threshold = 0.0;      // χ² with 6(n − 1) dof at 1 − α/2
   int tested_images = 0;              // unique images with a per-image pose
   Eigen::Matrix2d noise_covariance = Eigen::Matrix2d::Zero();  // Σ of one observation (px²)
 };
@@ -57,8 +63,9 @@ IntegrityResult checkStaticPose(const calibration::Camera& camera, const std::ve
                                 const std::vector<Detection>& detections, const std::vector<std::string>& names,
                                 const IntegrityOptions& options = {});
 
-// The upper quantile of χ² with 6 degrees of freedom: P(χ²₆ > q) = tail, by bisection on the
-// closed-form survival function e^{−x/2}(1 + x/2 + x²/8).
+// The upper quantile of χ² with an even number k of degrees of freedom: P(χ²_k > q) = tail, by
+// bisection on the closed-form survival function e^{−x/2} Σ_{i<k/2} (x/2)^i / i!.
+double chiSquareEvenUpperQuantile(int dof, double tail);
 double chiSquare6UpperQuantile(double tail);
 
 }  // namespace mire::metrology

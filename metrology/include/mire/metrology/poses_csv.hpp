@@ -8,7 +8,8 @@
 //   sigma_pixel_tx_mm ... sigma_pixel_rz_deg            σ from the images' pixel noise alone
 //   sigma_intrinsics_tx_mm ... sigma_intrinsics_rz_deg  σ from the camera's covariance alone
 //   reduced_chi2                             whitened residual Σr²/(2N−6) (≫ 1: systematic
-//                                            feature errors; the total σ is inflated by it)
+//                                            feature errors; the total σ is inflated by it;
+//                                            one image: 1 by construction, σ from the residuals)
 //   features                                 features used in the fit
 //   ambiguous,ambiguity_ratio                planar flip flag (0/1) and cost(second)/cost(best)
 //   flags                                    ';'-separated codes, empty when none
