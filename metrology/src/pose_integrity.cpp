@@ -313,6 +313,39 @@ void markDuplicates(const std::vector<Detection>& detections, const std::vector<
                             nameList(names, list));
 }
 
+// The images outside `group` fail the pose (or, split allowed and a majority kept, are left
+// out), named with the evidence.
+void decide(const std::vector<ImagePose>& images, const Eigen::MatrixXd& statistic, const std::vector<int>& group,
+            const std::string& evidence, const std::vector<std::string>& names, const IntegrityOptions& options,
+            IntegrityResult* result) {
+  const int n = static_cast<int>(images.size());
+  std::vector<int> kept, moved;
+  for (int a = 0; a < n; ++a) {
+    const int index = images[static_cast<std::size_t>(a)].index;
+    if (std::find(group.begin(), group.end(), a) != group.end()) kept.push_back(index);
+    else moved.push_back(index);
+  }
+  if (moved.empty()) return;
+  std::ostringstream text;
+  text.precision(3);
+  text << "the images do not show one static pose (the robot or the target moved, or an image belongs to "
+          "another pose): "
+       << nameList(names, moved) << " disagree with " << nameList(names, kept) << " (" << evidence
+       << "pairwise pose difference chi-square up to " << statistic.maxCoeff() << ", 6 dof, threshold "
+       << result->threshold << ")";
+  result->moved = moved;
+  const bool majority = 2 * kept.size() > static_cast<std::size_t>(n);
+  if (options.split == SplitPolicy::KeepLargest && majority) {
+    for (const int j : moved) result->use[static_cast<std::size_t>(j)] = false;
+    result->notes.push_back(text.str() + "; kept the largest consistent group, left out: " + nameList(names, moved));
+    return;
+  }
+  result->consistent = false;
+  result->error = text.str() + (options.split == SplitPolicy::KeepLargest
+                                    ? "; no consistent group holds more than half of the images"
+                                    : "; --split-moving keep-largest keeps the largest consistent group");
+}
+
 }  // namespace
 
 double chiSquareEvenUpperQuantile(int dof, double tail) {
@@ -387,37 +420,9 @@ IntegrityResult checkStaticPose(const calibration::Camera& camera, const std::ve
     evidence << "homogeneity chi-square of the per-image poses " << result.global_statistic << " (" << 6 * (n - 1)
              << " dof, threshold " << result.global_threshold << "), ";
   }
-  std::vector<int> kept, moved;
-  for (int a = 0; a < n; ++a) {
-    const int index = images[static_cast<std::size_t>(a)].index;
-    if (std::find(group.begin(), group.end(), a) != group.end()) kept.push_back(index);
-    else moved.push_back(index);
-  }
   for (const int a : group)
     for (const int b : group) result.max_statistic = std::max(result.max_statistic, statistic(a, b));
-  if (moved.empty()) return result;
-
-  double worst = 0.0;
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) worst = std::max(worst, statistic(a, b));
-  std::ostringstream text;
-  text.precision(3);
-  text << "the images do not show one static pose (the robot or the target moved, or an image belongs to "
-          "another pose): "
-       << nameList(names, moved) << " disagree with " << nameList(names, kept)
-       << " (" << evidence.str() << "pairwise pose difference chi-square up to " << worst << ", 6 dof, threshold "
-       << result.threshold << ")";
-  result.moved = moved;
-  const bool majority = 2 * kept.size() > static_cast<std::size_t>(n);
-  if (options.split == SplitPolicy::KeepLargest && majority) {
-    for (const int j : moved) result.use[static_cast<std::size_t>(j)] = false;
-    result.notes.push_back(text.str() + "; kept the largest consistent group, left out: " + nameList(names, moved));
-    return result;
-  }
-  result.consistent = false;
-  result.error = text.str() + (options.split == SplitPolicy::KeepLargest
-                                   ? "; no consistent group holds more than half of the images"
-                                   : "; --split-moving keep-largest keeps the largest consistent group");
+  decide(images, statistic, group, evidence.str(), names, options, &result);
   return result;
 }
 

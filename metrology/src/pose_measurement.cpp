@@ -110,6 +110,13 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
       result.warnings.push_back(imageName(names, j) + ": target not found (" + detections[j].reason + ")");
   }
 
+  // The reference image through the same refinement as the others: a full detection's
+  // sub-pixel step differs from refineDetection's, and that difference, common to nothing but
+  // the reference image, would read as a motion of it (pose_integrity.hpp).
+  const Detection rerefined = refineDetection(target, images[reference], detections[reference], options.detection);
+  if (rerefined.found && rerefined.size() == detections[reference].size()) detections[reference] = rerefined;
+  for (std::size_t j = 0; j < images.size(); ++j)
+    if (copy_of[j] >= 0) detections[j] = detections[static_cast<std::size_t>(copy_of[j])];
   if (!averageIntegrity(camera, target, names, options, &detections, &result)) return result;
   result.estimate = estimatePose(camera, target.points(), result.features, options.pose);
   if (!result.estimate.valid) {
