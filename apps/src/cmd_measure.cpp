@@ -7,6 +7,7 @@
 
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
+#include "mire/metrology/campaign_screening.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/support/atomic_file.hpp"
@@ -36,6 +37,7 @@ struct MeasureSettings {
   double ambiguity_ratio = 4.0;
   double rejection_confidence = 0.999;
   std::string save_detections;  // CSV of every image's detections (doc/targets.md)
+  std::string split_moving = "fail";  // static-pose integrity: fail | keep-largest
 };
 
 double median(std::vector<double> values) {
@@ -72,6 +74,19 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
   std::printf("\n");
 }
 
+// Campaign-level screening (campaign_screening.hpp): flags in poses.csv, reasons here.
+void reportScreening(std::vector<metrology::MeasuredPose>* measured) {
+  const metrology::ScreeningResult screening = metrology::screenCampaign(measured);
+  int flagged = 0;
+  for (std::size_t i = 0; i < measured->size(); ++i) {
+    for (const auto& reason : screening.reasons[i])
+      std::cerr << "mire measure: pose " << (*measured)[i].pose_id << ": FLAGGED: " << reason << "\n";
+    flagged += screening.reasons[i].empty() ? 0 : 1;
+  }
+  if (flagged > 0)
+    std::cerr << "mire measure: " << flagged << " pose(s) stand out from the campaign (column 'flags' of poses.csv)\n";
+}
+
 int runMeasure(const MeasureSettings& settings) {
   const calibration::Camera camera = calibration::readCamera(settings.camera_path);
   const metrology::Target target = metrology::Target::fromFile(settings.target_path);
@@ -82,6 +97,8 @@ int runMeasure(const MeasureSettings& settings) {
   metrology::MeasurementOptions options;
   options.pose.ambiguity_ratio = settings.ambiguity_ratio;
   options.averaging.rejection_confidence = settings.rejection_confidence;
+  options.integrity.split =
+      settings.split_moving == "keep-largest" ? metrology::SplitPolicy::KeepLargest : metrology::SplitPolicy::Fail;
 
   const std::vector<PoseFolderMeasurement> jobs =
       measurePoseFolders(camera, target, settings.poses_dir, options, settings.threads);
@@ -91,13 +108,17 @@ int runMeasure(const MeasureSettings& settings) {
   for (const PoseFolderMeasurement& job : jobs) {
     for (const auto& warning : job.measurement.warnings)
       std::cerr << "mire measure: pose " << job.pose_id << ": warning: " << warning << "\n";
+    for (const auto& note : job.measurement.notes)
+      std::cerr << "mire measure: pose " << job.pose_id << ": note: " << note << "\n";
     if (!job.measurement.ok) {
       ++failed;
       std::cerr << "mire measure: pose " << job.pose_id << ": FAILED: " << job.measurement.error << "\n";
       continue;
     }
-    measured.push_back({job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate});
+    measured.push_back({job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate,
+                        metrology::measurementFlags(job.measurement)});
   }
+  reportScreening(&measured);
   if (measured.empty()) {
     std::cerr << "mire measure: error: no pose could be measured (" << failed << " failed); nothing written\n";
     return kFailure;
@@ -142,11 +163,16 @@ Runner addMeasureCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   command->add_option("--rejection-confidence", settings->rejection_confidence,
-                      "chi-square confidence of the outlier-image test")
+                      "chi-square confidence of the outlier-observation test (a moved image is the static-pose test's business, see --split-moving)")
       ->check(CLI::Range(0.5, 0.999999999))
       ->capture_default_str();
   command->add_option("--save-detections", settings->save_detections,
                       "write every image's detections (CSV, doc/targets.md)");
+  command->add_option("--split-moving", settings->split_moving,
+                      "when a pose's images do not show one static pose: fail it, or keep the largest consistent "
+                      "group (more than half of the images) and list the rest")
+      ->check(CLI::IsMember({"fail", "keep-largest"}))
+      ->capture_default_str();
   return [settings] { return runMeasure(*settings); };
 }
 

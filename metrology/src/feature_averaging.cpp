@@ -150,7 +150,7 @@ AveragedFeatures averageDetections(const std::vector<Detection>& detections, con
     return Eigen::Vector2d(clippedRms(xs), clippedRms(ys));
   };
 
-  if (image_count >= 3) {
+  if (image_count >= 3 && options.reject_images) {
     // Image-level test: a whole image displaced (vibration, a wrong refinement).
     std::vector<std::vector<Eigen::Vector2d>> per_image;
     residuals(&per_image);
@@ -226,7 +226,15 @@ AveragedFeatures averageDetections(const std::vector<Detection>& detections, con
   if (dof > 0) result.pooled_covariance = scatter_sum / dof;
   result.covariance.resize(result.ids.size(), Eigen::Matrix2d::Zero());
   if (dof == 0) return result;  // a single image: no scatter; the pose fit falls back on its residuals
-  // A (near-)zero pooled covariance is noiseless data: no shrinkage needed.
+  // No scatter at all (copies of one frame): no noise is known from the images; the pose fit
+  // estimates it from its residuals as for one image (pose_estimation.hpp).
+  if (result.pooled_covariance.isZero(0.0)) {
+    result.zero_scatter = true;
+    result.pooled_dof = 0;
+    return result;
+  }
+  // A singular pooled covariance (scatter along one axis only) is noiseless data on the other:
+  // no shrinkage needed.
   if (!(result.pooled_covariance.determinant() > 0.0)) {
     for (std::size_t i = 0; i < result.ids.size(); ++i) result.covariance[i] = result.pooled_covariance / result.observations[i];
     return result;

@@ -259,9 +259,14 @@ PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<E
   }
   Matrix6d noise = lu.inverse();
   if (!features.hasScatter()) {
-    // No multi-image scatter: the residuals estimate an isotropic pixel noise (unit weights).
+    // No multi-image scatter: the residuals estimate an isotropic pixel noise (unit weights),
+    // σ² = Σ r² / (2N − 6), floored. reduced_chi2 is then computed with that covariance, the
+    // one actually used, as for many images: 1 by construction unless floored.
     estimate.scatter_from_residuals = true;
-    noise *= dof > 0 ? 2.0 * best.cost / dof : 0.0;
+    const double floor = options.covariance_floor_px * options.covariance_floor_px;
+    const double variance = dof > 0 ? std::max(2.0 * best.cost / dof, floor) : floor;
+    noise *= variance;
+    estimate.reduced_chi2 = dof > 0 ? 2.0 * best.cost / (dof * variance) : 0.0;
   }
   estimate.covariance_pixel_noise = 0.5 * (noise + noise.transpose());
   const bool inflate = options.inflate_by_residuals && !estimate.scatter_from_residuals;

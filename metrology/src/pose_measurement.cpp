@@ -16,6 +16,42 @@ std::string imageName(const std::vector<std::string>& names, std::size_t index) 
 
 std::string sizeText(const cv::Size& size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
 
+// Per image: the index of an earlier image with identical pixels, or −1.
+std::vector<int> identicalImages(const std::vector<cv::Mat>& images) {
+  std::vector<int> copy_of(images.size(), -1);
+  for (std::size_t j = 1; j < images.size(); ++j)
+    for (std::size_t k = 0; k < j; ++k)
+      if (copy_of[k] < 0 && cv::norm(images[j], images[k], cv::NORM_INF) == 0.0) {
+        copy_of[j] = static_cast<int>(k);
+        break;
+      }
+  return copy_of;
+}
+
+// The static-pose test, then the average of the images it keeps (duplicates once). False
+// when the pose fails (result->error set).
+bool averageIntegrity(const calibration::Camera& camera, const Target& target, const std::vector<std::string>& names,
+                      const MeasurementOptions& options, std::vector<Detection>* detections, PoseMeasurement* result) {
+  result->integrity = checkStaticPose(camera, target.points(), *detections, names, options.integrity);
+  const IntegrityResult& integrity = result->integrity;
+  result->notes.insert(result->notes.end(), integrity.notes.begin(), integrity.notes.end());
+  if (!integrity.consistent) {
+    result->error = integrity.error;
+    return false;
+  }
+  AveragingOptions averaging = options.averaging;
+  if (options.integrity.enabled) {
+    averaging.reject_images = false;  // motion is the integrity test's business, named there
+    for (std::size_t j = 0; j < detections->size(); ++j)
+      if (!integrity.use[j]) (*detections)[j].found = false;
+  }
+  result->features = averageDetections(*detections, averaging);
+  for (const int j : result->features.rejected_images)
+    result->warnings.push_back(imageName(names, static_cast<std::size_t>(j)) +
+                               ": rejected as an outlier (whole-image displacement, chi-square test)");
+  return true;
+}
+
 }  // namespace
 
 PoseMeasurement measurePose(const calibration::Camera& camera, const Target& target, const std::vector<cv::Mat>& images,
@@ -44,11 +80,15 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
     return result;
   }
 
+  // Identical decoded pixels: a copied frame gets its original's detection (and so identical
+  // features, which the integrity test counts once).
+  const std::vector<int> copy_of = identicalImages(images);
   // Full detection until the target is found once, then cheap refinement from it.
   std::vector<Detection> detections(images.size());
   std::size_t reference = images.size();
   for (std::size_t j = 0; j < images.size() && reference == images.size(); ++j) {
-    detections[j] = detectTarget(target, images[j], options.detection);
+    detections[j] = copy_of[j] >= 0 ? detections[static_cast<std::size_t>(copy_of[j])]
+                                    : detectTarget(target, images[j], options.detection);
     if (detections[j].found) reference = j;
     else result.warnings.push_back(imageName(names, j) + ": target not found (" + detections[j].reason + ")");
   }
@@ -58,6 +98,10 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
     return result;
   }
   for (std::size_t j = reference + 1; j < images.size(); ++j) {
+    if (copy_of[j] >= 0) {
+      detections[j] = detections[static_cast<std::size_t>(copy_of[j])];
+      continue;
+    }
     detections[j] = refineDetection(target, images[j], detections[reference], options.detection);
     // A refinement that lost much of the target (the camera or the target moved): search again.
     if (!detections[j].found || detections[j].size() * 2 < detections[reference].size())
@@ -66,11 +110,15 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
       result.warnings.push_back(imageName(names, j) + ": target not found (" + detections[j].reason + ")");
   }
 
-  result.features = averageDetections(detections, options.averaging);
+  // The reference image through the same refinement as the others: a full detection's
+  // sub-pixel step differs from refineDetection's, and that difference, common to nothing but
+  // the reference image, would read as a motion of it (pose_integrity.hpp).
+  const Detection rerefined = refineDetection(target, images[reference], detections[reference], options.detection);
+  if (rerefined.found && rerefined.size() == detections[reference].size()) detections[reference] = rerefined;
+  for (std::size_t j = 0; j < images.size(); ++j)
+    if (copy_of[j] >= 0) detections[j] = detections[static_cast<std::size_t>(copy_of[j])];
+  if (!averageIntegrity(camera, target, names, options, &detections, &result)) return result;
   result.detections = detections;
-  for (const int j : result.features.rejected_images)
-    result.warnings.push_back(imageName(names, static_cast<std::size_t>(j)) +
-                              ": rejected as an outlier (whole-image displacement, chi-square test)");
   result.estimate = estimatePose(camera, target.points(), result.features, options.pose);
   if (!result.estimate.valid) {
     result.error = result.estimate.reason;
@@ -81,6 +129,13 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
     text << "ambiguous pose: the planar flip fits almost as well (cost ratio " << result.estimate.ambiguity_cost_ratio
          << ")";
     result.warnings.push_back(text.str());
+  }
+  if (result.estimate.scatter_from_residuals) {
+    std::ostringstream text;
+    text << (result.features.zero_scatter ? "zero scatter between the images: " : "one image: ")
+         << "sigma from the fit residuals (" << result.estimate.rms_px << " px rms, isotropic), reduced_chi2 = 1 by "
+         << "construction";
+    result.notes.push_back(text.str());
   }
   result.ok = true;
   return result;

@@ -28,6 +28,16 @@ std::string shortNumber(double value) {
   return support::formatNumber(value, 6);
 }
 
+std::string flagsText(const std::vector<std::string>& flags) {
+  std::string text;
+  for (const auto& flag : flags) {
+    if (flag.find_first_of(",;\n\"") != std::string::npos)
+      throw std::invalid_argument("pose flag '" + flag + "' contains a comma, semicolon, quote or newline");
+    text += (text.empty() ? "" : ";") + flag;
+  }
+  return text;
+}
+
 }  // namespace
 
 std::string posesCsvString(const std::vector<MeasuredPose>& poses) {
@@ -37,7 +47,7 @@ std::string posesCsvString(const std::vector<MeasuredPose>& poses) {
          "sigma_pixel_tx_mm,sigma_pixel_ty_mm,sigma_pixel_tz_mm,sigma_pixel_rx_deg,sigma_pixel_ry_deg,"
          "sigma_pixel_rz_deg,sigma_intrinsics_tx_mm,sigma_intrinsics_ty_mm,sigma_intrinsics_tz_mm,"
          "sigma_intrinsics_rx_deg,sigma_intrinsics_ry_deg,sigma_intrinsics_rz_deg,reduced_chi2,features,"
-         "ambiguous,ambiguity_ratio\n";
+         "ambiguous,ambiguity_ratio,flags\n";
   for (const MeasuredPose& pose : poses) {
     const PoseEstimate& e = pose.estimate;
     if (pose.pose_id.find_first_of(",\n\"") != std::string::npos)
@@ -53,7 +63,7 @@ std::string posesCsvString(const std::vector<MeasuredPose>& poses) {
     const auto intrinsics = humanSigmas(e.covariance_intrinsics);
     for (int i = 0; i < 6; ++i) out << ',' << shortNumber(intrinsics[i]);
     out << ',' << shortNumber(e.reduced_chi2) << ',' << e.feature_count << ',' << (e.ambiguous ? 1 : 0) << ','
-        << shortNumber(e.ambiguity_cost_ratio) << '\n';
+        << shortNumber(e.ambiguity_cost_ratio) << ',' << flagsText(pose.flags) << '\n';
   }
   return out.str();
 }

@@ -29,6 +29,10 @@ struct AveragingOptions {
   double pooled_prior_dof = 0.0;
   // A feature must be seen in at least this fraction of the images kept.
   double min_feature_fraction = 0.5;
+  // The whole-image displacement test below. measurePose turns it off: a displaced image is a
+  // moved pose, which the static-pose integrity test (pose_integrity.hpp) names instead of
+  // silently dropping it as an "outlier".
+  bool reject_images = true;
 };
 
 struct AveragedFeatures {
@@ -43,6 +47,9 @@ struct AveragedFeatures {
   Eigen::Matrix2d pooled_covariance = Eigen::Matrix2d::Zero();  // one observation (px²)
   int pooled_dof = 0;                             // 0 when a single image: no scatter known
   double prior_dof = 0.0;                         // ν0 used for the shrinkage
+  // Several images but no scatter at all (identical features): treated as a single image
+  // (pooled_dof = 0, the pose fit takes its noise from its residuals), never divided by zero.
+  bool zero_scatter = false;
   std::size_t size() const { return ids.size(); }
   bool hasScatter() const { return pooled_dof > 0; }
 };

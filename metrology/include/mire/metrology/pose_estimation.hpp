@@ -53,7 +53,12 @@ struct PoseEstimate {
   Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b) from Camera::covariance
   Matrix6d covariance = Matrix6d::Zero();             // (a) + (b)
   double rms_px = 0.0;          // RMS reprojection residual of the averaged features (px)
-  double reduced_chi2 = 0.0;    // whitened Σ r² / (2N − 6): ≈ 1 when the model fits to the noise
+  // Σ of the whitened residuals² / (2N − 6), whitened with the covariance actually used: the
+  // features' covariance of the mean (several images), or for one image (or copies of one)
+  // the isotropic σ² estimated from these same residuals, which makes it 1 by construction
+  // (no independent noise estimate; doc/measure-integrity.md). ≈ 1 when the model fits to
+  // the noise; ≫ 1: systematic feature errors.
+  double reduced_chi2 = 0.0;
   int feature_count = 0;
   bool scatter_from_residuals = false;  // no multi-image scatter: (a) uses the residuals
   bool ambiguous = false;

@@ -8,9 +8,12 @@
 //   sigma_pixel_tx_mm ... sigma_pixel_rz_deg            σ from the images' pixel noise alone
 //   sigma_intrinsics_tx_mm ... sigma_intrinsics_rz_deg  σ from the camera's covariance alone
 //   reduced_chi2                             whitened residual Σr²/(2N−6) (≫ 1: systematic
-//                                            feature errors; the total σ is inflated by it)
+//                                            feature errors; the total σ is inflated by it;
+//                                            one image: 1 by construction, σ from the residuals)
 //   features                                 features used in the fit
 //   ambiguous,ambiguity_ratio                planar flip flag (0/1) and cost(second)/cost(best)
+//   flags                                    ';'-separated codes, empty when none
+//                                            (campaign_screening.hpp, doc/measure-integrity.md)
 // t and r are cTm (r a rotation vector, cv::Rodrigues); σ = total (features + intrinsics).
 //
 // poses_covariance.csv: the full 6×6 covariances, 24 rows per pose, header
@@ -22,15 +25,24 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mire::metrology {
 
 struct MeasuredPose {
+  // A constructor (not an aggregate) so that {id, used, total, estimate} still builds one
+  // without naming the flags.
+  MeasuredPose() = default;
+  MeasuredPose(std::string id, int used, int total, PoseEstimate pose_estimate, std::vector<std::string> pose_flags = {})
+      : pose_id(std::move(id)), images_used(used), images_total(total), estimate(std::move(pose_estimate)),
+        flags(std::move(pose_flags)) {}
+
   std::string pose_id;
   int images_used = 0;
   int images_total = 0;
   PoseEstimate estimate;  // must be valid
+  std::vector<std::string> flags;  // written ';'-separated in the `flags` column
 };
 
 std::string posesCsvString(const std::vector<MeasuredPose>& poses);
