@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "mire/mechanism/external.hpp"
+#include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/mechanism.hpp"
 
 namespace mire::mechanism {
@@ -101,6 +102,27 @@ Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
   m.mTe.linear() = projectToRotation(Rme);
   m.mTe.translation() = tme;
   return m;
+}
+
+void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form,
+                            ParameterSet& parameters, const std::vector<PoseObservation>& poses) {
+  if (mechanism.motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty()) return;
+  Eigen::VectorXd e(12);
+  const std::vector<std::string> names = form.parameters().names();
+  for (int k = 0; k < 12; ++k) e[k] = parameters.value(names[static_cast<std::size_t>(k)]);
+  Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
+  for (const PoseObservation& p : poses) mean += toIsometry(p.cTm).linear();
+  const Eigen::Matrix3d cRb = form.baseFromCamera(e).linear().transpose();
+  const Eigen::Matrix3d eRm_old = form.targetFromEffector(e).linear().transpose();
+  const Eigen::Matrix3d eRm_new = projectToRotation(cRb.transpose() * projectToRotation(mean));
+  // The joints see only the effector origin in M, −eRmᵀ·t_EM: keep it while turning eRm.
+  const Eigen::Vector3d t_new = eRm_new * (eRm_old.transpose() * Eigen::Vector3d(e.segment<3>(6)));
+  const Eigen::AngleAxisd aa(eRm_new);
+  const Eigen::Vector3d r = aa.axis() * aa.angle();
+  for (int k = 0; k < 3; ++k) {
+    parameters.setValue(names[static_cast<std::size_t>(6 + k)], t_new[k]);
+    parameters.setValue(names[static_cast<std::size_t>(9 + k)], r[k]);
+  }
 }
 
 ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,

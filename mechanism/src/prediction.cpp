@@ -14,7 +14,7 @@ namespace mire::mechanism {
 
 namespace {
 
-constexpr double kStep = 1e-7;  // central-difference step [m or rad]
+constexpr double kStep = 1e-6;  // central-difference step [m or rad]
 
 ExternalParameterization fullForm() { return ExternalParameterization(ExternalForm::Full); }
 
@@ -60,6 +60,17 @@ Eigen::MatrixXd jointsWrtPose(const PredictionModel& m, const Eigen::VectorXd& X
   return J;
 }
 
+// The rotation vector (entries 3..5) equivalent to v's and nearest `reference`'s: r and
+// r·(1 − 2π/|r|) are the same rotation, and near a half turn differences must not jump by 2π.
+PoseVector nearestRotationVector(PoseVector v, const PoseVector& reference) {
+  const Eigen::Vector3d r = v.tail<3>(), r0 = reference.tail<3>();
+  if (r.norm() > 1.0) {
+    const Eigen::Vector3d other = r * (1.0 - 2.0 * 3.14159265358979323846 / r.norm());
+    if ((other - r0).norm() < (r - r0).norm()) v.tail<3>() = other;
+  }
+  return v;
+}
+
 Eigen::MatrixXd subCovariance(const Eigen::MatrixXd& C, const std::vector<std::size_t>& a,
                               const std::vector<std::size_t>& b) {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(a.size()), static_cast<Eigen::Index>(b.size()));
@@ -95,9 +106,22 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
     return Eigen::VectorXd(full.valuesFrom(id.external.baseFromCamera(e), id.external.targetFromEffector(e)));
   };
   const Eigen::VectorXd e0 = id.externalValues();
+  const Eigen::VectorXd full0 = toFull(e0);
+  // Near a half turn a rotation vector r and r·(1 − 2π/|r|) are the same rotation: take the
+  // one nearest the unperturbed value, or the differences below jump by 2π.
+  const auto nearFull0 = [&](Eigen::VectorXd v) {
+    for (int start : {3, 9}) {
+      const Eigen::Vector3d r = v.segment<3>(start), r0 = full0.segment<3>(start);
+      if (r.norm() > 1.0) {
+        const Eigen::Vector3d other = r * (1.0 - 2.0 * 3.14159265358979323846 / r.norm());
+        if ((other - r0).norm() < (r - r0).norm()) v.segment<3>(start) = other;
+      }
+    }
+    return v;
+  };
   m.mounting = full.parameters();
   m.mounting.freeAll();
-  m.mounting.setValues(toFull(e0));
+  m.mounting.setValues(full0);
 
   // Covariance: free geometric names as they are; free external names through ∂full/∂e.
   std::vector<std::size_t> geo, ext;
@@ -109,12 +133,19 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
   const auto nf = static_cast<Eigen::Index>(result.free_names.size());
   Eigen::MatrixXd T = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(geo.size()) + 12, nf);
   for (std::size_t i = 0; i < geo.size(); ++i) T(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(geo[i])) = 1.0;
+  const bool is_full = id.external.form() == ExternalForm::Full;
+  constexpr double kConversionStep = 1e-5;  // smooth map: truncation error ~1e-10
   for (std::size_t k : ext) {
     const std::size_t index = all.index(result.free_names[k]) - static_cast<std::size_t>(G);
+    if (is_full) {  // the mounting values are the parameters themselves
+      T(static_cast<Eigen::Index>(geo.size() + index), static_cast<Eigen::Index>(k)) = 1.0;
+      continue;
+    }
     Eigen::VectorXd p = e0, q = e0;
-    p[static_cast<Eigen::Index>(index)] += kStep;
-    q[static_cast<Eigen::Index>(index)] -= kStep;
-    T.block(static_cast<Eigen::Index>(geo.size()), static_cast<Eigen::Index>(k), 12, 1) = (toFull(p) - toFull(q)) / (2 * kStep);
+    p[static_cast<Eigen::Index>(index)] += kConversionStep;
+    q[static_cast<Eigen::Index>(index)] -= kConversionStep;
+    T.block(static_cast<Eigen::Index>(geo.size()), static_cast<Eigen::Index>(k), 12, 1) =
+        (nearFull0(toFull(p)) - nearFull0(toFull(q))) / (2 * kConversionStep);
   }
   m.covariance = T * result.covariance * T.transpose();
   return m;
@@ -260,8 +291,9 @@ PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& join
   const ExternalParameterization full = fullForm();
   const Eigen::VectorXd mount = m.mounting.values();
   const auto cTmOf = [&](const Eigen::VectorXd& X, const Eigen::VectorXd& mt) {
-    return PoseVector(toPoseVector(full.baseFromCamera(mt).inverse() * m.mechanism->poseToTransform(X) *
-                                   full.targetFromEffector(mt)));
+    return nearestRotationVector(toPoseVector(full.baseFromCamera(mt).inverse() * m.mechanism->poseToTransform(X) *
+                                              full.targetFromEffector(mt)),
+                                 out.cTm);
   };
   Eigen::MatrixXd dX(6, P), dM(6, 12);
   for (Eigen::Index k = 0; k < P; ++k) {

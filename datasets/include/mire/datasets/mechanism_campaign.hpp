@@ -9,7 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+#include <filesystem>
+#include <sstream>
 #include <Eigen/Geometry>
 
 namespace mire::datasets {
@@ -128,6 +134,31 @@ inline Campaign simulateCampaign(const std::string& name, unsigned seed, double 
     c.poses.push_back(p);
   }
   return c;
+}
+
+// Writes poses [first, first + count) as poses.csv (σ columns from the noise) and joints.csv
+// (the mechanism's q<i>_rad / q<i>_m columns) in `dir`, under the given file names.
+inline void writeCampaignFiles(const Campaign& c, const std::filesystem::path& dir, std::size_t first,
+                               std::size_t count, const std::string& poses_name = "poses.csv",
+                               const std::string& joints_name = "joints.csv", double noise_t = 0.2e-3,
+                               double noise_r = 0.03 * kCampaignDeg) {
+  std::ostringstream poses;
+  poses << "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,"
+           "sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n";
+  std::vector<std::string> ids;
+  std::vector<Eigen::VectorXd> joints;
+  for (std::size_t j = first; j < first + count && j < c.poses.size(); ++j) {
+    const PoseObservation& p = c.poses[j];
+    poses << p.id << ",10,10";
+    for (int k = 0; k < 6; ++k) poses << ',' << support::formatNumber(p.cTm[k]);
+    for (int k = 0; k < 3; ++k) poses << ',' << support::formatNumber(noise_t * 1e3);
+    for (int k = 0; k < 3; ++k) poses << ',' << support::formatNumber(noise_r / kCampaignDeg);
+    poses << ",0.1\n";
+    ids.push_back(p.id);
+    joints.push_back(p.joints);
+  }
+  support::writeFileAtomically(dir / poses_name, poses.str());
+  writeJointsCsv(dir / joints_name, ids, joints, c.model.mechanism->jointColumnNames());
 }
 
 }  // namespace mire::datasets

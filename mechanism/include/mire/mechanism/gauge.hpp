@@ -35,6 +35,14 @@ std::vector<PoseObservation> modelConsistentPoses(const IdentificationModel& mod
 GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
                            const IdentifiabilityOptions& options = {});
 
+// A plate that only translates: the target's rotation on the effector (eTm, full form) has
+// no influence on the joints, so the identification leaves it where the initialisation put
+// it. Sets it from the measured orientations and the identified camera mounting,
+// eRm = cRbᵀ · mean_j(cRm_j), so that the model predicts cTm's orientation too. No-op for
+// other motions or forms. (Defined in external_mounting.cpp.)
+void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form,
+                            ParameterSet& parameters, const std::vector<PoseObservation>& poses);
+
 // analyzeGauge(), then fixes the gauge parameters in `model`.
 GaugeAnalysis fixGauge(IdentificationModel& model, const std::vector<PoseObservation>& poses,
                        const IdentifiabilityOptions& options = {});
