@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
   const std::vector<std::pair<std::string, Runner>> commands = {
       {"calibrate", addCalibrateCommand(app)}, {"measure", addMeasureCommand(app)},
       {"identify", addIdentifyCommand(app)},   {"simulate", addSimulateCommand(app)},
-      {"demo", addDemoCommand(app)},           {"convert", addConvertCommand(app)}};
+      {"demo", addDemoCommand(app)},           {"convert", addConvertCommand(app)}, {"fkm", addFkmCommand(app)},
+      {"ikm", addIkmCommand(app)}};
 
   // Name an unknown subcommand plainly (CLI11 would only say that one is required).
   if (argc > 1 && argv[1][0] != '-') {

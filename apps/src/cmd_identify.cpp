@@ -6,6 +6,9 @@
 #include "identify_report.hpp"
 
 #include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/gauge.hpp"
+#include "mire/mechanism/prediction.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
@@ -127,8 +130,12 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   const std::string model = !args.model.empty() ? args.model
                             : (letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera) ? "h4-31c"
                                                                                                            : "h4-12";
-  mech::H4ModelKind kind;
-  if (model == "h4-12") {
+  mech::H4ModelKind kind = mech::H4ModelKind::Model12;
+  const bool h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
+  if (!h4) {
+    mech::makeRegisteredModel(model);  // throws "unknown model 'x' (known: ...)"
+    if (letter) throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + model);
+  } else if (model == "h4-12") {
     kind = mech::H4ModelKind::Model12;
     if (!letter) letter = 'D';
   } else if (model == "h4-31c") {
@@ -137,24 +144,27 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   } else if (model == "h4-31") {
     kind = mech::H4ModelKind::Model31;
     if (letter) throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
-  } else {
-    throw std::invalid_argument("--model '" + model + "': expected h4-12, h4-31 or h4-31c");
   }
   if (letter && mech::h4Variant(letter).model != kind)
     throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + model +
                                 " (A-D: h4-12, E-H: h4-31c)");
 
   // ---- inputs ----
-  const mech::H4Nominal nominal = readNominal(args.nominal.empty() ? defaultNominalPath() : args.nominal);
+  if (!h4 && !args.nominal.empty())
+    throw std::invalid_argument("--nominal applies to the H4 models; " + model + " starts from its built-in nominal");
+  const mech::H4Nominal nominal = h4 ? readNominal(args.nominal.empty() ? defaultNominalPath() : args.nominal)
+                                     : mech::H4Nominal{};
+  const mech::RegisteredModel registered = mech::makeRegisteredModel(model, nominal);
+  const std::vector<std::string> joint_columns = registered.mechanism->jointColumnNames();
   std::optional<fs::path> covariance_path;
   if (!args.covariances.empty()) covariance_path = fs::path(args.covariances);
   else if (fs::exists(mech::defaultCovariancePath(args.poses))) covariance_path = mech::defaultCovariancePath(args.poses);
-  mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance_path);
+  mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance_path, joint_columns);
   auto& poses = observations.poses;
   if (args.unweighted)
     for (auto& p : poses) p.covariance.reset();
   std::vector<mech::LineRecord> lines;
-  if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines);
+  if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines, joint_columns);
 
   mech::IdentificationOptions options;
   options.fix = args.fix;
@@ -164,7 +174,15 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   // ---- initial model ----
   mech::IdentificationModel initial;
   std::string label;
-  if (kind == mech::H4ModelKind::Model31) {
+  std::optional<mech::GaugeAnalysis> gauge;
+  if (!h4) {
+    // Mounting from the data (motion type), user's --fix, then the gauge by pivoted QR.
+    initial = mech::makeInitialModel(registered.mechanism, registered.nominal, poses, registered.external_form);
+    for (const auto& name : options.fix) initial.parameters.at(name);  // names an unknown one
+    initial.parameters.fix(options.fix);
+    gauge = mech::fixGauge(initial, poses);
+    label = model;
+  } else if (kind == mech::H4ModelKind::Model31) {
     std::shared_ptr<const mech::Mechanism> mechanism = mech::makeH4Mechanism(kind, nominal);
     mech::ParameterSet geometric = mech::model31FromModel12(mech::h4Model12Parameters(nominal));
     initial = mech::makeInitialModel(mechanism, geometric, poses, mech::ExternalForm::AxisAligned);
@@ -178,7 +196,8 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     if (!initial.parameters.contains(name)) initial.parameters.at(name);  // throws naming it and the known ones
 
   const auto before = residualsOf(initial, poses);
-  const mech::IdentificationResult result = mech::identify(initial, poses, options);
+  mech::IdentificationResult result = mech::identify(initial, poses, options);
+  mech::alignTranslatingTarget(*result.model.mechanism, result.model.external, result.model.parameters, poses);
   if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
 
   // ---- criteria ----
@@ -238,6 +257,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     for (const auto& id : result.outliers) out << ' ' << id;
     out << "\n";
   }
+  if (gauge) out << gauge->text();
   out << "parameter      unit    initial        identified     sigma          change\n";
   for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
     const auto& p = result.model.parameters[i];
@@ -305,10 +325,13 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     data.summary_text = out.str();
     writeIdentifyReport(args.report, data);
   }
+  const mech::PredictionModel prediction = mech::predictionModelFrom(model, result);
+  mech::writePredictionCovarianceCsv(mech::defaultParameterCovariancePath(args.output), prediction);
   mech::writeParameterFile(args.output, result.model.parameters, result.sigma, metadata,
                            "Identified by mire identify (" + label + ") from " + args.poses + " and " + args.joints +
                                "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");
-  std::cout << out.str() << "wrote " << args.output << (args.report.empty() ? "" : " and the report in " + args.report)
+  std::cout << out.str() << "wrote " << args.output << ", "
+            << mech::defaultParameterCovariancePath(args.output).string() << " (full parameter covariance)" << (args.report.empty() ? "" : " and the report in " + args.report)
             << "\n";
   return kOk;
 }
@@ -317,9 +340,9 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
 
 Runner addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArguments>();
-  CLI::App* cmd = app.add_subcommand("identify", "identify the H4's geometry from poses.csv and joints.csv");
+  CLI::App* cmd = app.add_subcommand("identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
   cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, BRIEF §10)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_rad..q4_rad)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--pose-covariances", args->covariances,
                   "6x6 pose covariances (default: <poses>_covariance.csv beside poses.csv when it exists, "
                   "else the sigma_ columns)")->check(CLI::ExistingFile);
@@ -327,8 +350,8 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--nominal", args->nominal, "nominal model-12 geometry YAML (default datasets/specs/h4_nominal.yaml)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--model", args->model,
-                  "h4-12 (variants A-D), h4-31 (base frame) or h4-31c (camera frame, E-H); default: the "
-                  "variant's model, else h4-12");
+                  "h4-12 (variants A-D), h4-31 (base frame), h4-31c (camera frame, E-H), delta, delta-legs or "
+                  "gough-stewart; default: the variant's model, else h4-12");
   cmd->add_option("--variant", args->variant, "paper Table 2 variant A..H (default D for h4-12, H for h4-31c)");
   cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
   cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");

@@ -25,6 +25,8 @@ Runner addIdentifyCommand(CLI::App& app);
 Runner addSimulateCommand(CLI::App& app);
 Runner addDemoCommand(CLI::App& app);
 Runner addConvertCommand(CLI::App& app);
+Runner addFkmCommand(CLI::App& app);
+Runner addIkmCommand(CLI::App& app);
 
 // The version string printed by `mire --version`.
 std::string versionString();

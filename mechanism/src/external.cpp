@@ -109,6 +109,12 @@ Eigen::Matrix3d tiltXY(double x, double y) { return fromRotationVector(Eigen::Ve
 
 }  // namespace
 
+// Translation-only and 6-DoF mechanisms: the Full form from a data-driven mounting
+// (external_mounting.cpp).
+ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
+                                      const std::vector<PoseObservation>& poses, ExternalForm form,
+                                      ExternalParameterization& parameterization);
+
 std::string externalFormName(ExternalForm form) {
   switch (form) {
     case ExternalForm::AxisAligned: return "axis-aligned";
@@ -265,11 +271,16 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
   std::vector<Eigen::Matrix3d> R;
   for (const PoseObservation& p : poses) R.push_back(toIsometry(p.cTm).linear());
   // Every relative rotation is about the common axis: principal direction of their
-  // rotation vectors (all pairs; small rotations weigh little).
+  // rotation vectors (small rotations weigh little). Relative to a bounded number of
+  // reference poses spread over the list, so the cost is linear in the pose count (the
+  // maximum-likelihood refinement below removes the dependence on that choice).
+  constexpr std::size_t kReferences = 16;
+  const std::size_t stride = std::max<std::size_t>(1, R.size() / kReferences);
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   double largest = 0.0;
-  for (std::size_t i = 0; i < R.size(); ++i)
-    for (std::size_t j = i + 1; j < R.size(); ++j) {
+  for (std::size_t i = 0; i < R.size(); i += stride)
+    for (std::size_t j = 0; j < R.size(); ++j) {
+      if (j == i) continue;
       const Eigen::Vector3d w = rotationVector(R[j] * R[i].transpose());
       scatter += w * w.transpose();
       largest = std::max(largest, w.norm());
@@ -353,14 +364,9 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
   return alignment;
 }
 
-ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
-                              const std::vector<PoseObservation>& poses, ExternalForm form,
-                              ExternalParameterization& parameterization, double z_ME) {
-  validatePoses(poses, mechanism.jointCount());
-  if (!std::isfinite(z_ME)) throw std::invalid_argument("z_ME is not finite");
-  AxisAlignment alignment = estimateAxisAlignment(poses);
-
-  // Effector poses from the encoders through the FKM at the nominal geometry.
+std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
+                                                  const Eigen::VectorXd& geometric,
+                                                  const std::vector<PoseObservation>& poses) {
   const Eigen::VectorXd start = mechanism.referencePose(geometric);
   std::vector<Eigen::Isometry3d> bTe;
   std::string failed;
@@ -372,6 +378,20 @@ ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd&
   if (!failed.empty())
     throw std::runtime_error("initial external parameters: the FKM did not converge for pose(s) " +
                              failed);
+  return bTe;
+}
+
+ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
+                              const std::vector<PoseObservation>& poses, ExternalForm form,
+                              ExternalParameterization& parameterization, double z_ME) {
+  validatePoses(poses, mechanism.jointCount());
+  if (!std::isfinite(z_ME)) throw std::invalid_argument("z_ME is not finite");
+  if (mechanism.motionType() != MotionType::Schoenflies)
+    return estimateMountingExternal(mechanism, geometric, poses, form, parameterization);
+  AxisAlignment alignment = estimateAxisAlignment(poses);
+
+  // Effector poses from the encoders through the FKM at the nominal geometry.
+  const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, geometric, poses);
 
   const std::size_t n = poses.size();
   std::vector<double> phi(n), theta(n);

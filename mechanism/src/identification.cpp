@@ -132,7 +132,7 @@ void evaluateAll(const IdentificationModel& model, const std::vector<PoseObserva
     }
   }
   if (!unreachable.empty())
-    throw std::runtime_error("the IKM is unreachable (|c| > rho) for pose(s) " + joinIds(unreachable));
+    throw std::runtime_error("the IKM has no solution (a leg cannot reach the pose) for pose(s) " + joinIds(unreachable));
 }
 
 std::vector<Eigen::MatrixXd> identityWhitening(const IdentificationModel& model, std::size_t n,
@@ -259,7 +259,7 @@ IdentificationResult identify(const IdentificationModel& initial,
                                 std::to_string(J * poses.size()) + " residuals for " +
                                 std::to_string(free_count) + " unknowns");
   if (const auto ids = unreachablePoses(result.model, poses); !ids.empty())
-    throw std::runtime_error("the IKM is unreachable (|c| > rho) at the initial parameters for pose(s) " +
+    throw std::runtime_error("the IKM has no solution (a leg cannot reach the pose) at the initial parameters for pose(s) " +
                              joinIds(ids));
 
   bool has_covariances = !poses.empty();

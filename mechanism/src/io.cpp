@@ -114,10 +114,16 @@ std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
 }
 
 std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv, int joint_count) {
+  return readJointsCsv(joints_csv, jointColumns(joint_count));
+}
+
+std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv,
+                                    const std::vector<std::string>& joint_columns) {
+  const int joint_count = static_cast<int>(joint_columns.size());
   const support::CsvTable table = support::readCsv(joints_csv);
   const std::size_t id_col = table.column("pose_id");
   std::vector<std::size_t> cols;
-  for (const auto& name : jointColumns(joint_count)) cols.push_back(table.column(name));
+  for (const auto& name : joint_columns) cols.push_back(table.column(name));
   std::vector<JointRow> rows;
   std::map<std::string, std::size_t> seen;
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
@@ -134,11 +140,19 @@ std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv, int
 
 void writeJointsCsv(const std::filesystem::path& joints_csv, const std::vector<std::string>& ids,
                     const std::vector<Eigen::VectorXd>& joints) {
+  const int n = joints.empty() ? 4 : static_cast<int>(joints.front().size());
+  writeJointsCsv(joints_csv, ids, joints, jointColumns(n));
+}
+
+void writeJointsCsv(const std::filesystem::path& joints_csv, const std::vector<std::string>& ids,
+                    const std::vector<Eigen::VectorXd>& joints, const std::vector<std::string>& joint_columns) {
   if (ids.size() != joints.size()) throw std::invalid_argument("writeJointsCsv: ids and joints differ in count");
+  for (const auto& q : joints)
+    if (q.size() != static_cast<Eigen::Index>(joint_columns.size()))
+      throw std::invalid_argument("writeJointsCsv: a joint vector does not match the columns");
   std::ostringstream out;
   out << "pose_id";
-  const int n = joints.empty() ? 4 : static_cast<int>(joints.front().size());
-  for (const auto& name : jointColumns(n)) out << ',' << name;
+  for (const auto& name : joint_columns) out << ',' << name;
   out << '\n';
   for (std::size_t k = 0; k < ids.size(); ++k) {
     out << ids[k];
@@ -150,8 +164,15 @@ void writeJointsCsv(const std::filesystem::path& joints_csv, const std::vector<s
 
 ObservationSet readObservations(const std::filesystem::path& poses_csv, const std::filesystem::path& joints_csv,
                                 const std::optional<std::filesystem::path>& covariance_csv, int joint_count) {
+  return readObservations(poses_csv, joints_csv, covariance_csv, jointColumns(joint_count));
+}
+
+ObservationSet readObservations(const std::filesystem::path& poses_csv, const std::filesystem::path& joints_csv,
+                                const std::optional<std::filesystem::path>& covariance_csv,
+                                const std::vector<std::string>& joint_columns) {
+  const int joint_count = static_cast<int>(joint_columns.size());
   const auto pose_rows = readPosesCsv(poses_csv, covariance_csv);
-  const auto joint_rows = readJointsCsv(joints_csv, joint_count);
+  const auto joint_rows = readJointsCsv(joints_csv, joint_columns);
   std::map<std::string, const JointRow*> by_id;
   for (const auto& row : joint_rows) by_id[row.pose_id] = &row;
   ObservationSet set;
@@ -173,10 +194,16 @@ ObservationSet readObservations(const std::filesystem::path& poses_csv, const st
 }
 
 std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv, int joint_count) {
+  return readLinesCsv(lines_csv, jointColumns(joint_count));
+}
+
+std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv,
+                                     const std::vector<std::string>& joint_columns) {
+  const int joint_count = static_cast<int>(joint_columns.size());
   const support::CsvTable table = support::readCsv(lines_csv);
   const std::size_t id_col = table.column("line_id");
   std::vector<std::size_t> cols;
-  for (const auto& name : jointColumns(joint_count)) cols.push_back(table.column(name));
+  for (const auto& name : joint_columns) cols.push_back(table.column(name));
   std::vector<LineRecord> lines;
   std::map<std::string, std::size_t> index;
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
@@ -197,10 +224,15 @@ std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv, int
 }
 
 void writeLinesCsv(const std::filesystem::path& lines_csv, const std::vector<LineRecord>& lines) {
-  std::ostringstream out;
   const int n = lines.empty() || lines.front().joints.empty() ? 4 : static_cast<int>(lines.front().joints.front().size());
+  writeLinesCsv(lines_csv, lines, jointColumns(n));
+}
+
+void writeLinesCsv(const std::filesystem::path& lines_csv, const std::vector<LineRecord>& lines,
+                   const std::vector<std::string>& joint_columns) {
+  std::ostringstream out;
   out << "line_id";
-  for (const auto& name : jointColumns(n)) out << ',' << name;
+  for (const auto& name : joint_columns) out << ',' << name;
   out << '\n';
   for (const auto& line : lines)
     for (const auto& q : line.joints) {

@@ -112,10 +112,37 @@ class ExternalParameterization {
 // Throws std::invalid_argument when the poses span less than 2° of rotation.
 AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses);
 
+// Effector poses bTe from the encoder readings through the FKM at `geometric`, started at
+// the mechanism's reference pose. Throws std::runtime_error naming the pose ids where the
+// FKM does not converge.
+std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
+                                                  const Eigen::VectorXd& geometric,
+                                                  const std::vector<PoseObservation>& poses);
+
+// Mountings (bTc, mTe) with bTe_j = bTc · cTm_j · mTe from effector poses and measured cTm.
+struct Mounting {
+  Eigen::Isometry3d bTc = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d mTe = Eigen::Isometry3d::Identity();
+};
+// A plate that only translates (bRe = I): the rotation bRc from the displacements
+// (Umeyama's least-squares fit, Eigen::umeyama), mRe from the mean measured orientation;
+// the target's offset cannot be told from the camera position, so mTe's translation is 0
+// and bTc's absorbs it. Throws std::invalid_argument when the positions do not span a
+// volume (fewer than 3 non-collinear displacements).
+Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe,
+                                  const std::vector<PoseVector>& cTm);
+// Full 6-DoF motion: robot-world hand-eye solve (cv::calibrateRobotWorldHandEye, Shah's
+// method) of mTc_j · cTb = mTe · eTb_j. Throws std::invalid_argument when the orientations
+// span less than 2°.
+Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
+                             const std::vector<PoseVector>& cTm);
+
 // Initial external values from the data, never typed by users (BRIEF §6): the effector
 // poses are computed with the FKM at `geometric` (nominal) and the encoder readings, then
 // bTc, mTe are solved in closed form (rotation-axis alignment, then a linear least-squares
 // fit of ψ_BC and the translations in the plane; z_BC from the mean with z_ME = `z_ME`).
+// A mechanism whose effector only translates or moves in 6 DoF takes the Full form only,
+// initialised by mountingFromTranslations() / mountingFromHandEye() (z_ME unused).
 // Returns the form's ParameterSet with values and default fixed flags. The returned
 // parameterisation (with its alignment) is written to `parameterization`.
 // Throws std::runtime_error naming the pose ids where the FKM does not converge.

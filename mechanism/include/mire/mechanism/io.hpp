@@ -44,9 +44,14 @@ struct JointRow {
   int line = 0;
 };
 std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv, int joint_count = 4);
+// The mechanism's own columns (Mechanism::jointColumnNames(): q<i>_rad or q<i>_m).
+std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv,
+                                    const std::vector<std::string>& joint_columns);
 // Writes joints.csv atomically (17 significant digits).
 void writeJointsCsv(const std::filesystem::path& joints_csv, const std::vector<std::string>& ids,
                     const std::vector<Eigen::VectorXd>& joints);
+void writeJointsCsv(const std::filesystem::path& joints_csv, const std::vector<std::string>& ids,
+                    const std::vector<Eigen::VectorXd>& joints, const std::vector<std::string>& joint_columns);
 
 // Pairs poses and joints by id. A pose without joints is an error naming the poses file
 // and line; joints rows without a pose are returned in `unused_joint_ids` (e.g. poses that
@@ -59,6 +64,10 @@ ObservationSet readObservations(const std::filesystem::path& poses_csv,
                                 const std::filesystem::path& joints_csv,
                                 const std::optional<std::filesystem::path>& covariance_csv = {},
                                 int joint_count = 4);
+ObservationSet readObservations(const std::filesystem::path& poses_csv,
+                                const std::filesystem::path& joints_csv,
+                                const std::optional<std::filesystem::path>& covariance_csv,
+                                const std::vector<std::string>& joint_columns);
 
 // ---- lines.csv (straight-line motions, criterion V3, paper §6.1) ---------------------------
 // Header line_id,q1_rad,...,qN_rad; one row per recorded point, points in motion order,
@@ -68,7 +77,11 @@ struct LineRecord {
   std::vector<Eigen::VectorXd> joints;
 };
 std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv, int joint_count = 4);
+std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv,
+                                     const std::vector<std::string>& joint_columns);
 void writeLinesCsv(const std::filesystem::path& lines_csv, const std::vector<LineRecord>& lines);
+void writeLinesCsv(const std::filesystem::path& lines_csv, const std::vector<LineRecord>& lines,
+                   const std::vector<std::string>& joint_columns);
 
 // ---- mechanism parameter YAML (parameters_yaml.cpp) -------------------------------------
 // A flat YAML mapping, any YAML syntax (support/yaml.hpp; OpenCV's "%YAML:1.0" too):

@@ -24,7 +24,16 @@ class CostFunction;
 
 namespace mire::mechanism {
 
-// Result of an IKM evaluation. An unreachable pose (e.g. |c| > ρ on an H4 leg) lists the
+// How the effector moves (BRIEF §4, §11, §12). It chooses the external parametrisation
+// and its data-driven initialisation (external.hpp):
+//  - Schoenflies: 3 translations + rotation about one fixed axis (H4): axis alignment;
+//  - Translation: the plate keeps the base orientation (Delta): rotation fit from the
+//    displacements (Kabsch/Umeyama);
+//  - Spatial: full 6 DoF (Gough–Stewart): robot-world hand-eye solve.
+enum class MotionType { Schoenflies, Translation, Spatial };
+std::string motionTypeName(MotionType type);  // "schoenflies", "translation", "spatial"
+
+// Result of an IKM evaluation. An unreachable pose (no real solution for a leg) lists the
 // failing joints: their entries in `joints` are NaN and must never be used silently.
 struct IkmResult {
   Eigen::VectorXd joints;                // q [rad or m], size jointCount()
@@ -34,7 +43,7 @@ struct IkmResult {
 
 struct FkmOptions {
   int max_iterations = 50;
-  double joint_tolerance = 1e-10;  // converged when every |q(X) − q̄| is below this [rad]
+  double joint_tolerance = 1e-10;  // converged when every |q(X) − q̄| is below this [rad or m]
 };
 
 // Numerical FKM (Levenberg–Marquardt on the IKM, Ceres): the pose X whose IKM gives q̄.
@@ -53,6 +62,11 @@ class Mechanism {
 
   virtual std::string name() const = 0;
   virtual int jointCount() const = 0;
+  // Unit of each actuated joint: Radian (revolute) or Metre (prismatic), jointCount() entries.
+  virtual std::vector<Unit> jointUnits() const = 0;
+  // joints.csv column names q<i>_rad / q<i>_m (BRIEF §10).
+  std::vector<std::string> jointColumnNames() const;
+  virtual MotionType motionType() const = 0;
   // Number of effector degrees of freedom and their names/units (H4: x, y, z [m], theta [rad]).
   virtual int poseDof() const = 0;
   virtual std::vector<std::string> poseComponentNames() const = 0;

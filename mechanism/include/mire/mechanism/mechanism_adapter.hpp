@@ -7,6 +7,8 @@
 //     static constexpr int kGeometric = ...;  // geometric parameter count
 //     static constexpr int kJoints = ...;     // actuated joints
 //     static constexpr int kPoseDof = ...;    // effector degrees of freedom
+//     static constexpr MotionType kMotion = ...;
+//     static constexpr Unit kJointUnit = ...;  // Radian (revolute) or Metre (prismatic)
 //     std::string name() const;
 //     std::vector<std::string> poseComponentNames() const;
 //     std::vector<Unit> poseComponentUnits() const;
@@ -123,6 +125,10 @@ class MechanismAdapter final : public Mechanism {
 
   std::string name() const override { return kinematics_.name(); }
   int jointCount() const override { return K::kJoints; }
+  std::vector<Unit> jointUnits() const override {
+    return std::vector<Unit>(static_cast<std::size_t>(K::kJoints), K::kJointUnit);
+  }
+  MotionType motionType() const override { return K::kMotion; }
   int poseDof() const override { return K::kPoseDof; }
   std::vector<std::string> poseComponentNames() const override {
     return kinematics_.poseComponentNames();
@@ -206,7 +212,8 @@ class MechanismAdapter final : public Mechanism {
     result.converged = result.max_joint_error < options.joint_tolerance;
     if (!result.converged)
       result.message = "no pose reproduces the joints (max joint error " +
-                       std::to_string(result.max_joint_error) + " rad after " +
+                       std::to_string(result.max_joint_error) + " " +
+                       unitName(K::kJointUnit) + " after " +
                        std::to_string(result.iterations) + " iterations)";
     return result;
   }

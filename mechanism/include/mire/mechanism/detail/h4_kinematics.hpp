@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/parameter_set.hpp"
 
 namespace mire::mechanism {
@@ -48,6 +49,8 @@ bool legAngleGeneralAxis(const T* W, const T& psi, const T& beta, const T& L, co
 
 // Pose convention shared by the H4 models: X = (x, y, z, θ), bTe = [Rz(k·θ), (x, y, z)].
 struct H4PoseConvention {
+  static constexpr MotionType kMotion = MotionType::Schoenflies;
+  static constexpr Unit kJointUnit = Unit::Radian;
   double amplification = 1.0;
 
   std::vector<std::string> poseComponentNames() const { return {"x", "y", "z", "theta"}; }

@@ -1,0 +1,135 @@
+// `mire fkm`: what an identified model predicts from encoder readings (doc/mechanisms.md):
+// the effector pose in the base frame, or the target pose cTm in the camera frame (poses.csv's
+// format, with a covariance side file), each with σ propagated from the parameters' covariance.
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "commands.hpp"
+#include "kinematics_files.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/prediction.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+namespace mech = mire::mechanism;
+
+struct FkmArguments {
+  std::string params, covariance, joints, output, frame = "base";
+};
+
+std::string baseFrameCsv(const mech::Mechanism& m, const std::vector<std::string>& ids,
+                         const std::vector<mech::PosePrediction>& predictions) {
+  std::ostringstream out;
+  out << "pose_id";
+  for (const std::string& c : poseColumnNames(m)) out << ',' << c;
+  const auto names = m.poseComponentNames();
+  const auto units = m.poseComponentUnits();
+  for (std::size_t k = 0; k < names.size(); ++k) out << ",sigma_" << names[k] << "_" << mech::displayUnitName(units[k]);
+  out << '\n';
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    const auto& p = predictions[j];
+    out << ids[j];
+    for (Eigen::Index k = 0; k < p.pose.size(); ++k) out << ',' << support::formatNumber(p.pose[k]);
+    for (Eigen::Index k = 0; k < p.pose.size(); ++k)
+      out << ',' << support::formatNumber(mech::toDisplay(units[static_cast<std::size_t>(k)], std::sqrt(std::max(0.0, p.pose_covariance(k, k)))), 6);
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::string cameraFrameCsv(const std::vector<std::string>& ids, const std::vector<mech::PosePrediction>& predictions) {
+  std::ostringstream out;
+  out << "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,"
+         "sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n";
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    const auto& p = predictions[j];
+    out << ids[j] << ",0,0";
+    for (int k = 0; k < 6; ++k) out << ',' << support::formatNumber(p.cTm[k]);
+    for (int k = 0; k < 6; ++k) {
+      const double s = std::sqrt(std::max(0.0, p.cTm_covariance(k, k)));
+      out << ',' << support::formatNumber(k < 3 ? s * 1e3 : s * 180.0 / 3.14159265358979323846, 6);
+    }
+    out << ",0\n";
+  }
+  return out.str();
+}
+
+std::string covarianceCsv(const std::vector<std::string>& ids, const std::vector<mech::PosePrediction>& predictions) {
+  std::ostringstream out;
+  out << "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
+  const char* rows[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
+  for (std::size_t j = 0; j < ids.size(); ++j)
+    for (int r = 0; r < 6; ++r) {
+      out << ids[j] << ",total," << rows[r];
+      for (int c = 0; c < 6; ++c) out << ',' << support::formatNumber(predictions[j].cTm_covariance(r, c));
+      out << '\n';
+    }
+  return out.str();
+}
+
+int runFkm(const FkmArguments& args) {
+  if (args.frame != "base" && args.frame != "camera")
+    throw std::invalid_argument("--frame '" + args.frame + "': expected base or camera");
+  const fs::path output(args.output);
+  const fs::path side_out = mech::defaultParameterCovariancePath(output);  // <stem>_covariance.csv
+  std::vector<fs::path> inputs{args.params, args.joints};
+  if (!args.covariance.empty()) inputs.push_back(args.covariance);
+  checkOutputIsNotInput(output, inputs);
+  if (args.frame == "camera") checkOutputIsNotInput(side_out, inputs);
+  std::optional<fs::path> covariance;
+  if (!args.covariance.empty()) covariance = fs::path(args.covariance);
+  const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
+  const mech::Mechanism& m = *loaded.model.mechanism;
+  if (args.frame == "camera" && !loaded.has_mounting)
+    throw std::runtime_error(args.params + ": no mounting (tx_CB..rz_EM) in the file nor in its side file " +
+                             mech::defaultParameterCovariancePath(args.params).string() +
+                             ": --frame camera needs the identified mounting");
+  const auto rows = mech::readJointsCsv(args.joints, m.jointColumnNames());
+  std::vector<std::string> ids, failed;
+  std::vector<mech::PosePrediction> predictions;
+  for (const auto& row : rows) {
+    mech::PosePrediction p = mech::predictPose(loaded.model, row.joints);
+    if (!p.converged) {
+      failed.push_back(args.joints + ":" + std::to_string(row.line) + ": pose '" + row.pose_id + "': " + p.message);
+      continue;
+    }
+    ids.push_back(row.pose_id);
+    predictions.push_back(std::move(p));
+  }
+  if (ids.empty()) throw std::runtime_error(args.joints + ": the FKM converged for no row (" + failed.front() + ")");
+  if (args.frame == "camera") {
+    support::writeFileAtomically(output, cameraFrameCsv(ids, predictions));
+    support::writeFileAtomically(side_out, covarianceCsv(ids, predictions));
+  } else {
+    support::writeFileAtomically(output, baseFrameCsv(m, ids, predictions));
+  }
+  std::cout << "model " << loaded.model.model_name << ": " << ids.size() << " poses predicted ("
+            << (args.frame == "camera" ? "camera frame, cTm" : "base frame, effector") << ")"
+            << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote " << args.output
+            << (args.frame == "camera" ? " and " + side_out.string() : std::string()) << "\n";
+  for (const auto& f : failed) std::cerr << "mire fkm: " << f << "\n";
+  return failed.empty() ? kOk : kPartialFailure;
+}
+
+}  // namespace
+
+Runner addFkmCommand(CLI::App& app) {
+  auto args = std::make_shared<FkmArguments>();
+  CLI::App* cmd = app.add_subcommand("fkm", "predict effector (or target) poses from joint readings with an identified model");
+  cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--joints", args->joints, "joint readings (joints.csv with the mechanism's q<i>_rad / q<i>_m columns)")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--frame", args->frame, "base (effector pose in B) or camera (cTm in poses.csv's format)")->capture_default_str();
+  cmd->add_option("-o,--output", args->output, "predicted poses (CSV)")->required();
+  return [args] { return runFkm(*args); };
+}
+
+}  // namespace mire::app

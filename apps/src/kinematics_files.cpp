@@ -1,0 +1,49 @@
+// Files of `mire fkm` / `mire ikm` (doc/mechanisms.md).
+#include "kinematics_files.hpp"
+
+#include <set>
+#include <stdexcept>
+
+#include "mire/support/csv.hpp"
+
+namespace mire::app {
+
+std::vector<std::string> poseColumnNames(const mechanism::Mechanism& m) {
+  std::vector<std::string> names;
+  const auto components = m.poseComponentNames();
+  const auto units = m.poseComponentUnits();
+  for (std::size_t k = 0; k < components.size(); ++k) names.push_back(components[k] + "_" + mechanism::unitName(units[k]));
+  return names;
+}
+
+std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& m) {
+  const support::CsvTable table = support::readCsv(path);
+  const std::size_t id_col = table.column("pose_id");
+  std::vector<std::size_t> cols;
+  for (const std::string& name : poseColumnNames(m)) cols.push_back(table.column(name));
+  std::vector<EffectorRow> rows;
+  std::set<std::string> seen;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    EffectorRow row;
+    row.id = table.rows[r][id_col];
+    row.line = static_cast<int>(table.line_numbers[r]);
+    if (row.id.empty()) throw std::runtime_error(table.where(r) + ": empty pose_id");
+    if (!seen.insert(row.id).second) throw std::runtime_error(table.where(r) + ": duplicate pose_id '" + row.id + "'");
+    row.pose.resize(static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t k = 0; k < cols.size(); ++k) row.pose[static_cast<Eigen::Index>(k)] = table.number(r, cols[k]);
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) throw std::runtime_error(path.string() + ": no rows");
+  return rows;
+}
+
+void checkOutputIsNotInput(const std::filesystem::path& output, const std::vector<std::filesystem::path>& inputs) {
+  for (const auto& input : inputs) {
+    std::error_code ec;
+    const bool same = std::filesystem::exists(output) ? std::filesystem::equivalent(output, input, ec)
+                                                      : std::filesystem::absolute(output) == std::filesystem::absolute(input);
+    if (same) throw std::invalid_argument("output " + output.string() + " is the input " + input.string());
+  }
+}
+
+}  // namespace mire::app

@@ -1,0 +1,30 @@
+#pragma once
+// Files of `mire fkm` / `mire ikm` (doc/mechanisms.md): effector poses in the base frame
+// (one column per pose component, `<name>_<unit>`, σ columns in mm/deg), the camera-frame
+// prediction in poses.csv's format with its covariance side file.
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/mechanism.hpp"
+#include "mire/mechanism/prediction.hpp"
+
+namespace mire::app {
+
+// "x_m", "theta_rad", ... for the mechanism's pose components.
+std::vector<std::string> poseColumnNames(const mechanism::Mechanism& mechanism);
+
+struct EffectorRow {
+  std::string id;
+  Eigen::VectorXd pose;
+  int line = 0;
+};
+// Reads effector.csv (pose_id + poseColumnNames()); errors name file:line.
+std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& mechanism);
+
+// Refuses an output path equal to an input (by filesystem equivalence when both exist).
+void checkOutputIsNotInput(const std::filesystem::path& output, const std::vector<std::filesystem::path>& inputs);
+
+}  // namespace mire::app

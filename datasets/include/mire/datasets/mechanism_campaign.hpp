@@ -1,0 +1,164 @@
+#pragma once
+// Exact-model simulated campaigns for every registered mechanism: a true geometry (nominal
+// perturbed by 1 mm / 0.5° on its free parameters), true mountings, the protocol poses
+// (doc/mechanisms.md) and measured cTm with noise 0.2 mm / 0.03° and its covariance.
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/registry.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+#include <filesystem>
+#include <sstream>
+#include <Eigen/Geometry>
+
+namespace mire::datasets {
+
+using namespace mire::mechanism;
+
+constexpr double kCampaignDeg = 3.14159265358979323846 / 180.0;
+
+inline Eigen::Isometry3d makeTransform(const Eigen::Vector3d& rotation_vector, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (rotation_vector.norm() > 0)
+    T.linear() = Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+// Protocol poses bTe: H4 27 positions × 3 angles; Delta 27 positions on a 300×300×150 mm grid
+// around z = −0.65 m; Gough–Stewart 27 positions (±40 mm, ±30 mm in z) × 3 orientations.
+inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, const Eigen::VectorXd& g) {
+  std::vector<Eigen::Isometry3d> out;
+  const Eigen::VectorXd ref = mechanism.referencePose(g);
+  const MotionType motion = mechanism.motionType();
+  for (int ix = -1; ix <= 1; ++ix)
+    for (int iy = -1; iy <= 1; ++iy)
+      for (int iz = -1; iz <= 1; ++iz) {
+        if (motion == MotionType::Translation) {
+          out.push_back(makeTransform(Eigen::Vector3d::Zero(),
+                                      Eigen::Vector3d(0.15 * ix, 0.15 * iy, -0.65 + 0.075 * iz)));
+          continue;
+        }
+        for (int k = -1; k <= 1; ++k) {
+          if (motion == MotionType::Schoenflies) {
+            out.push_back(makeTransform(Eigen::Vector3d(0, 0, 20 * kCampaignDeg * k),
+                                        Eigen::Vector3d(ref[0] + 0.1 * ix, ref[1] + 0.1 * iy, ref[2] + 0.075 * iz)));
+          } else {
+            // A different tilt axis per position, ±6° plus a yaw.
+            const double a = 2.1 * (ix + 3 * iy + 9 * iz);
+            const Eigen::Vector3d axis(std::cos(a), std::sin(a), 0.5 * k);
+            out.push_back(makeTransform(6 * kCampaignDeg * k * axis.normalized() + Eigen::Vector3d(0, 0, 4 * kCampaignDeg * ix * k),
+                                        Eigen::Vector3d(ref[0] + 0.04 * ix, ref[1] + 0.04 * iy, ref[2] + 0.03 * iz)));
+          }
+        }
+      }
+  return out;
+}
+
+// 1 mm / 0.5° on every free parameter (alternating signs, reproducible).
+inline ParameterSet perturbed(const ParameterSet& nominal, unsigned seed) {
+  ParameterSet truth = nominal;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (truth[i].fixed) continue;
+    const double step = truth[i].unit == Unit::Radian ? 0.5 * kCampaignDeg : 1e-3;
+    truth.setValue(truth[i].name, truth[i].value + step * u(rng));
+  }
+  return truth;
+}
+
+struct Campaign {
+  RegisteredModel model;
+  ParameterSet truth;
+  Eigen::Isometry3d bTc, mTe;
+  std::vector<PoseObservation> poses;
+  std::vector<Eigen::Isometry3d> bTe;  // true effector poses
+};
+
+// `extra` random poses inside the protocol volume are appended (held-out checks); with
+// `count` > 0 the campaign has `count` random poses instead of the protocol.
+inline Campaign simulateCampaign(const std::string& name, unsigned seed, double noise_t = 0.2e-3,
+                                 double noise_r = 0.03 * kCampaignDeg, int extra = 0, int count = 0) {
+  Campaign c;
+  c.model = makeRegisteredModel(name);
+  c.truth = perturbed(c.model.nominal, seed);
+  const Mechanism& m = *c.model.mechanism;
+  const bool up = m.motionType() == MotionType::Spatial;  // hexapod: camera above looking down
+  c.bTc = makeTransform(Eigen::Vector3d(3.1, 0.1, 0.2), Eigen::Vector3d(0.03, -0.02, up ? 1.3 : -1.3));
+  if (!up) c.bTc = makeTransform(Eigen::Vector3d(0.05, -0.04, 0.3), Eigen::Vector3d(0.03, -0.02, -1.9));
+  c.mTe = makeTransform(up ? Eigen::Vector3d(0.02, -0.03, 0.4) : Eigen::Vector3d(3.1, 0.05, 0.0),
+                        Eigen::Vector3d(0.012, -0.008, 0.005));
+  std::mt19937 rng(seed + 1000);
+  std::normal_distribution<double> normal;
+  PoseCovariance cov = PoseCovariance::Zero();
+  cov.diagonal() << noise_t * noise_t, noise_t * noise_t, noise_t * noise_t, noise_r * noise_r,
+      noise_r * noise_r, noise_r * noise_r;
+  c.bTe = protocolPoses(m, c.truth.values());
+  {
+    // Random poses drawn inside the protocol's box of positions and orientations.
+    std::vector<Eigen::Isometry3d> grid = c.bTe;
+    std::mt19937 draw(seed + 2000);
+    std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
+    std::uniform_real_distribution<double> w(0.0, 1.0);
+    const auto randomPose = [&] {
+      const Eigen::Isometry3d& a = grid[pick(draw)];
+      const Eigen::Isometry3d& b = grid[pick(draw)];
+      const double s = w(draw);
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = Eigen::Quaterniond(a.linear()).slerp(s, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+      T.translation() = (1 - s) * a.translation() + s * b.translation();
+      return T;
+    };
+    if (count > 0) {
+      c.bTe.clear();
+      for (int k = 0; k < count; ++k) c.bTe.push_back(randomPose());
+    }
+    for (int k = 0; k < extra; ++k) c.bTe.push_back(randomPose());
+  }
+  for (const Eigen::Isometry3d& bTe : c.bTe) {
+    PoseObservation p;
+    p.id = std::to_string(c.poses.size() + 1);
+    p.joints = m.inverseKinematics(c.truth.values(), bTe).joints;
+    p.cTm = toPoseVector(c.bTc.inverse() * bTe * c.mTe.inverse());
+    for (int k = 0; k < 3; ++k) p.cTm[k] += noise_t * normal(rng);
+    for (int k = 3; k < 6; ++k) p.cTm[k] += noise_r * normal(rng);
+    if (noise_t > 0) p.covariance = cov;
+    c.poses.push_back(p);
+  }
+  return c;
+}
+
+// Writes poses [first, first + count) as poses.csv (σ columns from the noise) and joints.csv
+// (the mechanism's q<i>_rad / q<i>_m columns) in `dir`, under the given file names.
+inline void writeCampaignFiles(const Campaign& c, const std::filesystem::path& dir, std::size_t first,
+                               std::size_t count, const std::string& poses_name = "poses.csv",
+                               const std::string& joints_name = "joints.csv", double noise_t = 0.2e-3,
+                               double noise_r = 0.03 * kCampaignDeg) {
+  std::ostringstream poses;
+  poses << "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,"
+           "sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n";
+  std::vector<std::string> ids;
+  std::vector<Eigen::VectorXd> joints;
+  for (std::size_t j = first; j < first + count && j < c.poses.size(); ++j) {
+    const PoseObservation& p = c.poses[j];
+    poses << p.id << ",10,10";
+    for (int k = 0; k < 6; ++k) poses << ',' << support::formatNumber(p.cTm[k]);
+    for (int k = 0; k < 3; ++k) poses << ',' << support::formatNumber(noise_t * 1e3);
+    for (int k = 0; k < 3; ++k) poses << ',' << support::formatNumber(noise_r / kCampaignDeg);
+    poses << ",0.1\n";
+    ids.push_back(p.id);
+    joints.push_back(p.joints);
+  }
+  support::writeFileAtomically(dir / poses_name, poses.str());
+  writeJointsCsv(dir / joints_name, ids, joints, c.model.mechanism->jointColumnNames());
+}
+
+}  // namespace mire::datasets

@@ -1,0 +1,133 @@
+#pragma once
+// Simulated true Delta and Gough–Stewart robots with defects their simple models cannot
+// represent (doc/mechanisms.md "Unmodelled defects"):
+//  - Delta: per-leg geometry (the `delta-legs` model: pivots, arm axes, L_i, l_i, q0_i all
+//    differing by leg) and imperfect parallelograms that tilt the plate: the plate turns by
+//    ω = κ·z_B × (X − X0) (κ rad per metre of travel from the levelling pose X0), which the
+//    camera sees and no Delta model represents; the joints follow the plate centre.
+//  - Gough–Stewart: per-leg encoder gains q̄_i = g_i·(ρ_i − ρ0_i) and joint eccentricities
+//    (each base joint centre offset by ε perpendicular to its leg, in the horizontal plane).
+// Both give the encoder readings at a pose and the pose (FKM, Newton) at readings.
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mire/datasets/mechanism_campaign.hpp"
+#include "mire/mechanism/delta.hpp"
+
+namespace mire::datasets {
+
+struct DefectiveRobot {
+  RegisteredModel geometry_model;  // delta-legs or gough-stewart
+  ParameterSet geometry;           // true values
+  double tilt_per_m = 0.0;         // Delta plate tilt κ [rad/m]
+  Eigen::Vector3d level_pose = Eigen::Vector3d(0, 0, -0.65);
+  std::vector<double> encoder_gain;  // hexapod, per leg
+  double eccentricity = 0.0;         // hexapod [m]
+
+  const Mechanism& mechanism() const { return *geometry_model.mechanism; }
+
+  // The true effector transform at pose X (Delta: plate centre + tilt).
+  Eigen::Isometry3d effector(const Eigen::VectorXd& X) const {
+    Eigen::Isometry3d T = mechanism().poseToTransform(X);
+    if (mechanism().motionType() == MotionType::Translation) {
+      const Eigen::Vector3d omega = tilt_per_m * Eigen::Vector3d::UnitZ().cross(X.head<3>() - level_pose);
+      if (omega.norm() > 0) T.linear() = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
+    }
+    return T;
+  }
+
+  // Encoder readings at pose X; empty when unreachable.
+  Eigen::VectorXd joints(const Eigen::VectorXd& X) const {
+    const Eigen::Isometry3d T = mechanism().poseToTransform(X);
+    if (mechanism().motionType() == MotionType::Translation) {
+      const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);
+      return ikm.reachable() ? ikm.joints : Eigen::VectorXd();
+    }
+    Eigen::VectorXd q(6);
+    for (int i = 0; i < 6; ++i) {
+      const std::string n = std::to_string(i + 1);
+      const Eigen::Vector3d b(geometry.value("bx" + n), geometry.value("by" + n), geometry.value("bz" + n));
+      const Eigen::Vector3d p(geometry.value("px" + n), geometry.value("py" + n), geometry.value("pz" + n));
+      const Eigen::Vector3d leg = T * p - b;
+      const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(leg).normalized();
+      const double rho = (T * p - (b + eccentricity * side)).norm();
+      q[i] = encoder_gain[static_cast<std::size_t>(i)] * (rho - geometry.value("rho0" + n));
+    }
+    return q;
+  }
+
+  // The pose whose readings are q (Newton with a central-difference Jacobian).
+  Eigen::VectorXd fkm(const Eigen::VectorXd& q) const {
+    const Mechanism& m = mechanism();
+    Eigen::VectorXd X = m.referencePose(geometry.values());
+    for (int it = 0; it < 50; ++it) {
+      const Eigen::VectorXd r = joints(X) - q;
+      if (r.size() == 0) throw std::runtime_error("true robot: FKM left the workspace");
+      if (r.cwiseAbs().maxCoeff() < 1e-13) return X;
+      Eigen::MatrixXd J(q.size(), X.size());
+      for (Eigen::Index k = 0; k < X.size(); ++k) {
+        Eigen::VectorXd a = X, b = X;
+        a[k] += 1e-7;
+        b[k] -= 1e-7;
+        J.col(k) = (joints(a) - joints(b)) / 2e-7;
+      }
+      X -= J.colPivHouseholderQr().solve(r);
+    }
+    return X;
+  }
+};
+
+// A Delta whose legs differ (1 mm / 0.5° per leg on every per-leg parameter when
+// `legs_differ`, else only the common-geometry errors) and whose plate tilts by κ.
+inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double tilt_per_m = 0.0116) {
+  DefectiveRobot robot;
+  robot.geometry_model = makeRegisteredModel("delta-legs");
+  const ParameterSet common = perturbed(makeRegisteredModel("delta").nominal, seed);
+  robot.geometry = legs_differ ? perturbed(deltaLegsFromDelta(common), seed + 1) : deltaLegsFromDelta(common);
+  robot.tilt_per_m = tilt_per_m;
+  return robot;
+}
+
+// A hexapod with 1 mm errors on every joint centre and length, encoder gains 1 ± 2·10⁻³ and
+// 0.3 mm joint eccentricities.
+inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e-3, double eccentricity = 0.3e-3) {
+  DefectiveRobot robot;
+  robot.geometry_model = makeRegisteredModel("gough-stewart");
+  robot.geometry = perturbed(robot.geometry_model.nominal, seed);
+  std::mt19937 rng(seed + 7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 6; ++i) robot.encoder_gain.push_back(1.0 + gain_error * u(rng));
+  robot.eccentricity = eccentricity;
+  return robot;
+}
+
+// Measured campaign of a defective robot at the protocol poses (+ `extra` random ones).
+inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std::string& model_name, unsigned seed,
+                                          double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg) {
+  Campaign c = simulateCampaign(model_name, seed, 0.0, 0.0);  // mountings, protocol
+  c.truth = robot.geometry;
+  std::mt19937 rng(seed + 3000);
+  std::normal_distribution<double> normal;
+  PoseCovariance cov = PoseCovariance::Zero();
+  cov.diagonal() << noise_t * noise_t, noise_t * noise_t, noise_t * noise_t, noise_r * noise_r, noise_r * noise_r,
+      noise_r * noise_r;
+  for (std::size_t j = 0; j < c.poses.size(); ++j) {
+    const Eigen::VectorXd X = robot.mechanism().transformToPose(c.bTe[j]);
+    c.bTe[j] = robot.effector(X);
+    PoseObservation& p = c.poses[j];
+    p.joints = robot.joints(X);
+    p.cTm = toPoseVector(c.bTc.inverse() * c.bTe[j] * c.mTe.inverse());
+    for (int k = 0; k < 3; ++k) p.cTm[k] += noise_t * normal(rng);
+    for (int k = 3; k < 6; ++k) p.cTm[k] += noise_r * normal(rng);
+    p.covariance = cov;
+  }
+  return c;
+}
+
+}  // namespace mire::datasets

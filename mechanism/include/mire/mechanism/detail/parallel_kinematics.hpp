@@ -1,0 +1,134 @@
+#pragma once
+// Templated IKMs of the Delta and Gough–Stewart models for MechanismAdapter (formulas in
+// delta.hpp, gough_stewart.hpp and doc/mechanisms.md).
+#include <ceres/rotation.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/detail/h4_kinematics.hpp"
+#include "mire/mechanism/mechanism.hpp"
+
+namespace mire::mechanism {
+
+// Translation-only pose convention: X = (x, y, z), bTe = [I, X].
+struct TranslationPoseConvention {
+  static constexpr MotionType kMotion = MotionType::Translation;
+  static constexpr Unit kJointUnit = Unit::Radian;
+  static constexpr int kPoseDof = 3;
+  double reference_z = -0.65;
+
+  std::vector<std::string> poseComponentNames() const { return {"x", "y", "z"}; }
+  std::vector<Unit> poseComponentUnits() const { return {Unit::Metre, Unit::Metre, Unit::Metre}; }
+  Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const { return bTe.translation(); }
+  Eigen::VectorXd referencePose(const Eigen::VectorXd&) const {
+    return Eigen::Vector3d(0.0, 0.0, reference_z);
+  }
+  template <class T>
+  void poseToTransform(const T* pose, T* R, T* t) const {
+    for (int k = 0; k < 9; ++k) R[k] = T(k % 4 == 0 ? 1 : 0);
+    for (int k = 0; k < 3; ++k) t[k] = pose[k];
+  }
+};
+
+// Model `delta`: R r L l alpha1..3 q01..3.
+struct DeltaKinematics : TranslationPoseConvention {
+  static constexpr int kGeometric = 10;
+  static constexpr int kJoints = 3;
+  std::string name() const { return "delta"; }
+
+  template <class T>
+  int inverseKinematics(const T* g, const T* /*R*/, const T* t, T* joints) const {
+    using std::cos;
+    using std::sin;
+    const T &R = g[0], &r = g[1], &L = g[2], &l = g[3];
+    int mask = 0;
+    for (int i = 0; i < 3; ++i) {
+      const T ux = cos(g[4 + i]), uy = sin(g[4 + i]);
+      // w = A_i − P_i = X + (r − R)·u_i; a = w·u_i, b = −w_z (BRIEF §4's formula).
+      const T w[3] = {t[0] + (r - R) * ux, t[1] + (r - R) * uy, t[2]};
+      const T norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+      T phi;
+      if (!detail::solveElbowOut(-w[2], w[0] * ux + w[1] * uy, (norm2 + L * L - l * l) / (T(2) * L),
+                                 &phi)) {
+        mask |= 1 << i;
+        joints[i] = T(0);
+        continue;
+      }
+      joints[i] = phi - g[7 + i];
+    }
+    return mask;
+  }
+};
+
+// Model `delta-legs`: per leg i (8 values from 8·i): px py pz psi beta L l q0.
+struct DeltaLegsKinematics : TranslationPoseConvention {
+  static constexpr int kGeometric = 24;
+  static constexpr int kJoints = 3;
+  std::string name() const { return "delta-legs"; }
+
+  template <class T>
+  int inverseKinematics(const T* g, const T* /*R*/, const T* t, T* joints) const {
+    int mask = 0;
+    for (int i = 0; i < 3; ++i) {
+      const T* leg = g + 8 * i;
+      const T W[3] = {t[0] - leg[0], t[1] - leg[1], t[2] - leg[2]};
+      T phi;
+      if (!detail::legAngleGeneralAxis(W, leg[3], leg[4], leg[5], leg[6], &phi)) {
+        mask |= 1 << i;
+        joints[i] = T(0);
+        continue;
+      }
+      joints[i] = phi - leg[7];
+    }
+    return mask;
+  }
+};
+
+// Model `gough-stewart`: b (18), p (18), rho0 (6); pose (x, y, z, rotation vector).
+struct GoughStewartKinematics {
+  static constexpr MotionType kMotion = MotionType::Spatial;
+  static constexpr Unit kJointUnit = Unit::Metre;
+  static constexpr int kGeometric = 42;
+  static constexpr int kJoints = 6;
+  static constexpr int kPoseDof = 6;
+  double home_height = 0.40;
+
+  std::string name() const { return "gough-stewart"; }
+  std::vector<std::string> poseComponentNames() const { return {"x", "y", "z", "rx", "ry", "rz"}; }
+  std::vector<Unit> poseComponentUnits() const {
+    return {Unit::Metre, Unit::Metre, Unit::Metre, Unit::Radian, Unit::Radian, Unit::Radian};
+  }
+  Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const {
+    const Eigen::AngleAxisd aa(bTe.linear());
+    Eigen::VectorXd pose(6);
+    pose << bTe.translation(), aa.axis() * aa.angle();
+    return pose;
+  }
+  Eigen::VectorXd referencePose(const Eigen::VectorXd&) const {
+    Eigen::VectorXd pose = Eigen::VectorXd::Zero(6);
+    pose[2] = home_height;
+    return pose;
+  }
+  template <class T>
+  void poseToTransform(const T* pose, T* R, T* t) const {
+    ceres::AngleAxisToRotationMatrix(pose + 3, ceres::ColumnMajorAdapter3x3(R));
+    for (int k = 0; k < 3; ++k) t[k] = pose[k];
+  }
+  template <class T>
+  int inverseKinematics(const T* g, const T* R, const T* t, T* joints) const {
+    using std::sqrt;
+    for (int i = 0; i < 6; ++i) {
+      const T* b = g + 3 * i;
+      const T* p = g + 18 + 3 * i;
+      T d[3];
+      for (int k = 0; k < 3; ++k) d[k] = t[k] + R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2] - b[k];
+      joints[i] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g[36 + i];
+    }
+    return 0;
+  }
+};
+
+}  // namespace mire::mechanism

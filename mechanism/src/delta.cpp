@@ -1,0 +1,105 @@
+// Delta models `delta` and `delta-legs`, and the Gough–Stewart model (doc/mechanisms.md).
+#include "mire/mechanism/delta.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "mire/mechanism/detail/parallel_kinematics.hpp"
+#include "mire/mechanism/gough_stewart.hpp"
+#include "mire/mechanism/mechanism_adapter.hpp"
+
+namespace mire::mechanism {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string indexed(const std::string& base, int i) { return base + std::to_string(i + 1); }
+
+}  // namespace
+
+ParameterSet deltaParameters(const DeltaNominal& n) {
+  ParameterSet set;
+  set.add({"R", n.R, Unit::Metre, false, "radius of the arm pivots' circle"});
+  set.add({"r", n.r, Unit::Metre, true, "radius of the plate joints' circle (only R - r enters)"});
+  set.add({"L", n.L, Unit::Metre, false, "arm length"});
+  set.add({"l", n.l, Unit::Metre, false, "forearm (parallelogram) length"});
+  for (int i = 0; i < 3; ++i)
+    set.add({indexed("alpha", i), n.alpha[static_cast<std::size_t>(i)], Unit::Radian, i == 0,
+             "direction of arm pivot " + std::to_string(i + 1) + " about z_B" +
+                 (i == 0 ? " (defines x_B)" : "")});
+  for (int i = 0; i < 3; ++i)
+    set.add({indexed("q0", i), n.q0[static_cast<std::size_t>(i)], Unit::Radian, false,
+             "joint offset " + std::to_string(i + 1)});
+  return set;
+}
+
+ParameterSet deltaLegsFromDelta(const ParameterSet& d) {
+  ParameterSet set;
+  const double reach = d.value("R") - d.value("r");
+  for (int i = 0; i < 3; ++i) {
+    const double a = d.value(indexed("alpha", i));
+    const std::string leg = " of leg " + std::to_string(i + 1);
+    set.add({indexed("px", i), reach * std::cos(a), Unit::Metre, false, "effective pivot x" + leg});
+    set.add({indexed("py", i), reach * std::sin(a), Unit::Metre, false, "effective pivot y" + leg});
+    set.add({indexed("pz", i), 0.0, Unit::Metre, false, "effective pivot z" + leg});
+    set.add({indexed("psi", i), a + kPi, Unit::Radian, false, "arm axis azimuth" + leg});
+    set.add({indexed("beta", i), 0.5 * kPi, Unit::Radian, false, "arm axis tilt" + leg});
+    set.add({indexed("L", i), d.value("L"), Unit::Metre, false, "arm length" + leg});
+    set.add({indexed("l", i), d.value("l"), Unit::Metre, false, "forearm length" + leg});
+    set.add({indexed("q0", i), d.value(indexed("q0", i)), Unit::Radian, false, "joint offset" + leg});
+  }
+  return set;
+}
+
+std::unique_ptr<Mechanism> makeDeltaMechanism(DeltaModelKind kind, const DeltaNominal& nominal) {
+  if (!(nominal.l > nominal.L && nominal.L > 0.0 && nominal.R > nominal.r))
+    throw std::invalid_argument("delta nominal: expected l > L > 0 and R > r");
+  const ParameterSet simple = deltaParameters(nominal);
+  if (kind == DeltaModelKind::Simple) {
+    DeltaKinematics k;
+    k.reference_z = -0.65;
+    return std::make_unique<MechanismAdapter<DeltaKinematics>>(k, simple);
+  }
+  DeltaLegsKinematics k;
+  k.reference_z = -0.65;
+  return std::make_unique<MechanismAdapter<DeltaLegsKinematics>>(k, deltaLegsFromDelta(simple));
+}
+
+ParameterSet goughStewartParameters(const GoughStewartNominal& n) {
+  ParameterSet set;
+  constexpr double kDeg = kPi / 180.0;
+  const char* axes[3] = {"x", "y", "z"};
+  for (int i = 0; i < 6; ++i) {
+    const double a = n.base_angles_deg[static_cast<std::size_t>(i)] * kDeg;
+    const double v[3] = {n.base_radius * std::cos(a), n.base_radius * std::sin(a), 0.0};
+    for (int k = 0; k < 3; ++k)
+      set.add({std::string("b") + axes[k] + std::to_string(i + 1), v[k], Unit::Metre, false,
+               std::string("base joint ") + std::to_string(i + 1) + " in B, " + axes[k]});
+  }
+  for (int i = 0; i < 6; ++i) {
+    const double a = n.platform_angles_deg[static_cast<std::size_t>(i)] * kDeg;
+    const double v[3] = {n.platform_radius * std::cos(a), n.platform_radius * std::sin(a), 0.0};
+    for (int k = 0; k < 3; ++k)
+      set.add({std::string("p") + axes[k] + std::to_string(i + 1), v[k], Unit::Metre, false,
+               std::string("platform joint ") + std::to_string(i + 1) + " in E, " + axes[k]});
+  }
+  for (int i = 0; i < 6; ++i) {
+    const double ab = n.base_angles_deg[static_cast<std::size_t>(i)] * kDeg;
+    const double ap = n.platform_angles_deg[static_cast<std::size_t>(i)] * kDeg;
+    const Eigen::Vector3d d(n.platform_radius * std::cos(ap) - n.base_radius * std::cos(ab),
+                            n.platform_radius * std::sin(ap) - n.base_radius * std::sin(ab),
+                            n.home_height);
+    set.add({indexed("rho0", i), d.norm() - n.home_reading, Unit::Metre, false,
+             "leg " + std::to_string(i + 1) + " length at encoder zero"});
+  }
+  return set;
+}
+
+std::unique_ptr<Mechanism> makeGoughStewartMechanism(const GoughStewartNominal& nominal) {
+  GoughStewartKinematics k;
+  k.home_height = nominal.home_height;
+  return std::make_unique<MechanismAdapter<GoughStewartKinematics>>(k, goughStewartParameters(nominal));
+}
+
+}  // namespace mire::mechanism

@@ -1,0 +1,147 @@
+// Data-driven mountings for mechanisms without a single rotation axis (doc/mechanisms.md):
+// a translating plate (rotation fit of the displacements) and full 6-DoF motion
+// (robot-world hand-eye solve).
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "mire/mechanism/external.hpp"
+#include "mire/mechanism/gauge.hpp"
+#include "mire/mechanism/mechanism.hpp"
+
+namespace mire::mechanism {
+
+namespace {
+
+void checkSizes(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm,
+                std::size_t minimum) {
+  if (bTe.size() != cTm.size())
+    throw std::invalid_argument("mounting: effector and target pose counts differ");
+  if (bTe.size() < minimum)
+    throw std::invalid_argument("mounting: at least " + std::to_string(minimum) + " poses are needed");
+}
+
+Eigen::Matrix3d projectToRotation(const Eigen::Matrix3d& M) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  return svd.matrixU() * D * svd.matrixV().transpose();
+}
+
+}  // namespace
+
+Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe,
+                                  const std::vector<PoseVector>& cTm) {
+  checkSizes(bTe, cTm, 4);
+  const auto n = static_cast<Eigen::Index>(bTe.size());
+  Eigen::Matrix3Xd camera(3, n), base(3, n);
+  Eigen::Matrix3d mean_rotation = Eigen::Matrix3d::Zero();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Isometry3d measured = toIsometry(cTm[static_cast<std::size_t>(j)]);
+    camera.col(j) = measured.translation();
+    base.col(j) = bTe[static_cast<std::size_t>(j)].translation();
+    mean_rotation += measured.linear();
+  }
+  // The second singular value of the centred positions tells whether they span a plane.
+  const Eigen::Matrix3Xd centred = camera.colwise() - camera.rowwise().mean();
+  const Eigen::JacobiSVD<Eigen::Matrix3Xd> spread(centred);
+  if (!(spread.singularValues()[1] > 1e-6 * std::sqrt(static_cast<double>(n))))
+    throw std::invalid_argument(
+        "mounting: the measured positions are (nearly) collinear: the camera rotation is undetermined");
+  Mounting m;
+  m.bTc.matrix() = Eigen::umeyama(camera, base, false);
+  // bRe = I = bRc · cRm · mRe.
+  m.mTe.linear() = (m.bTc.linear() * projectToRotation(mean_rotation)).transpose();
+  m.mTe.translation().setZero();
+  return m;
+}
+
+Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
+                             const std::vector<PoseVector>& cTm) {
+  checkSizes(bTe, cTm, 3);
+  // OpenCV: cam_T_world · world_T_base = cam_T_gripper · gripper_T_base, with cam = M (target),
+  // world = C (camera), base = B, gripper = E: mTc_j · cTb = mTe · eTb_j.
+  std::vector<cv::Mat> R_world2cam, t_world2cam, R_base2gripper, t_base2gripper;
+  double largest = 0.0;
+  const Eigen::Matrix3d R0 = toIsometry(cTm.front()).linear();
+  for (std::size_t j = 0; j < bTe.size(); ++j) {
+    const Eigen::Isometry3d mTc = toIsometry(cTm[j]).inverse(), eTb = bTe[j].inverse();
+    largest = std::max(largest, Eigen::AngleAxisd(mTc.linear() * R0).angle());
+    cv::Mat R, t, Rb, tb;
+    cv::eigen2cv(Eigen::Matrix3d(mTc.linear()), R);
+    cv::eigen2cv(Eigen::Vector3d(mTc.translation()), t);
+    cv::eigen2cv(Eigen::Matrix3d(eTb.linear()), Rb);
+    cv::eigen2cv(Eigen::Vector3d(eTb.translation()), tb);
+    R_world2cam.push_back(R);
+    t_world2cam.push_back(t);
+    R_base2gripper.push_back(Rb);
+    t_base2gripper.push_back(tb);
+  }
+  if (largest < 2.0 * 3.14159265358979323846 / 180.0)
+    throw std::invalid_argument(
+        "mounting: the measured orientations span less than 2 deg: the hand-eye solve is undetermined");
+  cv::Mat R_base2world, t_base2world, R_gripper2cam, t_gripper2cam;
+  cv::calibrateRobotWorldHandEye(R_world2cam, t_world2cam, R_base2gripper, t_base2gripper,
+                                 R_base2world, t_base2world, R_gripper2cam, t_gripper2cam,
+                                 cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH);
+  Eigen::Matrix3d Rcb, Rme;
+  Eigen::Vector3d tcb, tme;
+  cv::cv2eigen(R_base2world, Rcb);
+  cv::cv2eigen(t_base2world, tcb);
+  cv::cv2eigen(R_gripper2cam, Rme);
+  cv::cv2eigen(t_gripper2cam, tme);
+  Eigen::Isometry3d cTb = Eigen::Isometry3d::Identity();
+  cTb.linear() = projectToRotation(Rcb);
+  cTb.translation() = tcb;
+  Mounting m;
+  m.bTc = cTb.inverse();
+  m.mTe.linear() = projectToRotation(Rme);
+  m.mTe.translation() = tme;
+  return m;
+}
+
+void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form,
+                            ParameterSet& parameters, const std::vector<PoseObservation>& poses) {
+  if (mechanism.motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty()) return;
+  Eigen::VectorXd e(12);
+  const std::vector<std::string> names = form.parameters().names();
+  for (int k = 0; k < 12; ++k) e[k] = parameters.value(names[static_cast<std::size_t>(k)]);
+  Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
+  for (const PoseObservation& p : poses) mean += toIsometry(p.cTm).linear();
+  const Eigen::Matrix3d cRb = form.baseFromCamera(e).linear().transpose();
+  const Eigen::Matrix3d eRm_old = form.targetFromEffector(e).linear().transpose();
+  const Eigen::Matrix3d eRm_new = projectToRotation(cRb.transpose() * projectToRotation(mean));
+  // The joints see only the effector origin in M, −eRmᵀ·t_EM: keep it while turning eRm.
+  const Eigen::Vector3d t_new = eRm_new * (eRm_old.transpose() * Eigen::Vector3d(e.segment<3>(6)));
+  const Eigen::AngleAxisd aa(eRm_new);
+  const Eigen::Vector3d r = aa.axis() * aa.angle();
+  for (int k = 0; k < 3; ++k) {
+    parameters.setValue(names[static_cast<std::size_t>(6 + k)], t_new[k]);
+    parameters.setValue(names[static_cast<std::size_t>(9 + k)], r[k]);
+  }
+}
+
+ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
+                                      const std::vector<PoseObservation>& poses, ExternalForm form,
+                                      ExternalParameterization& parameterization) {
+  if (form != ExternalForm::Full)
+    throw std::invalid_argument("the " + externalFormName(form) + " external form needs one rotation axis; " +
+                                mechanism.name() + " moves in " + motionTypeName(mechanism.motionType()) +
+                                ": use the full form");
+  const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, geometric, poses);
+  std::vector<PoseVector> cTm;
+  for (const PoseObservation& p : poses) cTm.push_back(p.cTm);
+  const Mounting m = mechanism.motionType() == MotionType::Translation
+                         ? mountingFromTranslations(bTe, cTm)
+                         : mountingFromHandEye(bTe, cTm);
+  parameterization = ExternalParameterization(ExternalForm::Full);
+  ParameterSet set = parameterization.parameters();
+  set.setValues(parameterization.valuesFrom(m.bTc, m.mTe));
+  return set;
+}
+
+}  // namespace mire::mechanism

@@ -1,0 +1,74 @@
+// Gauge and minimal identifiable set from the data (doc/mechanisms.md).
+#include "mire/mechanism/gauge.hpp"
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace mire::mechanism {
+
+std::vector<PoseObservation> modelConsistentPoses(const IdentificationModel& model,
+                                                  const std::vector<PoseObservation>& poses) {
+  const Mechanism& mechanism = *model.mechanism;
+  const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
+  const Eigen::Isometry3d cTb = model.external.baseFromCamera(e).inverse();
+  const Eigen::Isometry3d eTm = model.external.targetFromEffector(e).inverse();
+  const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, g, poses);
+  std::vector<PoseObservation> out = poses;
+  for (std::size_t j = 0; j < out.size(); ++j) {
+    out[j].cTm = toPoseVector(cTb * bTe[j] * eTm);
+    out[j].covariance.reset();
+  }
+  return out;
+}
+
+GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                           const IdentifiabilityOptions& options) {
+  GaugeAnalysis analysis;
+  analysis.report = analyzeIdentifiability(model, modelConsistentPoses(model, poses), options);
+  const IdentifiabilityReport& r = analysis.report;
+  std::set<std::string> dependents(r.unidentifiable.begin(), r.unidentifiable.end()), members;
+  for (const UnidentifiableCombination& c : r.combinations)
+    for (const auto& [name, coefficient] : c.direction) members.insert(name);
+  const double largest = r.column_norms.size() ? r.column_norms.maxCoeff() : 0.0;
+  for (std::size_t k = 0; k < r.parameter_names.size(); ++k) {
+    const std::string& name = r.parameter_names[k];
+    if (dependents.count(name)) {
+      analysis.gauge.push_back(name);
+      if (!(r.column_norms[static_cast<Eigen::Index>(k)] > 1e-9 * largest))
+        analysis.no_influence.push_back(name);
+    } else if (members.count(name)) {
+      analysis.combination_only.push_back(name);
+    } else {
+      analysis.identified.push_back(name);
+    }
+  }
+  return analysis;
+}
+
+GaugeAnalysis fixGauge(IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                       const IdentifiabilityOptions& options) {
+  GaugeAnalysis analysis = analyzeGauge(model, poses, options);
+  model.parameters.fix(analysis.gauge);
+  return analysis;
+}
+
+std::string GaugeAnalysis::text() const {
+  std::ostringstream out;
+  const auto list = [&out](const char* label, const std::vector<std::string>& names) {
+    out << label << " (" << names.size() << "):";
+    for (const std::string& n : names) out << " " << n;
+    out << "\n";
+  };
+  out << "identifiability on model-consistent poses: rank " << report.rank << " of "
+      << report.parameter_names.size() << " free parameters\n";
+  list("  identified", identified);
+  list("  combination-only", combination_only);
+  list("  gauge (held at their current value)", gauge);
+  if (!no_influence.empty()) list("  of which without any influence", no_influence);
+  for (const UnidentifiableCombination& c : report.combinations) out << "  " << c.text() << "\n";
+  return out.str();
+}
+
+}  // namespace mire::mechanism

@@ -1,0 +1,338 @@
+// FKM / IKM predictions of an identified model with propagated σ (doc/mechanisms.md).
+#include "mire/mechanism/prediction.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/registry.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+namespace mire::mechanism {
+
+namespace {
+
+constexpr double kStep = 1e-6;  // central-difference step [m or rad]
+
+ExternalParameterization fullForm() { return ExternalParameterization(ExternalForm::Full); }
+
+// Index of each covariance name: geometric (k < geometric count) or mounting (offset).
+struct CovarianceLayout {
+  std::vector<std::size_t> geometric;  // positions in covariance_names that are geometric
+  std::vector<std::size_t> mounting;
+};
+CovarianceLayout layoutOf(const PredictionModel& m) {
+  CovarianceLayout layout;
+  for (std::size_t k = 0; k < m.covariance_names.size(); ++k)
+    (m.geometric.contains(m.covariance_names[k]) ? layout.geometric : layout.mounting).push_back(k);
+  return layout;
+}
+
+// ∂q/∂ξg at bTe over the geometric covariance names (central differences of the IKM).
+Eigen::MatrixXd jointsWrtGeometry(const PredictionModel& m, const Eigen::Isometry3d& bTe,
+                                  const std::vector<std::string>& names) {
+  Eigen::MatrixXd J(m.mechanism->jointCount(), static_cast<Eigen::Index>(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    ParameterSet plus = m.geometric, minus = m.geometric;
+    plus.setValue(names[k], plus.value(names[k]) + kStep);
+    minus.setValue(names[k], minus.value(names[k]) - kStep);
+    J.col(static_cast<Eigen::Index>(k)) = (m.mechanism->inverseKinematics(plus.values(), bTe).joints -
+                                           m.mechanism->inverseKinematics(minus.values(), bTe).joints) /
+                                          (2 * kStep);
+  }
+  return J;
+}
+
+// ∂q/∂X at the pose X (central differences).
+Eigen::MatrixXd jointsWrtPose(const PredictionModel& m, const Eigen::VectorXd& X) {
+  const Eigen::VectorXd g = m.geometric.values();
+  Eigen::MatrixXd J(m.mechanism->jointCount(), X.size());
+  for (Eigen::Index k = 0; k < X.size(); ++k) {
+    Eigen::VectorXd p = X, q = X;
+    p[k] += kStep;
+    q[k] -= kStep;
+    J.col(k) = (m.mechanism->inverseKinematics(g, m.mechanism->poseToTransform(p)).joints -
+                m.mechanism->inverseKinematics(g, m.mechanism->poseToTransform(q)).joints) /
+               (2 * kStep);
+  }
+  return J;
+}
+
+// The rotation vector (entries 3..5) equivalent to v's and nearest `reference`'s: r and
+// r·(1 − 2π/|r|) are the same rotation, and near a half turn differences must not jump by 2π.
+PoseVector nearestRotationVector(PoseVector v, const PoseVector& reference) {
+  const Eigen::Vector3d r = v.tail<3>(), r0 = reference.tail<3>();
+  if (r.norm() > 1.0) {
+    const Eigen::Vector3d other = r * (1.0 - 2.0 * 3.14159265358979323846 / r.norm());
+    if ((other - r0).norm() < (r - r0).norm()) v.tail<3>() = other;
+  }
+  return v;
+}
+
+Eigen::MatrixXd subCovariance(const Eigen::MatrixXd& C, const std::vector<std::size_t>& a,
+                              const std::vector<std::size_t>& b) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(a.size()), static_cast<Eigen::Index>(b.size()));
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t j = 0; j < b.size(); ++j)
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
+          C(static_cast<Eigen::Index>(a[i]), static_cast<Eigen::Index>(b[j]));
+  return out;
+}
+
+}  // namespace
+
+Eigen::Isometry3d PredictionModel::cTb() const { return fullForm().baseFromCamera(mounting.values()).inverse(); }
+Eigen::Isometry3d PredictionModel::eTm() const { return fullForm().targetFromEffector(mounting.values()).inverse(); }
+
+PredictionModel predictionModelFrom(const std::string& model_name, const IdentificationResult& result) {
+  const IdentificationModel& id = result.model;
+  PredictionModel m;
+  m.model_name = model_name;
+  m.mechanism = id.mechanism;
+  const int G = id.geometricCount();
+  const ParameterSet& all = id.parameters;
+  for (int k = 0; k < G; ++k) m.geometric.add(all[static_cast<std::size_t>(k)]);
+  // Ties inside the geometry are kept (variant E's L1..L4).
+  for (int k = 0; k < G; ++k) {
+    std::vector<std::string> group;
+    for (int j = 0; j < G; ++j)
+      if (all.tieLeader(static_cast<std::size_t>(j)) == static_cast<std::size_t>(k)) group.push_back(all[static_cast<std::size_t>(j)].name);
+    if (group.size() > 1) m.geometric.tie(group);
+  }
+  const ExternalParameterization full = fullForm();
+  const auto toFull = [&](const Eigen::VectorXd& e) {
+    return Eigen::VectorXd(full.valuesFrom(id.external.baseFromCamera(e), id.external.targetFromEffector(e)));
+  };
+  const Eigen::VectorXd e0 = id.externalValues();
+  const Eigen::VectorXd full0 = toFull(e0);
+  // Near a half turn a rotation vector r and r·(1 − 2π/|r|) are the same rotation: take the
+  // one nearest the unperturbed value, or the differences below jump by 2π.
+  const auto nearFull0 = [&](Eigen::VectorXd v) {
+    for (int start : {3, 9}) {
+      const Eigen::Vector3d r = v.segment<3>(start), r0 = full0.segment<3>(start);
+      if (r.norm() > 1.0) {
+        const Eigen::Vector3d other = r * (1.0 - 2.0 * 3.14159265358979323846 / r.norm());
+        if ((other - r0).norm() < (r - r0).norm()) v.segment<3>(start) = other;
+      }
+    }
+    return v;
+  };
+  m.mounting = full.parameters();
+  m.mounting.freeAll();
+  m.mounting.setValues(full0);
+
+  // Covariance: free geometric names as they are; free external names through ∂full/∂e.
+  std::vector<std::size_t> geo, ext;
+  for (std::size_t k = 0; k < result.free_names.size(); ++k)
+    (all.index(result.free_names[k]) < static_cast<std::size_t>(G) ? geo : ext).push_back(k);
+  for (std::size_t k : geo) m.covariance_names.push_back(result.free_names[k]);
+  for (const std::string& n : m.mounting.names()) m.covariance_names.push_back(n);
+  if (result.covariance.size() == 0) return m;
+  const auto nf = static_cast<Eigen::Index>(result.free_names.size());
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(geo.size()) + 12, nf);
+  for (std::size_t i = 0; i < geo.size(); ++i) T(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(geo[i])) = 1.0;
+  const bool is_full = id.external.form() == ExternalForm::Full;
+  constexpr double kConversionStep = 1e-5;  // smooth map: truncation error ~1e-10
+  for (std::size_t k : ext) {
+    const std::size_t index = all.index(result.free_names[k]) - static_cast<std::size_t>(G);
+    if (is_full) {  // the mounting values are the parameters themselves
+      T(static_cast<Eigen::Index>(geo.size() + index), static_cast<Eigen::Index>(k)) = 1.0;
+      continue;
+    }
+    Eigen::VectorXd p = e0, q = e0;
+    p[static_cast<Eigen::Index>(index)] += kConversionStep;
+    q[static_cast<Eigen::Index>(index)] -= kConversionStep;
+    T.block(static_cast<Eigen::Index>(geo.size()), static_cast<Eigen::Index>(k), 12, 1) =
+        (nearFull0(toFull(p)) - nearFull0(toFull(q))) / (2 * kConversionStep);
+  }
+  m.covariance = T * result.covariance * T.transpose();
+  return m;
+}
+
+std::filesystem::path defaultParameterCovariancePath(const std::filesystem::path& yaml) {
+  std::filesystem::path out = yaml;
+  out.replace_filename(yaml.stem().string() + "_covariance.csv");
+  return out;
+}
+
+void writePredictionCovarianceCsv(const std::filesystem::path& path, const PredictionModel& m) {
+  const std::vector<std::string>& names = m.covariance_names;
+  const auto n = static_cast<Eigen::Index>(names.size());
+  const Eigen::MatrixXd C = m.covariance.size() ? m.covariance : Eigen::MatrixXd::Zero(n, n);
+  std::ostringstream out;
+  out << "name,value";
+  for (const std::string& name : names) out << ',' << name;
+  out << '\n';
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::string& name = names[static_cast<std::size_t>(i)];
+    out << name << ',' << support::formatNumber(m.geometric.contains(name) ? m.geometric.value(name)
+                                                                            : m.mounting.value(name));
+    for (Eigen::Index j = 0; j < n; ++j) out << ',' << support::formatNumber(C(i, j));
+    out << '\n';
+  }
+  support::writeFileAtomically(path, out.str());
+}
+
+void readPredictionCovarianceCsv(const std::filesystem::path& path, PredictionModel& m) {
+  const support::CsvTable table = support::readCsv(path);
+  const std::size_t name_col = table.column("name"), value_col = table.column("value");
+  if (m.mounting.size() == 0) m.mounting = fullForm().parameters();
+  m.covariance_names.clear();
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const std::string& name = table.rows[r][name_col];
+    for (const std::string& seen : m.covariance_names)
+      if (seen == name) throw std::runtime_error(table.where(r) + ": name '" + name + "' repeats");
+    const double value = table.number(r, value_col);
+    if (m.mounting.contains(name)) {
+      m.mounting.setValue(name, value);
+    } else if (!m.geometric.contains(name)) {
+      throw std::runtime_error(table.where(r) + ": '" + name + "' is not a parameter of " + m.mechanism->name() +
+                               " nor a mounting value (tx_CB..rz_EM)");
+    } else if (std::abs(m.geometric.value(name) - value) > 1e-12 * std::max(1.0, std::abs(value))) {
+      throw std::runtime_error(table.where(r) + ": '" + name +
+                               "' differs from the parameter file's value: the files do not belong together");
+    }
+    m.covariance_names.push_back(name);
+  }
+  const auto n = static_cast<Eigen::Index>(m.covariance_names.size());
+  m.covariance.resize(n, n);
+  for (std::size_t r = 0; r < m.covariance_names.size(); ++r)
+    for (std::size_t c = 0; c < m.covariance_names.size(); ++c)
+      m.covariance(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
+          table.number(r, table.column(m.covariance_names[c]));
+  if (!m.covariance.isApprox(m.covariance.transpose(), 1e-9) && n > 0)
+    throw std::runtime_error(path.string() + ": the covariance is not symmetric");
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (!(m.covariance(k, k) >= 0.0))
+      throw std::runtime_error(path.string() + ": negative variance of '" +
+                               m.covariance_names[static_cast<std::size_t>(k)] + "'");
+}
+
+LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
+                                          const std::optional<std::filesystem::path>& covariance_csv) {
+  const ParameterFile file = readParameterFile(yaml);
+  const ParameterFileEntry* model_key = file.find("model");
+  if (!model_key)
+    throw std::runtime_error(yaml.string() + ": no 'model' key (expected one of " + registeredModelList() + ")");
+  RegisteredModel registered;
+  try {
+    registered = makeRegisteredModel(model_key->text);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file.where(*model_key) + ": " + e.what());
+  }
+  LoadedPredictionModel out;
+  PredictionModel& m = out.model;
+  m.model_name = registered.name;
+  m.mechanism = registered.mechanism;
+  ParameterSet all = registered.nominal;
+  m.mounting = fullForm().parameters();
+  for (const Parameter& p : m.mounting.parameters()) all.add(p);
+  std::vector<std::string> also{"amplification"};
+  for (ExternalForm form : {ExternalForm::AxisAligned, ExternalForm::CameraFrame})
+    for (const std::string& n : ExternalParameterization(form).parameters().names()) also.push_back(n);
+  applyParameterFile(file, all, also);
+  m.geometric = registered.nominal;
+  for (const Parameter& p : registered.nominal.parameters()) m.geometric.setValue(p.name, all.value(p.name));
+  bool mounting_in_yaml = true;
+  for (const Parameter& p : m.mounting.parameters()) {
+    mounting_in_yaml = mounting_in_yaml && file.find(p.name) != nullptr;
+    m.mounting.setValue(p.name, all.value(p.name));
+  }
+  out.has_mounting = mounting_in_yaml;
+  const std::filesystem::path side = covariance_csv ? *covariance_csv : defaultParameterCovariancePath(yaml);
+  if (covariance_csv || std::filesystem::exists(side)) {
+    const ParameterSet yaml_mounting = m.mounting;
+    readPredictionCovarianceCsv(side, m);
+    if (mounting_in_yaml)
+      for (const Parameter& p : yaml_mounting.parameters())
+        if (std::abs(p.value - m.mounting.value(p.name)) > 1e-12 * std::max(1.0, std::abs(p.value)))
+          throw std::runtime_error(side.string() + ": '" + p.name + "' differs from " + yaml.string() +
+                                   ": the files do not belong together");
+    bool mounting_in_side = true;
+    for (const std::string& n : m.mounting.names()) {
+      bool found = false;
+      for (const std::string& c : m.covariance_names) found = found || c == n;
+      mounting_in_side = mounting_in_side && found;
+    }
+    out.has_mounting = out.has_mounting || mounting_in_side;
+    out.has_covariance = true;
+  }
+  return out;
+}
+
+PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& joints) {
+  PosePrediction out;
+  const Eigen::VectorXd g = m.geometric.values();
+  const FkmResult fkm = m.mechanism->forwardKinematics(g, joints, m.mechanism->referencePose(g));
+  out.converged = fkm.converged;
+  out.message = fkm.message;
+  if (!fkm.converged) return out;
+  out.pose = fkm.pose;
+  out.bTe = fkm.bTe;
+  const Eigen::Isometry3d cTb = m.cTb(), eTm = m.eTm();
+  out.cTm = toPoseVector(cTb * fkm.bTe * eTm);
+  const auto P = static_cast<Eigen::Index>(fkm.pose.size());
+  out.pose_covariance = Eigen::MatrixXd::Zero(P, P);
+  if (m.covariance.size() == 0) return out;
+
+  const CovarianceLayout layout = layoutOf(m);
+  std::vector<std::string> gnames;
+  for (std::size_t k : layout.geometric) gnames.push_back(m.covariance_names[k]);
+  // ∂X/∂ξg = −(∂q/∂X)⁺ ∂q/∂ξg (implicit function; pseudo-inverse when more joints than DoF).
+  const Eigen::MatrixXd Jx = jointsWrtPose(m, fkm.pose);
+  const Eigen::MatrixXd Jg = jointsWrtGeometry(m, fkm.bTe, gnames);
+  const Eigen::MatrixXd dXdg = -Jx.completeOrthogonalDecomposition().solve(Jg);
+  const Eigen::MatrixXd Cgg = subCovariance(m.covariance, layout.geometric, layout.geometric);
+  out.pose_covariance = dXdg * Cgg * dXdg.transpose();
+
+  // cTm(X, mounting): central differences over X and the 12 mounting values.
+  const ExternalParameterization full = fullForm();
+  const Eigen::VectorXd mount = m.mounting.values();
+  const auto cTmOf = [&](const Eigen::VectorXd& X, const Eigen::VectorXd& mt) {
+    return nearestRotationVector(toPoseVector(full.baseFromCamera(mt).inverse() * m.mechanism->poseToTransform(X) *
+                                              full.targetFromEffector(mt)),
+                                 out.cTm);
+  };
+  Eigen::MatrixXd dX(6, P), dM(6, 12);
+  for (Eigen::Index k = 0; k < P; ++k) {
+    Eigen::VectorXd a = fkm.pose, b = fkm.pose;
+    a[k] += kStep;
+    b[k] -= kStep;
+    dX.col(k) = (cTmOf(a, mount) - cTmOf(b, mount)) / (2 * kStep);
+  }
+  for (Eigen::Index k = 0; k < 12; ++k) {
+    Eigen::VectorXd a = mount, b = mount;
+    a[k] += kStep;
+    b[k] -= kStep;
+    dM.col(k) = (cTmOf(fkm.pose, a) - cTmOf(fkm.pose, b)) / (2 * kStep);
+  }
+  // Total Jacobian over the covariance names.
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, static_cast<Eigen::Index>(m.covariance_names.size()));
+  const Eigen::MatrixXd dg = dX * dXdg;
+  for (std::size_t i = 0; i < layout.geometric.size(); ++i)
+    J.col(static_cast<Eigen::Index>(layout.geometric[i])) = dg.col(static_cast<Eigen::Index>(i));
+  const std::vector<std::string> mnames = m.mounting.names();
+  for (std::size_t k : layout.mounting)
+    for (std::size_t j = 0; j < mnames.size(); ++j)
+      if (mnames[j] == m.covariance_names[k]) J.col(static_cast<Eigen::Index>(k)) = dM.col(static_cast<Eigen::Index>(j));
+  out.cTm_covariance = J * m.covariance * J.transpose();
+  return out;
+}
+
+JointPrediction predictJointCommands(const PredictionModel& m, const Eigen::Isometry3d& bTe) {
+  JointPrediction out;
+  out.ikm = m.mechanism->inverseKinematics(m.geometric.values(), bTe);
+  const auto n = static_cast<Eigen::Index>(m.mechanism->jointCount());
+  out.covariance = Eigen::MatrixXd::Zero(n, n);
+  if (m.covariance.size() == 0 || !out.ikm.reachable()) return out;
+  const CovarianceLayout layout = layoutOf(m);
+  std::vector<std::string> gnames;
+  for (std::size_t k : layout.geometric) gnames.push_back(m.covariance_names[k]);
+  const Eigen::MatrixXd Jg = jointsWrtGeometry(m, bTe, gnames);
+  out.covariance = Jg * subCovariance(m.covariance, layout.geometric, layout.geometric) * Jg.transpose();
+  return out;
+}
+
+}  // namespace mire::mechanism

@@ -1,0 +1,116 @@
+// `mire identify` on a Delta and a Gough–Stewart campaign, then `mire fkm` / `mire ikm` with
+// the identified files: predictions against the simulated truth, within their σ; unreachable
+// poses named (doc/mechanisms.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "mire/datasets/mechanism_campaign.hpp"
+#include "mire/support/csv.hpp"
+#include "test_support.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int runMire(const test::TempDir& dir, const std::string& args) {
+  return test::runCommand(test::mireBinary().string() + " " + args + " > " + (dir.path() / "stdout.txt").string() +
+                          " 2> " + (dir.path() / "stderr.txt").string());
+}
+
+// Identify on the protocol, predict cTm on 20 held-out poses: RMS error vs predicted σ.
+void identifyThenPredict(const std::string& model) {
+  test::TempDir dir;
+  const datasets::Campaign c = datasets::simulateCampaign(model, 11, 0.2e-3, 0.03 * datasets::kCampaignDeg, 20);
+  const std::size_t train = c.poses.size() - 20;
+  datasets::writeCampaignFiles(c, dir.path(), 0, train);
+  datasets::writeCampaignFiles(c, dir.path(), train, 20, "held_poses.csv", "held_joints.csv");
+  const fs::path d = dir.path();
+  ASSERT_EQ(runMire(dir, "identify --model " + model + " --poses " + (d / "poses.csv").string() + " --joints " +
+                             (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
+            0)
+      << slurp(d / "stderr.txt");
+  const std::string out = slurp(d / "stdout.txt");
+  if (model.rfind("h4-", 0) != 0) {
+    EXPECT_NE(out.find("gauge"), std::string::npos) << out;  // the analysis names what is held
+  }
+  ASSERT_TRUE(fs::exists(d / "id_covariance.csv"));
+  ASSERT_EQ(runMire(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
+                             " --frame camera -o " + (d / "pred.csv").string()),
+            0)
+      << slurp(d / "stderr.txt");
+  const support::CsvTable table = support::readCsv(d / "pred.csv");
+  ASSERT_EQ(table.rows.size(), 20u);
+  double err2 = 0, sig2 = 0;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const std::size_t j = std::stoul(table.rows[r][table.column("pose_id")]) - 1;
+    const Eigen::Isometry3d truth = c.bTc.inverse() * c.bTe[j] * c.mTe.inverse();
+    const Eigen::Vector3d t(table.number(r, table.column("tx_m")), table.number(r, table.column("ty_m")),
+                            table.number(r, table.column("tz_m")));
+    err2 += (t - truth.translation()).squaredNorm();
+    for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"}) sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
+  }
+  const double ratio = std::sqrt(err2 / sig2);
+  // The acceptance: the error is at most at the predicted σ's level (doc/mechanisms.md
+  // "Limits": the predicted σ can be pessimistic, not absurdly so).
+  EXPECT_LT(ratio, 2.0) << model;
+  EXPECT_GT(ratio, 0.02) << model;
+  std::printf("%s: fkm --frame camera, 20 held-out poses: RMS error / predicted sigma = %.3f\n", model.c_str(), ratio);
+  EXPECT_TRUE(fs::exists(d / "pred_covariance.csv"));
+
+  // ikm of the base-frame FKM poses gives the joints back; a far pose is named unreachable.
+  ASSERT_EQ(runMire(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
+                             " -o " + (d / "effector.csv").string()),
+            0)
+      << slurp(d / "stderr.txt");
+  const bool can_fail = model != "gough-stewart";  // prismatic legs: every pose has an IKM
+  if (can_fail) {
+    const std::size_t P = (support::readCsv(d / "effector.csv").header.size() - 1) / 2;
+    std::ofstream app(d / "effector.csv", std::ios::app);
+    app << "far";
+    for (std::size_t k = 0; k < 2 * P; ++k) app << (k == 2 ? ",-5" : ",0");
+    app << "\n";
+  }
+  EXPECT_EQ(runMire(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " + (d / "effector.csv").string() +
+                             " -o " + (d / "commands.csv").string()),
+            can_fail ? 3 : 0);
+  if (can_fail) {
+    EXPECT_NE(slurp(d / "stderr.txt").find("'far' is unreachable"), std::string::npos) << slurp(d / "stderr.txt");
+  }
+  const support::CsvTable commands = support::readCsv(d / "commands.csv");
+  const support::CsvTable held = support::readCsv(d / "held_joints.csv");
+  ASSERT_EQ(commands.rows.size(), 20u);
+  for (std::size_t r = 0; r < commands.rows.size(); ++r)
+    for (std::size_t k = 1; k < held.header.size(); ++k)
+      EXPECT_NEAR(commands.number(r, commands.column(held.header[k])), held.number(r, k), 1e-8);
+}
+
+TEST(FkmIkmCli, DeltaIdentifyPredictCommand) { identifyThenPredict("delta"); }
+TEST(FkmIkmCli, GoughStewartIdentifyPredictCommand) { identifyThenPredict("gough-stewart"); }
+TEST(FkmIkmCli, H4IdentifyPredictCommand) { identifyThenPredict("h4-12"); }
+
+TEST(FkmIkmCli, UnknownModelIsNamed) {
+  test::TempDir dir;
+  const datasets::Campaign c = datasets::simulateCampaign("delta", 12);
+  datasets::writeCampaignFiles(c, dir.path(), 0, c.poses.size());
+  const fs::path d = dir.path();
+  EXPECT_NE(runMire(dir, "identify --model delta3 --poses " + (d / "poses.csv").string() + " --joints " +
+                             (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
+            0);
+  EXPECT_NE(slurp(d / "stderr.txt").find("gough-stewart"), std::string::npos) << slurp(d / "stderr.txt");
+  EXPECT_FALSE(fs::exists(d / "id.yaml"));
+}
+
+}  // namespace
+}  // namespace mire::app
