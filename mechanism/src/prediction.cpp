@@ -232,7 +232,8 @@ LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
   std::vector<std::string> also{"amplification"};
   for (ExternalForm form : {ExternalForm::AxisAligned, ExternalForm::CameraFrame})
     for (const std::string& n : ExternalParameterization(form).parameters().names()) also.push_back(n);
-  applyParameterFile(file, all, also);
+  // The full mounting may come from the covariance side file instead (has_mounting below).
+  applyParameterFile(file, all, also, m.mounting.names());
   m.geometric = registered.nominal;
   for (const Parameter& p : registered.nominal.parameters()) m.geometric.setValue(p.name, all.value(p.name));
   bool mounting_in_yaml = true;

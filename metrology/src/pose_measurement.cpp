@@ -117,8 +117,8 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
   if (rerefined.found && rerefined.size() == detections[reference].size()) detections[reference] = rerefined;
   for (std::size_t j = 0; j < images.size(); ++j)
     if (copy_of[j] >= 0) detections[j] = detections[static_cast<std::size_t>(copy_of[j])];
+  result.detections = detections;  // every image's, before the integrity test leaves any out
   if (!averageIntegrity(camera, target, names, options, &detections, &result)) return result;
-  result.detections = detections;
   result.estimate = estimatePose(camera, target.points(), result.features, options.pose);
   if (!result.estimate.valid) {
     result.error = result.estimate.reason;
