@@ -34,6 +34,7 @@ struct CalibrateArguments {
   std::string target_path;
   std::string images_dir;
   std::string model = "opencv5";
+  std::vector<std::string> fixed_parameters;  // --fix k3,p1,p2
   bool refine_target = false;
   std::string output_path;
   std::string report_dir;
@@ -117,6 +118,7 @@ int runCalibrate(const CalibrateArguments& args) {
 
   calibration::CalibrationOptions options;
   options.model = model;
+  options.fixed_parameters = args.fixed_parameters;
   options.refine_target = args.refine_target;
   options.num_threads = threads;
   const calibration::CalibrationResult result =
@@ -145,8 +147,11 @@ int runCalibrate(const CalibrateArguments& args) {
             << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
   for (std::size_t i = 0; i < p.size(); ++i) {
     const bool pixel_unit = i < 4;
-    std::cout << "  " << names[i] << " = " << fixed(p[i], pixel_unit ? 3 : 6) << " +- "
-              << fixed(sigma.empty() ? 0.0 : sigma[i], pixel_unit ? 3 : 6) << (pixel_unit ? " px" : "") << "\n";
+    const bool is_fixed = std::find(result.fixed_parameters.begin(), result.fixed_parameters.end(), names[i]) !=
+                          result.fixed_parameters.end();
+    std::cout << "  " << names[i] << " = " << fixed(p[i], pixel_unit ? 3 : 6)
+              << (is_fixed ? " (fixed)" : " +- " + fixed(sigma.empty() ? 0.0 : sigma[i], pixel_unit ? 3 : 6))
+              << (pixel_unit ? " px" : "") << "\n";
   }
   std::cout << "reprojection RMS " << fixed(result.camera.rms_px, 4) << " px (sigma " << fixed(result.sigma_px, 4)
             << " px); per view: ";
@@ -175,8 +180,14 @@ Runner addCalibrateCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand("calibrate", "Calibrate the camera (intrinsics + distortion) from target images");
   command->add_option("--target", args->target_path, "target.yaml describing the board")->required();
   command->add_option("--images", args->images_dir, "folder of calibration images")->required();
-  command->add_option("--model", args->model, "distortion model: opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational)")
-      ->check(CLI::IsMember({"opencv4", "opencv5", "opencv8"}));
+  command->add_option("--model", args->model,
+                      "camera model: pinhole (no distortion), opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational), "
+                      "fisheye (OpenCV's equidistant k1..k4)")
+      ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "fisheye"}));
+  command->add_option("--fix", args->fixed_parameters,
+                      "parameters held fixed, by name (e.g. k3,p1,p2; fx fy cx cy too): distortion terms stay 0, "
+                      "cx cy stay at the image centre, fx fy at the initial estimate")
+      ->delimiter(',');
   command->add_flag("--refine-target", args->refine_target,
                     "also estimate the target's 3D points (Lavest & Dhome) for an imperfect board");
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();

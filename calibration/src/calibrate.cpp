@@ -24,8 +24,14 @@ int distortionCoefficientCount(DistortionModel model) {
     case DistortionModel::OpenCV4: return 4;
     case DistortionModel::OpenCV5: return 5;
     case DistortionModel::OpenCV8: return 8;
+    case DistortionModel::Pinhole: return 0;
+    case DistortionModel::Fisheye: return 4;
   }
   return 5;
+}
+
+LensModel lensOf(DistortionModel model) {
+  return model == DistortionModel::Fisheye ? LensModel::Fisheye : LensModel::OpenCV;
 }
 
 std::string distortionModelName(DistortionModel model) {
@@ -33,15 +39,18 @@ std::string distortionModelName(DistortionModel model) {
     case DistortionModel::OpenCV4: return "opencv4";
     case DistortionModel::OpenCV5: return "opencv5";
     case DistortionModel::OpenCV8: return "opencv8";
+    case DistortionModel::Pinhole: return "pinhole";
+    case DistortionModel::Fisheye: return "fisheye";
   }
   return "opencv5";
 }
 
 DistortionModel parseDistortionModel(const std::string& name) {
-  if (name == "opencv4") return DistortionModel::OpenCV4;
-  if (name == "opencv5") return DistortionModel::OpenCV5;
-  if (name == "opencv8") return DistortionModel::OpenCV8;
-  throw std::invalid_argument("unknown distortion model '" + name + "' (expected opencv4, opencv5 or opencv8)");
+  for (const DistortionModel model : {DistortionModel::Pinhole, DistortionModel::OpenCV4, DistortionModel::OpenCV5,
+                                      DistortionModel::OpenCV8, DistortionModel::Fisheye})
+    if (name == distortionModelName(model)) return model;
+  throw std::invalid_argument("unknown camera model '" + name +
+                              "' (expected pinhole, opencv4, opencv5, opencv8 or fisheye)");
 }
 
 namespace {
@@ -49,8 +58,8 @@ namespace {
 using Pose = Eigen::Matrix<double, 6, 1>;  // angle-axis, translation (cTm)
 
 // Reprojection residual (px) of one target point in one view, through the shared templated
-// projection (camera_model.hpp) so that distortion is written once.
-template <int kDistortion>
+// projection (camera_model.hpp) so that each lens model is written once.
+template <LensModel kLens, int kDistortion>
 struct ReprojectionError {
   explicit ReprojectionError(const Eigen::Vector2d& observed) : observed_(observed) {}
   template <typename T>
@@ -59,7 +68,7 @@ struct ReprojectionError {
     ceres::AngleAxisRotatePoint(pose, point, camera_point);
     for (int i = 0; i < 3; ++i) camera_point[i] += pose[3 + i];
     T pixel[2];
-    if (!projectPoint(intrinsics, kDistortion, camera_point, pixel)) return false;
+    if (!projectPoint(intrinsics, kLens, kDistortion, camera_point, pixel)) return false;
     residual[0] = pixel[0] - observed_.x();
     residual[1] = pixel[1] - observed_.y();
     return true;
@@ -67,28 +76,40 @@ struct ReprojectionError {
   Eigen::Vector2d observed_;
 };
 
-ceres::CostFunction* makeCost(int distortion_count, const Eigen::Vector2d& observed) {
-  switch (distortion_count) {
-    case 4: return new ceres::AutoDiffCostFunction<ReprojectionError<4>, 2, 8, 6, 3>(new ReprojectionError<4>(observed));
-    case 5: return new ceres::AutoDiffCostFunction<ReprojectionError<5>, 2, 9, 6, 3>(new ReprojectionError<5>(observed));
-    case 8: return new ceres::AutoDiffCostFunction<ReprojectionError<8>, 2, 12, 6, 3>(new ReprojectionError<8>(observed));
-    default: throw std::invalid_argument("unsupported distortion coefficient count");
-  }
+template <LensModel kLens, int kDistortion>
+ceres::CostFunction* makeCostFor(const Eigen::Vector2d& observed) {
+  using Functor = ReprojectionError<kLens, kDistortion>;
+  return new ceres::AutoDiffCostFunction<Functor, 2, kIntrinsicCount + kDistortion, 6, 3>(new Functor(observed));
 }
 
-Eigen::Vector2d projectWithPose(const std::vector<double>& params, const Pose& pose, const Eigen::Vector3d& point,
-                                bool* in_front) {
+// Ceres needs each parameter-block size at compile time: one case per calibrated model.
+ceres::CostFunction* makeCost(LensModel lens, int distortion_count, const Eigen::Vector2d& observed) {
+  if (lens == LensModel::Fisheye && distortion_count == 4) return makeCostFor<LensModel::Fisheye, 4>(observed);
+  if (lens == LensModel::OpenCV) switch (distortion_count) {
+      case 0: return makeCostFor<LensModel::OpenCV, 0>(observed);
+      case 4: return makeCostFor<LensModel::OpenCV, 4>(observed);
+      case 5: return makeCostFor<LensModel::OpenCV, 5>(observed);
+      case 8: return makeCostFor<LensModel::OpenCV, 8>(observed);
+      default: break;
+    }
+  throw std::invalid_argument("unsupported camera model for calibration (" + std::string(lensName(lens)) + ", " +
+                              std::to_string(distortion_count) + " coefficients)");
+}
+
+Eigen::Vector2d projectWithPose(const std::vector<double>& params, LensModel lens, const Pose& pose,
+                                const Eigen::Vector3d& point, bool* in_front) {
   Eigen::Vector3d camera_point;
   ceres::AngleAxisRotatePoint(pose.data(), point.data(), camera_point.data());
   camera_point += pose.tail<3>();
   Eigen::Vector2d pixel(0.0, 0.0);
-  *in_front = projectPoint(params.data(), static_cast<int>(params.size()) - kIntrinsicCount, camera_point.data(),
+  *in_front = projectPoint(params.data(), lens, static_cast<int>(params.size()) - kIntrinsicCount, camera_point.data(),
                            pixel.data());
   return pixel;
 }
 
 // The mutable state of the adjustment.
 struct State {
+  LensModel lens = LensModel::OpenCV;
   std::vector<double> params;
   std::vector<Pose> poses;                       // one per view (meaningful when active)
   std::vector<Eigen::Vector3d> points;           // target points (refined or nominal)
@@ -120,7 +141,7 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
       ceres::LossFunction* loss_function = nullptr;
       if (loss == RobustLoss::Huber) loss_function = new ceres::HuberLoss(loss_scale);
       if (loss == RobustLoss::Cauchy) loss_function = new ceres::CauchyLoss(loss_scale);
-      problem.AddResidualBlock(makeCost(distortion_count, views[v].pixels[k]), loss_function, intrinsics,
+      problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), loss_function, intrinsics,
                                state->poses[v].data(), state->points[id].data());
       used_points.insert(id);
     }
@@ -164,7 +185,7 @@ std::vector<std::vector<Eigen::Vector2d>> residualsOf(const std::vector<Calibrat
     if (!state.view_active[v]) continue;
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       bool in_front = false;
-      const Eigen::Vector2d pixel = projectWithPose(state.params, state.poses[v], state.points[views[v].ids[k]], &in_front);
+      const Eigen::Vector2d pixel = projectWithPose(state.params, state.lens, state.poses[v], state.points[views[v].ids[k]], &in_front);
       if (in_front) residuals[v][k] = pixel - views[v].pixels[k];
     }
   }
@@ -206,7 +227,7 @@ Linearisation linearise(const Setup& setup, State* state) {
     result.active_views.push_back(static_cast<int>(v));
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       if (!state->inlier[v][k]) continue;
-      problem.AddResidualBlock(makeCost(distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
+      problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
                                state->poses[v].data(), state->points[views[v].ids[k]].data());
       used_points.insert(views[v].ids[k]);
     }
@@ -316,6 +337,31 @@ std::vector<double> initialIntrinsics(const std::vector<Eigen::Vector3d>& target
   return params;
 }
 
+// cTm of one view by cv::solvePnP on the normalised rays of `camera` (unproject), identity K.
+std::optional<Pose> initialPose(const Camera& camera, const std::vector<Eigen::Vector3d>& target_points,
+                                const CalibrationView& view, bool non_planar) {
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> rays;
+  for (std::size_t k = 0; k < view.ids.size(); ++k) {
+    Eigen::Vector2d ray;
+    if (!camera.unproject(view.pixels[k], &ray)) continue;
+    const Eigen::Vector3d& p = target_points[view.ids[k]];
+    object.emplace_back(p.x(), p.y(), p.z());
+    rays.emplace_back(ray.x(), ray.y());
+  }
+  if (object.size() < 4) return std::nullopt;
+  cv::Vec3d rvec, tvec;
+  bool solved = false;
+  try {
+    solved = cv::solvePnP(object, rays, cv::Matx33d::eye(), cv::noArray(), rvec, tvec, false,
+                          non_planar ? cv::SOLVEPNP_ITERATIVE : cv::SOLVEPNP_IPPE);
+  } catch (const cv::Exception&) {
+    solved = false;
+  }
+  if (!solved || !std::isfinite(tvec[2]) || tvec[2] <= 0.0) return std::nullopt;
+  return poseFromOpenCV(rvec, tvec);
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -375,6 +421,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
   const int parameter_count = kIntrinsicCount + distortion_count;
 
   Camera names_camera;
+  names_camera.lens = lensOf(options.model);
   names_camera.params.assign(static_cast<std::size_t>(parameter_count), 0.0);
   const std::vector<std::string> names = names_camera.parameterNames();
   Setup setup;
@@ -398,6 +445,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
 
   // Validate and screen views.
   State state;
+  state.lens = lensOf(options.model);
   state.points = target_points;
   state.view_active.assign(views.size(), false);
   state.inlier.resize(views.size());
@@ -436,32 +484,22 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
       if (index == 2) state.params[2] = 0.5 * (width - 1);
       if (index == 3) state.params[3] = 0.5 * (height - 1);
     }
-  // Initial poses: OpenCV's PnP through the initial intrinsics (IPPE for planar targets).
-  const cv::Matx33d camera_matrix(state.params[0], 0.0, state.params[2], 0.0, state.params[1], state.params[3], 0.0, 0.0, 1.0);
-  std::vector<double> initial_distortion(state.params.begin() + kIntrinsicCount, state.params.end());
+  // Initial poses: OpenCV's PnP (IPPE for planar targets) on the rays of the initial camera,
+  // so every lens model starts the same way.
+  Camera initial_camera;
+  initial_camera.width = width;
+  initial_camera.height = height;
+  initial_camera.lens = state.lens;
+  initial_camera.params = state.params;
   for (std::size_t v = 0; v < views.size(); ++v) {
     if (!state.view_active[v]) continue;
-    std::vector<cv::Point3d> object;
-    std::vector<cv::Point2d> image;
-    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
-      const Eigen::Vector3d& p = target_points[views[v].ids[k]];
-      object.emplace_back(p.x(), p.y(), p.z());
-      image.emplace_back(views[v].pixels[k].x(), views[v].pixels[k].y());
-    }
-    cv::Vec3d rvec, tvec;
-    bool solved = false;
-    try {
-      solved = cv::solvePnP(object, image, camera_matrix, initial_distortion, rvec, tvec, false,
-                            options.initial_params ? cv::SOLVEPNP_ITERATIVE : cv::SOLVEPNP_IPPE);
-    } catch (const cv::Exception&) {
-      solved = false;
-    }
-    if (!solved || !std::isfinite(tvec[2]) || tvec[2] <= 0.0) {
+    const std::optional<Pose> pose = initialPose(initial_camera, target_points, views[v], options.initial_params.has_value());
+    if (!pose) {
       state.view_active[v] = false;
       result.views[v].rejection_reason = "initial pose (PnP) failed";
       continue;
     }
-    state.poses[v] = poseFromOpenCV(rvec, tvec);
+    state.poses[v] = *pose;
   }
   auto activeCount = [&] { return static_cast<int>(std::count(state.view_active.begin(), state.view_active.end(), true)); };
   if (activeCount() < 3)
@@ -601,6 +639,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
 
   result.camera.width = width;
   result.camera.height = height;
+  result.camera.lens = state.lens;
   result.camera.params = state.params;
   result.camera.rms_px = std::sqrt(ssr / std::max(1, inlier_count));
   result.camera.covariance = result.state_covariance.topLeftCorner(parameter_count, parameter_count);

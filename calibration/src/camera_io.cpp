@@ -157,15 +157,17 @@ Camera readCameraYaml(const std::filesystem::path& path) {
   const cv::Mat d = readMatrix(storage["distortion_coefficients"], file, "distortion_coefficients");
   if (d.rows != 1 && d.cols != 1) fail(file, "distortion_coefficients", "must be 1xN or Nx1");
   const int count = static_cast<int>(d.total());
-  if (!isSupportedDistortionCount(count))
-    fail(file, "distortion_coefficients", "has " + std::to_string(count) + " values; 4, 5, 8 or 12 are supported");
+  if (count != 0 && !isSupportedDistortionCount(count))
+    fail(file, "distortion_coefficients", "has " + std::to_string(count) + " values; 0, 4, 5, 8 or 12 are supported");
   camera.params = {k.at<double>(0, 0), k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2)};
   for (int i = 0; i < count; ++i) camera.params.push_back(d.at<double>(i));
 
   if (!storage["model"].empty()) {
     const cv::FileNode node = storage["model"];
     const std::string model = node.isString() ? node.string() : std::string();
-    if (model != "opencv" && model != modelName(count))
+    if (model == "fisheye" && count == 4) camera.lens = LensModel::Fisheye;
+    else if (model == "pinhole" && count == 0) camera.lens = LensModel::OpenCV;
+    else if (model != "opencv" && model != modelName(count))
       fail(file, "model", "'" + model + "' does not describe " + std::to_string(count) + " OpenCV coefficients (expected \"" +
                               modelName(count) + "\" or \"opencv\")");
   }
@@ -236,7 +238,7 @@ std::string cameraYamlString(const Camera& camera) {
       " sigma = square roots of its diagonal.");
   storage << "image_width" << camera.width;
   storage << "image_height" << camera.height;
-  storage << "model" << modelName(camera.distortionCount());
+  storage << "model" << camera.modelName();
   const cv::Matx33d k(camera.fx(), 0.0, camera.cx(), 0.0, camera.fy(), camera.cy(), 0.0, 0.0, 1.0);
   storage << "camera_matrix" << cv::Mat(k);
   const cv::Mat d(1, camera.distortionCount(), CV_64F, const_cast<double*>(camera.params.data() + kIntrinsicCount));

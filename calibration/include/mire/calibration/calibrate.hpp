@@ -27,11 +27,15 @@
 
 namespace mire::calibration {
 
-// OpenCV's distortion models: opencv4 = k1 k2 p1 p2 (Bouguet's toolbox, k3 = 0),
-// opencv5 = + k3 (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL).
-enum class DistortionModel { OpenCV4, OpenCV5, OpenCV8 };
+// The models calibrate estimates (doc/camera-models.md). OpenCV's distortion models:
+// pinhole = no distortion, opencv4 = k1 k2 p1 p2 (Bouguet's toolbox, k3 = 0), opencv5 = + k3
+// (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL); fisheye = OpenCV's
+// cv::fisheye equidistant model, k1..k4.
+enum class DistortionModel { OpenCV4, OpenCV5, OpenCV8, Pinhole, Fisheye };
 int distortionCoefficientCount(DistortionModel model);
-std::string distortionModelName(DistortionModel model);  // "opencv4", "opencv5", "opencv8"
+LensModel lensOf(DistortionModel model);
+// "opencv4", "opencv5", "opencv8", "pinhole", "fisheye"
+std::string distortionModelName(DistortionModel model);
 // Throws std::invalid_argument naming the accepted values.
 DistortionModel parseDistortionModel(const std::string& name);
 
@@ -150,12 +154,14 @@ Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Ei
 // The function whose spread that is: the pixel where the point seen at `pixel` (through
 // `truth_params`, at `distance_m`, carried through the true poses `truth_poses`) lands with
 // the estimated intrinsics and poses. Exposed for Monte-Carlo validation. Poses: 6-vectors
-// (angle-axis, t) of cTm, one per entry of `view_indices` (indices into result.views).
+// (angle-axis, t) of cTm, one per entry of `view_indices` (indices into result.views);
+// `lens` is the model of both parameter vectors.
 Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_params,
                                          const std::vector<Eigen::Matrix<double, 6, 1>>& estimate_poses,
                                          const std::vector<double>& truth_params,
                                          const std::vector<Eigen::Matrix<double, 6, 1>>& truth_poses,
-                                         const Eigen::Vector2d& pixel, double distance_m);
+                                         const Eigen::Vector2d& pixel, double distance_m,
+                                         LensModel lens = LensModel::OpenCV);
 
 // Projection uncertainty at the image centre, the middle of the right edge and the corner.
 struct ProjectionUncertaintySummary {
