@@ -175,6 +175,12 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
   ceres::Solve(options, &problem, &summary);
   if (!summary.IsSolutionUsable())
     throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
+  // With the target's points free, an unconverged least-squares pass means a gauge or
+  // conditioning problem whose result must not be written (issue 13).
+  if (setup.refine_target && !robust && summary.termination_type == ceres::NO_CONVERGENCE)
+    throw std::runtime_error("target refinement did not converge in " + std::to_string(options.max_num_iterations) +
+                             " iterations (" + summary.message +
+                             "): the views do not fix the target's shape; calibrate without --refine-target");
 }
 
 // Residual norms (px) of every active observation; inactive ones get NaN.
@@ -213,6 +219,8 @@ struct Linearisation {
   std::vector<int> free_intrinsics;  // ambient index of each tangent intrinsic column
   int pose_columns_begin = 0;
   std::vector<int> active_views;
+  Eigen::VectorXd residuals;  // px, rows of `jacobian`
+  std::vector<int> row_view;  // position in active_views of each row's view
 };
 
 Linearisation linearise(const Setup& setup, State* state) {
@@ -230,6 +238,8 @@ Linearisation linearise(const Setup& setup, State* state) {
       problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
                                state->poses[v].data(), state->points[views[v].ids[k]].data());
       used_points.insert(views[v].ids[k]);
+      const int position = static_cast<int>(result.active_views.size()) - 1;
+      result.row_view.insert(result.row_view.end(), {position, position});
     }
   }
   const int parameter_count = static_cast<int>(state->params.size());
@@ -251,7 +261,9 @@ Linearisation linearise(const Setup& setup, State* state) {
     }
   }
   ceres::CRSMatrix crs;
-  problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs);
+  std::vector<double> residuals;
+  problem.Evaluate(evaluate, nullptr, &residuals, nullptr, &crs);
+  result.residuals = Eigen::Map<const Eigen::VectorXd>(residuals.data(), static_cast<Eigen::Index>(residuals.size()));
   result.jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int row = 0; row < crs.num_rows; ++row)
     for (int entry = crs.rows[row]; entry < crs.rows[row + 1]; ++entry) result.jacobian(row, crs.cols[entry]) = crs.values[entry];
@@ -360,6 +372,50 @@ std::optional<Pose> initialPose(const Camera& camera, const std::vector<Eigen::V
   }
   if (!solved || !std::isfinite(tvec[2]) || tvec[2] <= 0.0) return std::nullopt;
   return poseFromOpenCV(rvec, tvec);
+}
+
+// Non-finite values are never returned (so never written): they mean a gauge or convergence
+// problem of the adjustment, reported as such.
+void requireFinite(const CalibrationResult& result) {
+  bool finite = result.camera.covariance.allFinite() && result.state_covariance.allFinite() &&
+                std::isfinite(result.sigma_px);
+  for (const double value : result.camera.params) finite = finite && std::isfinite(value);
+  for (const auto& point : result.target_points) finite = finite && point.allFinite();
+  if (!finite)
+    throw std::runtime_error(std::string("the calibration produced non-finite values (") +
+                             (result.target_refined ? "target refinement: a gauge or convergence problem"
+                                                    : "a convergence problem") +
+                             "); nothing written");
+}
+
+// Systematic error shows as residuals correlated within a view (a detector bias that depends
+// on the view's geometry, an imperfect board): then σ² (JᵀJ)⁻¹ is too small. The view-cluster
+// sandwich (Liang & Zeger's cluster-robust covariance, views as clusters, G/(G−1) small-sample
+// factor) A⁻¹ (Σ_v J_vᵀ r_v r_vᵀ J_v) A⁻¹, A = JᵀJ, estimates the spread whatever the
+// correlation inside a view. Returns, per tangent column, the factor by which the classical σ
+// is inflated: σ_sandwich / σ_classic when the evidence is significant, 1 otherwise (never
+// deflated). Test: with white residuals the variance ratio behaves as χ²(G−1)/(G−1) (G views);
+// it must exceed that law's 99th percentile (Wilson–Hilferty), so a correct model is inflated
+// in ≈ 1 % of the parameters only.
+Eigen::VectorXd viewClusterInflation(const Linearisation& linear, const Eigen::MatrixXd& normal_inverse, double sigma2) {
+  const Eigen::Index n = linear.jacobian.cols();
+  const int groups = static_cast<int>(linear.active_views.size());
+  Eigen::MatrixXd scores = Eigen::MatrixXd::Zero(n, groups);
+  for (Eigen::Index row = 0; row < linear.jacobian.rows(); ++row)
+    scores.col(linear.row_view[static_cast<std::size_t>(row)]) += linear.jacobian.row(row).transpose() * linear.residuals(row);
+  const Eigen::MatrixXd spread = normal_inverse * scores;  // A⁻¹ g_v per view
+  const double small_sample = groups > 1 ? static_cast<double>(groups) / (groups - 1) : 1.0;
+  const double dof = std::max(1, groups - 1);
+  const double wilson_hilferty = 1.0 - 2.0 / (9.0 * dof) + 2.326 * std::sqrt(2.0 / (9.0 * dof));
+  const double threshold = wilson_hilferty * wilson_hilferty * wilson_hilferty;  // χ²₀.₉₉(dof) / dof
+  Eigen::VectorXd inflation = Eigen::VectorXd::Ones(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double classic = sigma2 * normal_inverse(j, j);
+    const double sandwich = small_sample * spread.row(j).squaredNorm();
+    if (classic > 0.0 && std::isfinite(sandwich) && sandwich > threshold * classic)
+      inflation(j) = std::sqrt(sandwich / classic);
+  }
+  return inflation;
 }
 
 double median(std::vector<double> values) {
@@ -621,8 +677,21 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
   if (dof <= 0) throw std::runtime_error("more unknowns (" + std::to_string(result.free_parameter_count) +
                                          ") than measurements (" + std::to_string(2 * inlier_count) + ")");
   result.sigma_px = std::sqrt(ssr / dof);
-  const Eigen::MatrixXd tangent_covariance =
-      result.sigma_px * result.sigma_px * inverseNormalMatrix(linear.jacobian, &result.warnings);
+  const Eigen::MatrixXd normal_inverse = inverseNormalMatrix(linear.jacobian, &result.warnings);
+  const double sigma2 = result.sigma_px * result.sigma_px;
+  Eigen::MatrixXd tangent_covariance = sigma2 * normal_inverse;
+  result.covariance_pixel_noise = Eigen::MatrixXd::Zero(parameter_count, parameter_count);
+  for (std::size_t r = 0; r < linear.free_intrinsics.size(); ++r)
+    for (std::size_t c = 0; c < linear.free_intrinsics.size(); ++c)
+      result.covariance_pixel_noise(linear.free_intrinsics[r], linear.free_intrinsics[c]) =
+          tangent_covariance(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
+  result.sigma_inflation.assign(static_cast<std::size_t>(parameter_count), 1.0);
+  if (options.view_cluster_covariance && linear.active_views.size() >= 2) {
+    const Eigen::VectorXd inflation = viewClusterInflation(linear, normal_inverse, sigma2);
+    tangent_covariance = inflation.asDiagonal() * tangent_covariance * inflation.asDiagonal();
+    for (std::size_t c = 0; c < linear.free_intrinsics.size(); ++c)
+      result.sigma_inflation[static_cast<std::size_t>(linear.free_intrinsics[c])] = inflation(static_cast<Eigen::Index>(c));
+  }
   const int view_count = static_cast<int>(linear.active_views.size());
   const int state_size = parameter_count + 6 * view_count;
   // Tangent → ambient: column c of the tangent intrinsics is ambient index free_intrinsics[c];
@@ -675,6 +744,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
   }
 
   result.uncertainty_distance_m = options.uncertainty_distance_m > 0.0 ? options.uncertainty_distance_m : median(distances);
+  requireFinite(result);
   addGeometryWarnings(views, state, width, height, &result);
   return result;
 }

@@ -165,8 +165,10 @@ Camera readCameraYaml(const std::filesystem::path& path) {
   if (!storage["model"].empty()) {
     const cv::FileNode node = storage["model"];
     const std::string model = node.isString() ? node.string() : std::string();
+    // pinhole is written with 4 zero coefficients, so OpenCV's readers get a usable vector.
+    const bool zero = std::all_of(camera.params.begin() + kIntrinsicCount, camera.params.end(), [](double c) { return c == 0.0; });
     if (model == "fisheye" && count == 4) camera.lens = LensModel::Fisheye;
-    else if (model == "pinhole" && count == 0) camera.lens = LensModel::OpenCV;
+    else if (model == "pinhole" && zero) camera.params.resize(kIntrinsicCount);
     else if (model != "opencv" && model != modelName(count))
       fail(file, "model", "'" + model + "' does not describe " + std::to_string(count) + " OpenCV coefficients (expected \"" +
                               modelName(count) + "\" or \"opencv\")");
@@ -241,7 +243,9 @@ std::string cameraYamlString(const Camera& camera) {
   storage << "model" << camera.modelName();
   const cv::Matx33d k(camera.fx(), 0.0, camera.cx(), 0.0, camera.fy(), camera.cy(), 0.0, 0.0, 1.0);
   storage << "camera_matrix" << cv::Mat(k);
-  const cv::Mat d(1, camera.distortionCount(), CV_64F, const_cast<double*>(camera.params.data() + kIntrinsicCount));
+  const cv::Mat d = camera.distortionCount() == 0
+                        ? cv::Mat(cv::Mat::zeros(1, 4, CV_64F))  // pinhole: OpenCV's readers expect a vector
+                        : cv::Mat(1, camera.distortionCount(), CV_64F, const_cast<double*>(camera.params.data() + kIntrinsicCount));
   storage << "distortion_coefficients" << d;
   storage << "rms_px" << camera.rms_px;
   if (camera.covariance.size() != 0) {

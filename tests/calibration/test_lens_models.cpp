@@ -5,6 +5,7 @@
 // (a realistic camera of that model), reference() (OpenCV's projection of camera-frame
 // points) and model (calibrate's DistortionModel), and append it to LensModelTypes.
 #include "mire/calibration/calibrate.hpp"
+#include "mire/calibration/camera_io.hpp"
 #include "mire/calibration/camera_model.hpp"
 
 #include "synthetic_calibration.hpp"
@@ -14,6 +15,8 @@
 #include <opencv2/calib3d.hpp>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <random>
 
 namespace mire::calibration {
@@ -196,6 +199,18 @@ TYPED_TEST(LensModels, CalibrationRecoversTheCamera) {
               truth.modelName().c_str(), result.camera.params[0] - truth.params[0], result.camera.params[1] - truth.params[1],
               result.camera.params[2] - truth.params[2], result.camera.params[3] - truth.params[3], sigma[0], sigma[1],
               sigma[2], sigma[3], result.camera.rms_px);
+}
+
+// camera.yaml keeps the model (pinhole: 4 zero coefficients for OpenCV's readers).
+TYPED_TEST(LensModels, CameraYamlRoundTripKeepsTheModel) {
+  const Camera camera = TypeParam::camera();
+  const auto path = std::filesystem::temp_directory_path() / ("mire-lens-" + camera.modelName() + ".yaml");
+  std::ofstream(path) << cameraYamlString(camera);
+  const Camera back = readCameraYaml(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(back.lens, camera.lens);
+  EXPECT_EQ(back.modelName(), camera.modelName());
+  EXPECT_EQ(back.params, camera.params);
 }
 
 TEST(LensModelNames, ParameterNamesAndValidation) {

@@ -61,6 +61,10 @@ struct CalibrationOptions {
   // Lavest & Dhome: the target's points become unknowns (gauge: see CalibrationResult).
   bool refine_target = false;
 
+  // Inflate the covariance by the view-cluster (sandwich) estimate where it is larger: the
+  // σ then include systematic errors that are correlated within a view (doc/camera-models.md).
+  bool view_cluster_covariance = true;
+
   // Working distance for the projection uncertainty; 0 = the median distance of the target
   // in the calibration views.
   double uncertainty_distance_m = 0.0;
@@ -114,6 +118,14 @@ struct CalibrationResult {
   double target_out_of_plane_rms_m = 0.0;  // refined points vs their best-fit plane
   double target_out_of_plane_max_m = 0.0;
   double target_displacement_rms_m = 0.0;  // refined − nominal (3D)
+
+  // What the σ include (doc/camera-models.md): camera.covariance and state_covariance are the
+  // classical σ² (JᵀJ)⁻¹ (pixel noise, estimated from the residuals) with each parameter's σ
+  // multiplied by sigma_inflation (≥ 1; ambient order, 1 for fixed parameters): the ratio of
+  // the view-cluster sandwich σ to the classical one, when residuals are correlated within
+  // views (systematic error). covariance_pixel_noise: the intrinsics' classical covariance.
+  std::vector<double> sigma_inflation;
+  Eigen::MatrixXd covariance_pixel_noise;
 
   // Covariance of the state [intrinsics (ambient, as camera.params), then 6 per used view
   // (rotation, translation) in `views` order], marginalised over the target points; used by
