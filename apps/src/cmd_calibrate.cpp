@@ -16,6 +16,7 @@
 
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -35,6 +36,7 @@ struct CalibrateArguments {
   std::string target_path;
   std::string images_dir;
   std::string model = "opencv5";
+  std::vector<std::string> fixed_parameters;  // --fix k3,p1,p2
   bool refine_target = false;
   std::string output_path;
   std::string report_dir;
@@ -56,14 +58,24 @@ std::string extraYamlKeys(const calibration::CalibrationResult& result,
   std::ostringstream out;
   out << "# mire calibrate: solution quality (see README 'mire calibrate')\n";
   out << "sigma_px: " << support::formatNumber(result.sigma_px) << "\n";
+  out << "# sigma = pixel-noise sigma x sigma_inflation (>= 1, view-cluster sandwich: systematic error), per parameter\n";
+  out << "sigma_inflation: [ ";
+  for (std::size_t i = 0; i < result.sigma_inflation.size(); ++i)
+    out << (i ? ", " : "") << support::formatNumber(result.sigma_inflation[i]);
+  out << " ]\n";
   out << "views_used: " << result.used_views << "\n";
   out << "views_rejected: " << result.rejected_views << "\n";
   out << "points_used: " << result.used_points << "\n";
   out << "points_rejected: " << result.rejected_points << "\n";
   out << "target_refined: " << (result.target_refined ? 1 : 0) << "\n";
   out << "projection_uncertainty_distance_m: " << support::formatNumber(result.uncertainty_distance_m) << "\n";
-  out << "projection_uncertainty_px: [ " << support::formatNumber(uncertainty.centre_px) << ", "
-      << support::formatNumber(uncertainty.edge_px) << ", " << support::formatNumber(uncertainty.corner_px) << " ]\n";
+  // −1 where undefined (the pixel cannot be unprojected: beyond the model's invertible field);
+  // nothing non-finite is ever written.
+  const auto value = [](double px) { return support::formatNumber(std::isfinite(px) ? px : -1.0); };
+  out << "# projection_uncertainty_px: centre, edge, corner; -1 = undefined there (pixel outside the lens model's "
+         "invertible field)\n";
+  out << "projection_uncertainty_px: [ " << value(uncertainty.centre_px) << ", " << value(uncertainty.edge_px) << ", "
+      << value(uncertainty.corner_px) << " ]\n";
   return out.str();
 }
 
@@ -126,6 +138,7 @@ int runCalibrate(const CalibrateArguments& args) {
 
   calibration::CalibrationOptions options;
   options.model = model;
+  options.fixed_parameters = args.fixed_parameters;
   options.refine_target = args.refine_target;
   options.num_threads = threads;
   const calibration::CalibrationResult result =
@@ -157,17 +170,32 @@ int runCalibrate(const CalibrateArguments& args) {
             << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
   for (std::size_t i = 0; i < p.size(); ++i) {
     const bool pixel_unit = i < 4;
-    std::cout << "  " << names[i] << " = " << fixed(p[i], pixel_unit ? 3 : 6) << " +- "
-              << fixed(sigma.empty() ? 0.0 : sigma[i], pixel_unit ? 3 : 6) << (pixel_unit ? " px" : "") << "\n";
+    const bool is_fixed = std::find(result.fixed_parameters.begin(), result.fixed_parameters.end(), names[i]) !=
+                          result.fixed_parameters.end();
+    std::cout << "  " << names[i] << " = " << fixed(p[i], pixel_unit ? 3 : 6)
+              << (is_fixed ? " (fixed)" : " +- " + fixed(sigma.empty() ? 0.0 : sigma[i], pixel_unit ? 3 : 6))
+              << (pixel_unit ? " px" : "") << "\n";
+  }
+  {
+    std::string inflated;
+    for (std::size_t i = 0; i < result.sigma_inflation.size() && i < names.size(); ++i)
+      if (result.sigma_inflation[i] > 1.05) inflated += " " + names[i] + " x" + fixed(result.sigma_inflation[i], 2);
+    std::cout << (inflated.empty() ? std::string("sigma: pixel noise (no sign of systematic error across views)")
+                                   : "sigma include systematic error (residuals correlated within views, view-cluster "
+                                     "sandwich):" + inflated)
+              << "\n";
   }
   std::cout << "reprojection RMS " << fixed(result.camera.rms_px, 4) << " px (sigma " << fixed(result.sigma_px, 4)
             << " px); per view: ";
   for (const auto& view : result.views)
     if (view.used) std::cout << fixed(view.rms_px, 3) << " ";
   std::cout << "\n";
+  const auto pixels = [](double px) {
+    return std::isfinite(px) ? fixed(px, 4) + " px" : std::string("undefined (outside the model's invertible field)");
+  };
   std::cout << "projection uncertainty (1 sigma, at " << fixed(result.uncertainty_distance_m * 1e3, 0)
-            << " mm): centre " << fixed(uncertainty.centre_px, 4) << " px, edge " << fixed(uncertainty.edge_px, 4)
-            << " px, corner " << fixed(uncertainty.corner_px, 4) << " px\n";
+            << " mm): centre " << pixels(uncertainty.centre_px) << ", edge " << pixels(uncertainty.edge_px) << ", corner "
+            << pixels(uncertainty.corner_px) << "\n";
   if (result.target_refined)
     std::cout << "target deformation: out-of-plane RMS " << fixed(result.target_out_of_plane_rms_m * 1e3, 4)
               << " mm, max " << fixed(result.target_out_of_plane_max_m * 1e3, 4) << " mm; displacement RMS "
@@ -192,8 +220,14 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_option("--image-size", args->image_size, "WIDTH HEIGHT of the images, for a detections file without it")
       ->expected(2);
   command->add_option("--save-detections", args->save_detections, "write every view's detections (CSV, doc/targets.md)");
-  command->add_option("--model", args->model, "distortion model: opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational)")
-      ->check(CLI::IsMember({"opencv4", "opencv5", "opencv8"}));
+  command->add_option("--model", args->model,
+                      "camera model: pinhole (no distortion), opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational), "
+                      "fisheye (OpenCV's equidistant k1..k4)")
+      ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "fisheye"}));
+  command->add_option("--fix", args->fixed_parameters,
+                      "parameters held fixed, by name (e.g. k3,p1,p2; fx fy cx cy too): distortion terms stay 0, "
+                      "cx cy stay at the image centre, fx fy at the initial estimate")
+      ->delimiter(',');
   command->add_flag("--refine-target", args->refine_target,
                     "also estimate the target's 3D points (Lavest & Dhome) for an imperfect board");
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();

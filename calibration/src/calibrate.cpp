@@ -24,8 +24,14 @@ int distortionCoefficientCount(DistortionModel model) {
     case DistortionModel::OpenCV4: return 4;
     case DistortionModel::OpenCV5: return 5;
     case DistortionModel::OpenCV8: return 8;
+    case DistortionModel::Pinhole: return 0;
+    case DistortionModel::Fisheye: return 4;
   }
   return 5;
+}
+
+LensModel lensOf(DistortionModel model) {
+  return model == DistortionModel::Fisheye ? LensModel::Fisheye : LensModel::OpenCV;
 }
 
 std::string distortionModelName(DistortionModel model) {
@@ -33,15 +39,18 @@ std::string distortionModelName(DistortionModel model) {
     case DistortionModel::OpenCV4: return "opencv4";
     case DistortionModel::OpenCV5: return "opencv5";
     case DistortionModel::OpenCV8: return "opencv8";
+    case DistortionModel::Pinhole: return "pinhole";
+    case DistortionModel::Fisheye: return "fisheye";
   }
   return "opencv5";
 }
 
 DistortionModel parseDistortionModel(const std::string& name) {
-  if (name == "opencv4") return DistortionModel::OpenCV4;
-  if (name == "opencv5") return DistortionModel::OpenCV5;
-  if (name == "opencv8") return DistortionModel::OpenCV8;
-  throw std::invalid_argument("unknown distortion model '" + name + "' (expected opencv4, opencv5 or opencv8)");
+  for (const DistortionModel model : {DistortionModel::Pinhole, DistortionModel::OpenCV4, DistortionModel::OpenCV5,
+                                      DistortionModel::OpenCV8, DistortionModel::Fisheye})
+    if (name == distortionModelName(model)) return model;
+  throw std::invalid_argument("unknown camera model '" + name +
+                              "' (expected pinhole, opencv4, opencv5, opencv8 or fisheye)");
 }
 
 namespace {
@@ -49,8 +58,8 @@ namespace {
 using Pose = Eigen::Matrix<double, 6, 1>;  // angle-axis, translation (cTm)
 
 // Reprojection residual (px) of one target point in one view, through the shared templated
-// projection (camera_model.hpp) so that distortion is written once.
-template <int kDistortion>
+// projection (camera_model.hpp) so that each lens model is written once.
+template <LensModel kLens, int kDistortion>
 struct ReprojectionError {
   explicit ReprojectionError(const Eigen::Vector2d& observed) : observed_(observed) {}
   template <typename T>
@@ -59,7 +68,7 @@ struct ReprojectionError {
     ceres::AngleAxisRotatePoint(pose, point, camera_point);
     for (int i = 0; i < 3; ++i) camera_point[i] += pose[3 + i];
     T pixel[2];
-    if (!projectPoint(intrinsics, kDistortion, camera_point, pixel)) return false;
+    if (!projectPoint(intrinsics, kLens, kDistortion, camera_point, pixel)) return false;
     residual[0] = pixel[0] - observed_.x();
     residual[1] = pixel[1] - observed_.y();
     return true;
@@ -67,28 +76,40 @@ struct ReprojectionError {
   Eigen::Vector2d observed_;
 };
 
-ceres::CostFunction* makeCost(int distortion_count, const Eigen::Vector2d& observed) {
-  switch (distortion_count) {
-    case 4: return new ceres::AutoDiffCostFunction<ReprojectionError<4>, 2, 8, 6, 3>(new ReprojectionError<4>(observed));
-    case 5: return new ceres::AutoDiffCostFunction<ReprojectionError<5>, 2, 9, 6, 3>(new ReprojectionError<5>(observed));
-    case 8: return new ceres::AutoDiffCostFunction<ReprojectionError<8>, 2, 12, 6, 3>(new ReprojectionError<8>(observed));
-    default: throw std::invalid_argument("unsupported distortion coefficient count");
-  }
+template <LensModel kLens, int kDistortion>
+ceres::CostFunction* makeCostFor(const Eigen::Vector2d& observed) {
+  using Functor = ReprojectionError<kLens, kDistortion>;
+  return new ceres::AutoDiffCostFunction<Functor, 2, kIntrinsicCount + kDistortion, 6, 3>(new Functor(observed));
 }
 
-Eigen::Vector2d projectWithPose(const std::vector<double>& params, const Pose& pose, const Eigen::Vector3d& point,
-                                bool* in_front) {
+// Ceres needs each parameter-block size at compile time: one case per calibrated model.
+ceres::CostFunction* makeCost(LensModel lens, int distortion_count, const Eigen::Vector2d& observed) {
+  if (lens == LensModel::Fisheye && distortion_count == 4) return makeCostFor<LensModel::Fisheye, 4>(observed);
+  if (lens == LensModel::OpenCV) switch (distortion_count) {
+      case 0: return makeCostFor<LensModel::OpenCV, 0>(observed);
+      case 4: return makeCostFor<LensModel::OpenCV, 4>(observed);
+      case 5: return makeCostFor<LensModel::OpenCV, 5>(observed);
+      case 8: return makeCostFor<LensModel::OpenCV, 8>(observed);
+      default: break;
+    }
+  throw std::invalid_argument("unsupported camera model for calibration (" + std::string(lensName(lens)) + ", " +
+                              std::to_string(distortion_count) + " coefficients)");
+}
+
+Eigen::Vector2d projectWithPose(const std::vector<double>& params, LensModel lens, const Pose& pose,
+                                const Eigen::Vector3d& point, bool* in_front) {
   Eigen::Vector3d camera_point;
   ceres::AngleAxisRotatePoint(pose.data(), point.data(), camera_point.data());
   camera_point += pose.tail<3>();
   Eigen::Vector2d pixel(0.0, 0.0);
-  *in_front = projectPoint(params.data(), static_cast<int>(params.size()) - kIntrinsicCount, camera_point.data(),
+  *in_front = projectPoint(params.data(), lens, static_cast<int>(params.size()) - kIntrinsicCount, camera_point.data(),
                            pixel.data());
   return pixel;
 }
 
 // The mutable state of the adjustment.
 struct State {
+  LensModel lens = LensModel::OpenCV;
   std::vector<double> params;
   std::vector<Pose> poses;                       // one per view (meaningful when active)
   std::vector<Eigen::Vector3d> points;           // target points (refined or nominal)
@@ -120,7 +141,7 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
       ceres::LossFunction* loss_function = nullptr;
       if (loss == RobustLoss::Huber) loss_function = new ceres::HuberLoss(loss_scale);
       if (loss == RobustLoss::Cauchy) loss_function = new ceres::CauchyLoss(loss_scale);
-      problem.AddResidualBlock(makeCost(distortion_count, views[v].pixels[k]), loss_function, intrinsics,
+      problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), loss_function, intrinsics,
                                state->poses[v].data(), state->points[id].data());
       used_points.insert(id);
     }
@@ -154,6 +175,12 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
   ceres::Solve(options, &problem, &summary);
   if (!summary.IsSolutionUsable())
     throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
+  // With the target's points free, an unconverged least-squares pass means a gauge or
+  // conditioning problem whose result must not be written (issue 13).
+  if (setup.refine_target && !robust && summary.termination_type == ceres::NO_CONVERGENCE)
+    throw std::runtime_error("target refinement did not converge in " + std::to_string(options.max_num_iterations) +
+                             " iterations (" + summary.message +
+                             "): the views do not fix the target's shape; calibrate without --refine-target");
 }
 
 // Residual norms (px) of every active observation; inactive ones get NaN.
@@ -164,7 +191,7 @@ std::vector<std::vector<Eigen::Vector2d>> residualsOf(const std::vector<Calibrat
     if (!state.view_active[v]) continue;
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       bool in_front = false;
-      const Eigen::Vector2d pixel = projectWithPose(state.params, state.poses[v], state.points[views[v].ids[k]], &in_front);
+      const Eigen::Vector2d pixel = projectWithPose(state.params, state.lens, state.poses[v], state.points[views[v].ids[k]], &in_front);
       if (in_front) residuals[v][k] = pixel - views[v].pixels[k];
     }
   }
@@ -192,6 +219,8 @@ struct Linearisation {
   std::vector<int> free_intrinsics;  // ambient index of each tangent intrinsic column
   int pose_columns_begin = 0;
   std::vector<int> active_views;
+  Eigen::VectorXd residuals;  // px, rows of `jacobian`
+  std::vector<int> row_view;  // position in active_views of each row's view
 };
 
 Linearisation linearise(const Setup& setup, State* state) {
@@ -206,9 +235,11 @@ Linearisation linearise(const Setup& setup, State* state) {
     result.active_views.push_back(static_cast<int>(v));
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       if (!state->inlier[v][k]) continue;
-      problem.AddResidualBlock(makeCost(distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
+      problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
                                state->poses[v].data(), state->points[views[v].ids[k]].data());
       used_points.insert(views[v].ids[k]);
+      const int position = static_cast<int>(result.active_views.size()) - 1;
+      result.row_view.insert(result.row_view.end(), {position, position});
     }
   }
   const int parameter_count = static_cast<int>(state->params.size());
@@ -230,7 +261,9 @@ Linearisation linearise(const Setup& setup, State* state) {
     }
   }
   ceres::CRSMatrix crs;
-  problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs);
+  std::vector<double> residuals;
+  problem.Evaluate(evaluate, nullptr, &residuals, nullptr, &crs);
+  result.residuals = Eigen::Map<const Eigen::VectorXd>(residuals.data(), static_cast<Eigen::Index>(residuals.size()));
   result.jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int row = 0; row < crs.num_rows; ++row)
     for (int entry = crs.rows[row]; entry < crs.rows[row + 1]; ++entry) result.jacobian(row, crs.cols[entry]) = crs.values[entry];
@@ -316,6 +349,75 @@ std::vector<double> initialIntrinsics(const std::vector<Eigen::Vector3d>& target
   return params;
 }
 
+// cTm of one view by cv::solvePnP on the normalised rays of `camera` (unproject), identity K.
+std::optional<Pose> initialPose(const Camera& camera, const std::vector<Eigen::Vector3d>& target_points,
+                                const CalibrationView& view, bool non_planar) {
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> rays;
+  for (std::size_t k = 0; k < view.ids.size(); ++k) {
+    Eigen::Vector2d ray;
+    if (!camera.unproject(view.pixels[k], &ray)) continue;
+    const Eigen::Vector3d& p = target_points[view.ids[k]];
+    object.emplace_back(p.x(), p.y(), p.z());
+    rays.emplace_back(ray.x(), ray.y());
+  }
+  if (object.size() < 4) return std::nullopt;
+  cv::Vec3d rvec, tvec;
+  bool solved = false;
+  try {
+    solved = cv::solvePnP(object, rays, cv::Matx33d::eye(), cv::noArray(), rvec, tvec, false,
+                          non_planar ? cv::SOLVEPNP_ITERATIVE : cv::SOLVEPNP_IPPE);
+  } catch (const cv::Exception&) {
+    solved = false;
+  }
+  if (!solved || !std::isfinite(tvec[2]) || tvec[2] <= 0.0) return std::nullopt;
+  return poseFromOpenCV(rvec, tvec);
+}
+
+// Non-finite values are never returned (so never written): they mean a gauge or convergence
+// problem of the adjustment, reported as such.
+void requireFinite(const CalibrationResult& result) {
+  bool finite = result.camera.covariance.allFinite() && result.state_covariance.allFinite() &&
+                std::isfinite(result.sigma_px);
+  for (const double value : result.camera.params) finite = finite && std::isfinite(value);
+  for (const auto& point : result.target_points) finite = finite && point.allFinite();
+  if (!finite)
+    throw std::runtime_error(std::string("the calibration produced non-finite values (") +
+                             (result.target_refined ? "target refinement: a gauge or convergence problem"
+                                                    : "a convergence problem") +
+                             "); nothing written");
+}
+
+// Systematic error shows as residuals correlated within a view (a detector bias that depends
+// on the view's geometry, an imperfect board): then σ² (JᵀJ)⁻¹ is too small. The view-cluster
+// sandwich (Liang & Zeger's cluster-robust covariance, views as clusters, G/(G−1) small-sample
+// factor) A⁻¹ (Σ_v J_vᵀ r_v r_vᵀ J_v) A⁻¹, A = JᵀJ, estimates the spread whatever the
+// correlation inside a view. Returns, per tangent column, the factor by which the classical σ
+// is inflated: σ_sandwich / σ_classic when the evidence is significant, 1 otherwise (never
+// deflated). Test: with white residuals the variance ratio behaves as χ²(G−1)/(G−1) (G views);
+// it must exceed that law's 99th percentile (Wilson–Hilferty), so a correct model is inflated
+// in ≈ 1 % of the parameters only.
+Eigen::VectorXd viewClusterInflation(const Linearisation& linear, const Eigen::MatrixXd& normal_inverse, double sigma2) {
+  const Eigen::Index n = linear.jacobian.cols();
+  const int groups = static_cast<int>(linear.active_views.size());
+  Eigen::MatrixXd scores = Eigen::MatrixXd::Zero(n, groups);
+  for (Eigen::Index row = 0; row < linear.jacobian.rows(); ++row)
+    scores.col(linear.row_view[static_cast<std::size_t>(row)]) += linear.jacobian.row(row).transpose() * linear.residuals(row);
+  const Eigen::MatrixXd spread = normal_inverse * scores;  // A⁻¹ g_v per view
+  const double small_sample = groups > 1 ? static_cast<double>(groups) / (groups - 1) : 1.0;
+  const double dof = std::max(1, groups - 1);
+  const double wilson_hilferty = 1.0 - 2.0 / (9.0 * dof) + 2.326 * std::sqrt(2.0 / (9.0 * dof));
+  const double threshold = wilson_hilferty * wilson_hilferty * wilson_hilferty;  // χ²₀.₉₉(dof) / dof
+  Eigen::VectorXd inflation = Eigen::VectorXd::Ones(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double classic = sigma2 * normal_inverse(j, j);
+    const double sandwich = small_sample * spread.row(j).squaredNorm();
+    if (classic > 0.0 && std::isfinite(sandwich) && sandwich > threshold * classic)
+      inflation(j) = std::sqrt(sandwich / classic);
+  }
+  return inflation;
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -375,6 +477,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
   const int parameter_count = kIntrinsicCount + distortion_count;
 
   Camera names_camera;
+  names_camera.lens = lensOf(options.model);
   names_camera.params.assign(static_cast<std::size_t>(parameter_count), 0.0);
   const std::vector<std::string> names = names_camera.parameterNames();
   Setup setup;
@@ -398,6 +501,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
 
   // Validate and screen views.
   State state;
+  state.lens = lensOf(options.model);
   state.points = target_points;
   state.view_active.assign(views.size(), false);
   state.inlier.resize(views.size());
@@ -436,32 +540,22 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
       if (index == 2) state.params[2] = 0.5 * (width - 1);
       if (index == 3) state.params[3] = 0.5 * (height - 1);
     }
-  // Initial poses: OpenCV's PnP through the initial intrinsics (IPPE for planar targets).
-  const cv::Matx33d camera_matrix(state.params[0], 0.0, state.params[2], 0.0, state.params[1], state.params[3], 0.0, 0.0, 1.0);
-  std::vector<double> initial_distortion(state.params.begin() + kIntrinsicCount, state.params.end());
+  // Initial poses: OpenCV's PnP (IPPE for planar targets) on the rays of the initial camera,
+  // so every lens model starts the same way.
+  Camera initial_camera;
+  initial_camera.width = width;
+  initial_camera.height = height;
+  initial_camera.lens = state.lens;
+  initial_camera.params = state.params;
   for (std::size_t v = 0; v < views.size(); ++v) {
     if (!state.view_active[v]) continue;
-    std::vector<cv::Point3d> object;
-    std::vector<cv::Point2d> image;
-    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
-      const Eigen::Vector3d& p = target_points[views[v].ids[k]];
-      object.emplace_back(p.x(), p.y(), p.z());
-      image.emplace_back(views[v].pixels[k].x(), views[v].pixels[k].y());
-    }
-    cv::Vec3d rvec, tvec;
-    bool solved = false;
-    try {
-      solved = cv::solvePnP(object, image, camera_matrix, initial_distortion, rvec, tvec, false,
-                            options.initial_params ? cv::SOLVEPNP_ITERATIVE : cv::SOLVEPNP_IPPE);
-    } catch (const cv::Exception&) {
-      solved = false;
-    }
-    if (!solved || !std::isfinite(tvec[2]) || tvec[2] <= 0.0) {
+    const std::optional<Pose> pose = initialPose(initial_camera, target_points, views[v], options.initial_params.has_value());
+    if (!pose) {
       state.view_active[v] = false;
       result.views[v].rejection_reason = "initial pose (PnP) failed";
       continue;
     }
-    state.poses[v] = poseFromOpenCV(rvec, tvec);
+    state.poses[v] = *pose;
   }
   auto activeCount = [&] { return static_cast<int>(std::count(state.view_active.begin(), state.view_active.end(), true)); };
   if (activeCount() < 3)
@@ -583,8 +677,21 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
   if (dof <= 0) throw std::runtime_error("more unknowns (" + std::to_string(result.free_parameter_count) +
                                          ") than measurements (" + std::to_string(2 * inlier_count) + ")");
   result.sigma_px = std::sqrt(ssr / dof);
-  const Eigen::MatrixXd tangent_covariance =
-      result.sigma_px * result.sigma_px * inverseNormalMatrix(linear.jacobian, &result.warnings);
+  const Eigen::MatrixXd normal_inverse = inverseNormalMatrix(linear.jacobian, &result.warnings);
+  const double sigma2 = result.sigma_px * result.sigma_px;
+  Eigen::MatrixXd tangent_covariance = sigma2 * normal_inverse;
+  result.covariance_pixel_noise = Eigen::MatrixXd::Zero(parameter_count, parameter_count);
+  for (std::size_t r = 0; r < linear.free_intrinsics.size(); ++r)
+    for (std::size_t c = 0; c < linear.free_intrinsics.size(); ++c)
+      result.covariance_pixel_noise(linear.free_intrinsics[r], linear.free_intrinsics[c]) =
+          tangent_covariance(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
+  result.sigma_inflation.assign(static_cast<std::size_t>(parameter_count), 1.0);
+  if (options.view_cluster_covariance && linear.active_views.size() >= 2) {
+    const Eigen::VectorXd inflation = viewClusterInflation(linear, normal_inverse, sigma2);
+    tangent_covariance = inflation.asDiagonal() * tangent_covariance * inflation.asDiagonal();
+    for (std::size_t c = 0; c < linear.free_intrinsics.size(); ++c)
+      result.sigma_inflation[static_cast<std::size_t>(linear.free_intrinsics[c])] = inflation(static_cast<Eigen::Index>(c));
+  }
   const int view_count = static_cast<int>(linear.active_views.size());
   const int state_size = parameter_count + 6 * view_count;
   // Tangent → ambient: column c of the tangent intrinsics is ambient index free_intrinsics[c];
@@ -601,6 +708,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
 
   result.camera.width = width;
   result.camera.height = height;
+  result.camera.lens = state.lens;
   result.camera.params = state.params;
   result.camera.rms_px = std::sqrt(ssr / std::max(1, inlier_count));
   result.camera.covariance = result.state_covariance.topLeftCorner(parameter_count, parameter_count);
@@ -636,6 +744,7 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
   }
 
   result.uncertainty_distance_m = options.uncertainty_distance_m > 0.0 ? options.uncertainty_distance_m : median(distances);
+  requireFinite(result);
   addGeometryWarnings(views, state, width, height, &result);
   return result;
 }

@@ -11,11 +11,20 @@
 namespace mire::calibration {
 
 std::vector<std::string> Camera::parameterNames() const {
-  static const char* const kNames[] = {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2",
-                                       "k3", "k4", "k5", "k6", "s1", "s2", "s3", "s4"};
-  std::vector<std::string> names;
-  for (std::size_t i = 0; i < params.size() && i < std::size(kNames); ++i) names.emplace_back(kNames[i]);
+  std::vector<std::string> names = {"fx", "fy", "cx", "cy"};
+  names.resize(std::min<std::size_t>(names.size(), params.size()));
+  for (int i = 0; i < distortionCount(); ++i) {
+    const std::string name = coefficientName(lens, i);
+    if (name.empty()) break;
+    names.push_back(name);
+  }
   return names;
+}
+
+std::string Camera::modelName() const {
+  if (lens == LensModel::OpenCV)
+    return distortionCount() == 0 ? std::string("pinhole") : "opencv" + std::to_string(distortionCount());
+  return lensName(lens);
 }
 
 std::vector<double> Camera::sigmas() const {
@@ -27,11 +36,13 @@ std::vector<double> Camera::sigmas() const {
 
 void Camera::validate() const {
   if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
-  if (params.size() < kIntrinsicCount || (distortionCount() != 0 && !isSupportedDistortionCount(distortionCount())))
-    throw std::invalid_argument("distortion must have 0 (pinhole), 4, 5, 8 or 12 coefficients, not " +
-                                std::to_string(distortionCount()));
-  if (lens == LensModel::Fisheye && distortionCount() != 4)
-    throw std::invalid_argument("a fisheye camera has 4 coefficients k1..k4, not " + std::to_string(distortionCount()));
+  if (params.size() < kIntrinsicCount)
+    throw std::invalid_argument("a camera needs fx, fy, cx, cy (" + std::to_string(params.size()) + " parameters given)");
+  if (!isValidCoefficientCount(lens, distortionCount()))
+    throw std::invalid_argument(lens == LensModel::Fisheye
+                                    ? "the fisheye model has 4 coefficients (k1..k4), not " + std::to_string(distortionCount())
+                                    : "distortion must have 0 (pinhole), 4, 5, 8 or 12 coefficients, not " +
+                                          std::to_string(distortionCount()));
   for (const double value : params)
     if (!std::isfinite(value)) throw std::invalid_argument("camera parameters must be finite");
   if (!(fx() > 0.0) || !(fy() > 0.0)) throw std::invalid_argument("focal lengths must be positive");
@@ -41,12 +52,12 @@ void Camera::validate() const {
 }
 
 bool Camera::project(const Eigen::Vector3d& point_camera, Eigen::Vector2d* pixel) const {
-  return projectPoint(params.data(), distortionCount(), point_camera.data(), pixel->data());
+  return projectPoint(params.data(), lens, distortionCount(), point_camera.data(), pixel->data());
 }
 
 bool Camera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector2d* normalized) const {
   // Newton on distort(x) = target in normalised coordinates, with the Jacobian from dual
-  // numbers (exact, and the same distortNormalized as projection).
+  // numbers (exact, and the same distortLens as projection).
   const Eigen::Vector2d target((pixel.x() - cx()) / fx(), (pixel.y() - cy()) / fy());
   const int count = distortionCount();
   using Jet = ceres::Jet<double, 2>;
@@ -56,7 +67,7 @@ bool Camera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector2d* normalized
   for (int iteration = 0; iteration < 100; ++iteration) {
     const Jet jx(x.x(), 0), jy(x.y(), 1);
     Jet xd, yd;
-    distortNormalized(coefficients.data(), count, jx, jy, &xd, &yd);
+    distortLens(lens, coefficients.data(), count, jx, jy, &xd, &yd);
     const Eigen::Vector2d residual(xd.a - target.x(), yd.a - target.y());
     Eigen::Matrix2d jacobian;
     jacobian << xd.v[0], xd.v[1], yd.v[0], yd.v[1];

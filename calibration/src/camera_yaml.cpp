@@ -30,7 +30,7 @@ const std::vector<std::string> kIgnoredKeys{
     "square_size", "marker_size", "aspectRatio", "fix_aspect_ratio", "flags", "flagValue", "avg_reprojection_error",
     "per_view_reprojection_errors", "extrinsic_parameters", "image_points", "grid_points", "cameraMatrix_std_dev",
     "dist_coeffs_std_dev", "camera_name", "distortion_model", "rectification_matrix", "projection_matrix",
-    "sigma_px", "views_used", "views_rejected", "points_used", "points_rejected", "target_refined",
+    "sigma_px", "views_used", "views_rejected", "points_used", "points_rejected", "target_refined", "sigma_inflation",
     "projection_uncertainty_distance_m", "projection_uncertainty_px"};
 
 constexpr YamlRange kAnyFinite{-1e300, 1e300};

@@ -43,9 +43,10 @@ std::vector<Pose> posesOf(const CalibrationResult& result) {
 Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_params,
                                          const std::vector<Pose>& estimate_poses,
                                          const std::vector<double>& truth_params, const std::vector<Pose>& truth_poses,
-                                         const Eigen::Vector2d& pixel, double distance_m) {
+                                         const Eigen::Vector2d& pixel, double distance_m, LensModel lens) {
   const Eigen::Vector2d nan = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   Camera truth;
+  truth.lens = lens;
   truth.params = truth_params;
   Eigen::Vector2d normalized;
   if (!truth.unproject(pixel, &normalized)) return nan;
@@ -57,7 +58,7 @@ Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_par
     moved += applyPose(estimate_poses[i], applyInversePose(truth_poses[i], point_camera));
   moved /= static_cast<double>(truth_poses.size());
   Eigen::Vector2d out;
-  if (!projectPoint(estimate_params.data(), static_cast<int>(estimate_params.size()) - kIntrinsicCount, moved.data(),
+  if (!projectPoint(estimate_params.data(), lens, static_cast<int>(estimate_params.size()) - kIntrinsicCount, moved.data(),
                     out.data()))
     return nan;
   return out;
@@ -94,8 +95,10 @@ Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Ei
       plus_poses[view](component) += step;
       minus_poses[view](component) -= step;
     }
-    const Eigen::Vector2d plus = reprojectThroughEstimate(plus_params, plus_poses, params, poses, pixel, distance_m);
-    const Eigen::Vector2d minus = reprojectThroughEstimate(minus_params, minus_poses, params, poses, pixel, distance_m);
+    const Eigen::Vector2d plus = reprojectThroughEstimate(plus_params, plus_poses, params, poses, pixel, distance_m,
+                                                          result.camera.lens);
+    const Eigen::Vector2d minus = reprojectThroughEstimate(minus_params, minus_poses, params, poses, pixel, distance_m,
+                                                           result.camera.lens);
     if (!plus.allFinite() || !minus.allFinite()) return nan;
     jacobian.col(j) = (plus - minus) / (2.0 * step);
   }

@@ -14,15 +14,15 @@ namespace mire::datasets {
 namespace {
 
 // Newton on distort(x) = target (normalised coordinates), Jacobian by dual numbers through
-// the same distortNormalized as projection, so the inverse is exact to rounding.
-bool undistortFrom(const std::vector<ceres::Jet<double, 2>>& coefficients, const Eigen::Vector2d& target,
-                   Eigen::Vector2d* x) {
+// the same distortLens as projection (any lens model), so the inverse is exact to rounding.
+bool undistortFrom(calibration::LensModel lens, const std::vector<ceres::Jet<double, 2>>& coefficients,
+                   const Eigen::Vector2d& target, Eigen::Vector2d* x) {
   using Jet = ceres::Jet<double, 2>;
   const int count = static_cast<int>(coefficients.size());
   for (int iteration = 0; iteration < 60; ++iteration) {
     const Jet jx(x->x(), 0), jy(x->y(), 1);
     Jet xd, yd;
-    calibration::distortNormalized(coefficients.data(), count, jx, jy, &xd, &yd);
+    calibration::distortLens(lens, coefficients.data(), count, jx, jy, &xd, &yd);
     const Eigen::Vector2d residual(xd.a - target.x(), yd.a - target.y());
     Eigen::Matrix2d jacobian;
     jacobian << xd.v[0], xd.v[1], yd.v[0], yd.v[1];
@@ -37,7 +37,7 @@ bool undistortFrom(const std::vector<ceres::Jet<double, 2>>& coefficients, const
 }  // namespace
 
 RayGrid::RayGrid(const calibration::Camera& camera)
-    : width_(camera.width), height_(camera.height), params_(camera.params) {
+    : width_(camera.width), height_(camera.height), params_(camera.params), lens_(camera.lens) {
   camera.validate();
   rays_.resize(static_cast<std::size_t>(width_ + 1) * (height_ + 1));
   std::vector<ceres::Jet<double, 2>> coefficients;
@@ -53,10 +53,10 @@ RayGrid::RayGrid(const calibration::Camera& camera)
       for (int i = 0; i <= width_; ++i) {
         const Eigen::Vector2d target((i - 0.5 - camera.cx()) / camera.fx(), y);
         Eigen::Vector2d x = guess_valid ? guess : target;
-        bool ok = undistortFrom(coefficients, target, &x);
+        bool ok = undistortFrom(lens_, coefficients, target, &x);
         if (!ok && guess_valid) {
           x = target;
-          ok = undistortFrom(coefficients, target, &x);
+          ok = undistortFrom(lens_, coefficients, target, &x);
         }
         guess_valid = ok;
         if (ok) guess = x;
@@ -86,7 +86,7 @@ Eigen::Matrix2d RayGrid::inverseJacobian(const Eigen::Vector2d& ray) const {
   for (int i = 0; i < count; ++i) coefficients[i] = Jet(params_[static_cast<std::size_t>(calibration::kIntrinsicCount + i)]);
   const Jet jx(ray.x(), 0), jy(ray.y(), 1);
   Jet xd, yd;
-  calibration::distortNormalized(coefficients, count, jx, jy, &xd, &yd);
+  calibration::distortLens(lens_, coefficients, count, jx, jy, &xd, &yd);
   Eigen::Matrix2d jacobian;
   jacobian << xd.v[0], xd.v[1], yd.v[0], yd.v[1];
   return jacobian.inverse();
@@ -95,7 +95,7 @@ Eigen::Matrix2d RayGrid::inverseJacobian(const Eigen::Vector2d& ray) const {
 Eigen::Vector2d RayGrid::distortionResidual(const Eigen::Vector2d& ray, double u, double v) const {
   const int count = static_cast<int>(params_.size()) - calibration::kIntrinsicCount;
   double xd = 0.0, yd = 0.0;
-  calibration::distortNormalized(params_.data() + calibration::kIntrinsicCount, count, ray.x(), ray.y(), &xd, &yd);
+  calibration::distortLens(lens_, params_.data() + calibration::kIntrinsicCount, count, ray.x(), ray.y(), &xd, &yd);
   return {xd - (u - params_[2]) / params_[0], yd - (v - params_[3]) / params_[1]};
 }
 

@@ -25,6 +25,7 @@ struct ReprojectionResidual {
   Eigen::Vector2d observed;
   Eigen::Matrix2d whitening;
   int distortion_count;
+  calibration::LensModel lens;
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residual) const {
@@ -35,7 +36,7 @@ struct ReprojectionResidual {
     ceres::AngleAxisRotatePoint(pose, target_point, camera_point);
     for (int i = 0; i < 3; ++i) camera_point[i] += pose[3 + i];
     T pixel[2];
-    if (!calibration::projectPoint(camera, distortion_count, camera_point, pixel)) return false;
+    if (!calibration::projectPoint(camera, lens, distortion_count, camera_point, pixel)) return false;
     const T ex = pixel[0] - T(observed.x());
     const T ey = pixel[1] - T(observed.y());
     residual[0] = T(whitening(0, 0)) * ex + T(whitening(0, 1)) * ey;
@@ -49,7 +50,7 @@ using ResidualCost = ceres::DynamicAutoDiffCostFunction<ReprojectionResidual, kC
 std::unique_ptr<ResidualCost> makeCost(const calibration::Camera& camera, const Eigen::Vector3d& point,
                                        const Eigen::Vector2d& observed, const Eigen::Matrix2d& whitening) {
   auto cost = std::make_unique<ResidualCost>(
-      new ReprojectionResidual{point, observed, whitening, camera.distortionCount()});
+      new ReprojectionResidual{point, observed, whitening, camera.distortionCount(), camera.lens});
   cost->AddParameterBlock(6);
   cost->AddParameterBlock(static_cast<int>(camera.params.size()));
   cost->SetNumResiduals(2);

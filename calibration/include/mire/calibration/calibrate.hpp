@@ -27,11 +27,15 @@
 
 namespace mire::calibration {
 
-// OpenCV's distortion models: opencv4 = k1 k2 p1 p2 (Bouguet's toolbox, k3 = 0),
-// opencv5 = + k3 (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL).
-enum class DistortionModel { OpenCV4, OpenCV5, OpenCV8 };
+// The models calibrate estimates (doc/camera-models.md). OpenCV's distortion models:
+// pinhole = no distortion, opencv4 = k1 k2 p1 p2 (Bouguet's toolbox, k3 = 0), opencv5 = + k3
+// (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL); fisheye = OpenCV's
+// cv::fisheye equidistant model, k1..k4.
+enum class DistortionModel { OpenCV4, OpenCV5, OpenCV8, Pinhole, Fisheye };
 int distortionCoefficientCount(DistortionModel model);
-std::string distortionModelName(DistortionModel model);  // "opencv4", "opencv5", "opencv8"
+LensModel lensOf(DistortionModel model);
+// "opencv4", "opencv5", "opencv8", "pinhole", "fisheye"
+std::string distortionModelName(DistortionModel model);
 // Throws std::invalid_argument naming the accepted values.
 DistortionModel parseDistortionModel(const std::string& name);
 
@@ -56,6 +60,10 @@ struct CalibrationOptions {
 
   // Lavest & Dhome: the target's points become unknowns (gauge: see CalibrationResult).
   bool refine_target = false;
+
+  // Inflate the covariance by the view-cluster (sandwich) estimate where it is larger: the
+  // σ then include systematic errors that are correlated within a view (doc/camera-models.md).
+  bool view_cluster_covariance = true;
 
   // Working distance for the projection uncertainty; 0 = the median distance of the target
   // in the calibration views.
@@ -111,6 +119,14 @@ struct CalibrationResult {
   double target_out_of_plane_max_m = 0.0;
   double target_displacement_rms_m = 0.0;  // refined − nominal (3D)
 
+  // What the σ include (doc/camera-models.md): camera.covariance and state_covariance are the
+  // classical σ² (JᵀJ)⁻¹ (pixel noise, estimated from the residuals) with each parameter's σ
+  // multiplied by sigma_inflation (≥ 1; ambient order, 1 for fixed parameters): the ratio of
+  // the view-cluster sandwich σ to the classical one, when residuals are correlated within
+  // views (systematic error). covariance_pixel_noise: the intrinsics' classical covariance.
+  std::vector<double> sigma_inflation;
+  Eigen::MatrixXd covariance_pixel_noise;
+
   // Covariance of the state [intrinsics (ambient, as camera.params), then 6 per used view
   // (rotation, translation) in `views` order], marginalised over the target points; used by
   // the projection uncertainty.
@@ -150,12 +166,14 @@ Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Ei
 // The function whose spread that is: the pixel where the point seen at `pixel` (through
 // `truth_params`, at `distance_m`, carried through the true poses `truth_poses`) lands with
 // the estimated intrinsics and poses. Exposed for Monte-Carlo validation. Poses: 6-vectors
-// (angle-axis, t) of cTm, one per entry of `view_indices` (indices into result.views).
+// (angle-axis, t) of cTm, one per entry of `view_indices` (indices into result.views);
+// `lens` is the model of both parameter vectors.
 Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_params,
                                          const std::vector<Eigen::Matrix<double, 6, 1>>& estimate_poses,
                                          const std::vector<double>& truth_params,
                                          const std::vector<Eigen::Matrix<double, 6, 1>>& truth_poses,
-                                         const Eigen::Vector2d& pixel, double distance_m);
+                                         const Eigen::Vector2d& pixel, double distance_m,
+                                         LensModel lens = LensModel::OpenCV);
 
 // Projection uncertainty at the image centre, the middle of the right edge and the corner.
 struct ProjectionUncertaintySummary {

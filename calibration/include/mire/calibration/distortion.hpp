@@ -2,7 +2,8 @@
 // OpenCV's lens distortion, templated on the scalar so that Ceres autodiff (ceres::Jet) and
 // plain doubles share one implementation. Coefficients in OpenCV's order:
 //   k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]]
-// with 4, 5, 8 or 12 values (Bouguet's toolbox, Brown–Conrady, rational, rational + thin prism).
+// with 4, 5, 8 or 12 values (Bouguet's toolbox, Brown–Conrady, rational, rational + thin prism),
+// or none (the pinhole model: no distortion).
 // Identical to cv::projectPoints for the same coefficients.
 
 namespace mire::calibration {
@@ -10,6 +11,11 @@ namespace mire::calibration {
 // Applies distortion to normalised coordinates (x, y) = (X/Z, Y/Z).
 template <typename T>
 inline void distortNormalized(const T* coefficients, int count, const T& x, const T& y, T* xd, T* yd) {
+  if (count == 0) {  // pinhole
+    *xd = x;
+    *yd = y;
+    return;
+  }
   const T r2 = x * x + y * y;
   const T r4 = r2 * r2;
   const T r6 = r4 * r2;

@@ -57,6 +57,7 @@ class RayGrid {
   int height_ = 0;
   std::vector<Eigen::Vector2d> rays_;
   std::vector<double> params_;  // the camera's fx fy cx cy + distortion
+  calibration::LensModel lens_ = calibration::LensModel::OpenCV;
 };
 
 enum class Vignetting { None, Cos4, Polynomial };

@@ -1,0 +1,80 @@
+// `mire calibrate --model pinhole|fisheye --fix ...` (doc/camera-models.md) on real images:
+// ViSP's circle photos with the pinhole model reproduce ViSP's published intrinsics, --fix
+// prints "fixed" and keeps the value, and --refine-target on OpenCV's left*.jpg (Debian
+// opencv-doc) writes finite numbers with cy consistent with the flat-board result.
+#include "mire/calibration/camera_io.hpp"
+#include "mire/metrology/target.hpp"
+#include "mire/support/atomic_file.hpp"
+
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+void writeVispTarget(const fs::path& path) {
+  mire::metrology::TargetSpec spec;
+  spec.type = mire::metrology::TargetType::Circles;
+  spec.cols = 6;
+  spec.rows = 6;
+  spec.spacing_m = 0.034;
+  spec.diameter_m = 0.017;
+  mire::support::writeFileAtomically(path, mire::metrology::Target(spec).yamlString());
+}
+
+std::string calibrate(const fs::path& target, const fs::path& images, const fs::path& output, const std::string& extra,
+                      int* code) {
+  return mire::test::captureCommand(mire::test::mireBinary().string() + " calibrate --target " + target.string() +
+                                        " --images " + images.string() + " -o " + output.string() + " " + extra,
+                                    code);
+}
+
+}  // namespace
+
+TEST(CameraModelsCli, VispCirclesWithThePinholeModelMatchVisp) {
+  MIRE_REQUIRE_SHARED("datasets/external/visp-circles/circles-01.jpg");
+  mire::test::TempDir dir;
+  writeVispTarget(dir.path() / "target.yaml");
+  int code = 0;
+  const std::string out = calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
+                                    dir.path() / "camera.yaml", "--model pinhole", &code);
+  ASSERT_EQ(code, 0) << out;
+  const auto camera = mire::calibration::readCameraYaml(dir.path() / "camera.yaml");
+  EXPECT_EQ(camera.modelName(), "pinhole");
+  ASSERT_EQ(camera.params.size(), 4u);
+  std::printf("ViSP circles, --model pinhole: px %.4f py %.4f u0 %.4f v0 %.4f (ViSP 276.5098 272.9595 163.8652 113.3046)\n",
+              camera.fx(), camera.fy(), camera.cx(), camera.cy());
+  EXPECT_NEAR(camera.fx(), 276.5098, 0.5);
+  EXPECT_NEAR(camera.fy(), 272.9595, 0.5);
+  EXPECT_NEAR(camera.cx(), 163.8652, 0.5);
+  EXPECT_NEAR(camera.cy(), 113.3046, 0.5);
+}
+
+TEST(CameraModelsCli, FixKeepsTheValueAndSaysSo) {
+  MIRE_REQUIRE_SHARED("datasets/external/visp-circles/circles-01.jpg");
+  mire::test::TempDir dir;
+  writeVispTarget(dir.path() / "target.yaml");
+  int code = 0;
+  const std::string out = calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
+                                    dir.path() / "camera.yaml", "--model opencv4 --fix k2,p1,p2", &code);
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("k2 = 0.000000 (fixed)"), std::string::npos) << out;
+  EXPECT_NE(out.find("p2 = 0.000000 (fixed)"), std::string::npos) << out;
+  const auto camera = mire::calibration::readCameraYaml(dir.path() / "camera.yaml");
+  EXPECT_EQ(camera.params[5], 0.0);
+  EXPECT_EQ(camera.params[6], 0.0);
+  EXPECT_EQ(camera.params[7], 0.0);
+  EXPECT_NE(camera.params[4], 0.0);  // k1 free
+  // An unknown name is an error naming it, nothing written.
+  const std::string bad = calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
+                                    dir.path() / "other.yaml", "--model opencv4 --fix k3", &code);
+  EXPECT_EQ(code, 1) << bad;
+  EXPECT_NE(bad.find("k3"), std::string::npos) << bad;
+  EXPECT_FALSE(fs::exists(dir.path() / "other.yaml"));
+}
