@@ -4,6 +4,8 @@
 // too few usable views) stops with a message naming the cause and writes nothing.
 #include "commands.hpp"
 #include "image_folders.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 #include "plot.hpp"
 
 #include "mire/calibration/calibrate.hpp"
@@ -12,6 +14,7 @@
 #include "mire/metrology/target.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/output_transaction.hpp"
 
 
 #include <algorithm>
@@ -95,6 +98,9 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
 
 int runCalibrate(const CalibrateArguments& args) {
   // Everything that can be checked before the long work is checked first.
+  checkCommandPaths({{{args.target_path, "--target"}}, {{args.images_dir, "--images"}}, {{args.output_path, "-o"}},
+                     args.report_dir.empty() ? std::vector<PathArgument>{} : std::vector<PathArgument>{{args.report_dir, "--report"}}});
+  const int threads = workerThreads(args.threads, "--threads");
   const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
   metrology::Target target = [&] {
     try {
@@ -103,7 +109,7 @@ int runCalibrate(const CalibrateArguments& args) {
       throw std::runtime_error("target spec: " + std::string(error.what()));
     }
   }();
-  const int threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  checkTargetSize(target, args.target_path);
   const CalibrationFolder folder = detectCalibrationFolder(target, args.images_dir, threads);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
@@ -122,17 +128,23 @@ int runCalibrate(const CalibrateArguments& args) {
   const calibration::CalibrationResult result =
       calibration::calibrateCamera(target.points(), views, width, height, options);
   const calibration::ProjectionUncertaintySummary uncertainty = calibration::summarizeProjectionUncertainty(result);
+  std::vector<double> distances;
+  for (const auto& view : result.views)
+    if (view.used) distances.push_back(view.translation.norm());
+  checkImpliedDistances(distances, args.target_path, "view");
 
-  // Outputs: report first, camera.yaml last (a failure leaves no camera.yaml behind).
+  // Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
+  support::OutputTransaction outputs;
+  support::writeFileAtomically(outputs.stageFile(args.output_path),
+                               calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
   if (!args.report_dir.empty()) {
-    const fs::path dir = args.report_dir;
-    fs::create_directories(dir);
+    const fs::path dir = outputs.stageFolder(args.report_dir);
     writePng(dir / "residuals.png", calibration::drawResidualMap(result));
     writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
   }
-  support::writeFileAtomically(args.output_path, calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
+  outputs.commit();
 
   // Summary.
   const auto& p = result.camera.params;

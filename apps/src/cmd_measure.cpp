@@ -3,10 +3,13 @@
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
 #include "image_folders.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/support/output_transaction.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -69,8 +72,18 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
 }
 
 int runMeasure(const MeasureSettings& settings) {
+  const fs::path output = settings.output_path;
+  const fs::path covariance =
+      settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
+  checkCommandPaths({{{settings.camera_path, "--camera"}, {settings.target_path, "--target"}},
+                     {{settings.poses_dir, "--poses"}},
+                     {{output, "-o"}, {covariance, settings.covariance_path.empty() ? "the covariance side file" : "--covariance"}},
+                     {}});
+  const int threads = workerThreads(settings.threads, "--threads");
   const calibration::Camera camera = calibration::readCameraYaml(settings.camera_path);
+  checkCamera(camera, settings.camera_path);
   const metrology::Target target = metrology::Target::fromFile(settings.target_path);
+  checkTargetSize(target, settings.target_path);
   if (camera.covariance.size() == 0)
     std::cerr << "mire measure: warning: " << settings.camera_path
               << " has no covariance: sigmas include pixel noise only (too optimistic, see README)\n";
@@ -80,7 +93,7 @@ int runMeasure(const MeasureSettings& settings) {
   options.averaging.rejection_confidence = settings.rejection_confidence;
 
   const std::vector<PoseFolderMeasurement> jobs =
-      measurePoseFolders(camera, target, settings.poses_dir, options, settings.threads);
+      measurePoseFolders(camera, target, settings.poses_dir, options, threads);
 
   std::vector<metrology::MeasuredPose> measured;
   int failed = 0;
@@ -98,11 +111,15 @@ int runMeasure(const MeasureSettings& settings) {
     std::cerr << "mire measure: error: no pose could be measured (" << failed << " failed); nothing written\n";
     return kFailure;
   }
-  const fs::path output = settings.output_path;
-  const fs::path covariance =
-      settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
-  metrology::writePosesCsv(output, measured);
-  metrology::writePosesCovarianceCsv(covariance, measured);
+  std::vector<double> distances;
+  for (const auto& pose : measured) distances.push_back(pose.estimate.translation.norm());
+  checkImpliedDistances(distances, settings.target_path, "pose");
+  // Both files or neither; the covariances land first, so a poses.csv never pairs with an
+  // older run's side file (doc/robustness.md).
+  support::OutputTransaction outputs;
+  metrology::writePosesCovarianceCsv(outputs.stageFile(covariance), measured);
+  metrology::writePosesCsv(outputs.stageFile(output), measured);
+  outputs.commit();
   std::printf("measured %zu of %zu poses -> %s (covariances: %s)\n", measured.size(), jobs.size(),
               output.string().c_str(), covariance.string().c_str());
   printSummary(measured);
@@ -120,22 +137,22 @@ Runner addMeasureCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "measure", "measure target poses cTm (with their precision) from one image folder per pose");
   command->add_option("--camera", settings->camera_path, "camera.yaml (intrinsics, distortion, covariance)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  command->add_option("--target", settings->target_path, "target.yaml")->required()->check(CLI::ExistingFile);
+      ->required();
+  command->add_option("--target", settings->target_path, "target.yaml")->required();
   command->add_option("--poses", settings->poses_dir, "folder holding one subfolder of images per pose (named by pose id)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+      ->required();
   command->add_option("-o,--output", settings->output_path, "poses.csv to write")->required();
   command->add_option("--covariance", settings->covariance_path,
                       "6x6 covariances side file (default: <output stem>_covariance.csv)");
-  command->add_option("--threads", settings->threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  command->add_option("--threads", settings->threads, "worker threads (default: all cores)")->check(CLI::Range(0, kMaxThreads));
   command->add_option("--ambiguity-ratio", settings->ambiguity_ratio,
                       "flag a pose ambiguous when cost(planar flip) < ratio x cost(best)")
+      ->check(finiteNumber())
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   command->add_option("--rejection-confidence", settings->rejection_confidence,
                       "chi-square confidence of the outlier-image test")
+      ->check(finiteNumber())
       ->check(CLI::Range(0.5, 0.999999999))
       ->capture_default_str();
   return [settings] { return runMeasure(*settings); };
