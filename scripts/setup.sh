@@ -4,7 +4,8 @@
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
   libopencv-dev libopencv-contrib-dev libvisp-dev libapriltag-dev
-  libeigen3-dev libceres-dev libgtest-dev libcli11-dev)
+  libeigen3-dev libceres-dev libgtest-dev libcli11-dev
+  clang)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
