@@ -7,10 +7,12 @@
 
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
 #include "mire/support/progress.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -32,9 +34,9 @@ namespace mech = mire::mechanism;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct IdentifyArguments {
-  std::string poses, joints, covariances, nominal, model, variant, lines, output, report;
+  std::string poses, joints, covariances, nominal, model, variant, lines, output, report, shared;
   std::vector<std::string> fix, priors, mc;
-  bool robust = false, unweighted = false;
+  bool robust = false, unweighted = false, independent_poses = false;
   int mc_repeats = 100, threads = 2;
   unsigned long long mc_seed = 1;
 };
@@ -153,6 +155,18 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   auto& poses = observations.poses;
   if (args.unweighted)
     for (auto& p : poses) p.covariance.reset();
+  // The calibration error shared by every pose (doc/uncertainty.md): weight by the independent
+  // part of each covariance, then add its propagation G Σ_k Gᵀ to the parameter covariance.
+  std::optional<mech::SharedPoseTerm> shared;
+  const fs::path shared_path = args.shared.empty() ? mech::sharedTermPath(args.poses) : fs::path(args.shared);
+  if (!args.independent_poses && (!args.shared.empty() || fs::exists(shared_path))) {
+    if (!covariance_path && !args.unweighted)
+      throw std::invalid_argument(shared_path.string() + " needs the full pose covariances (" +
+                                  mech::defaultCovariancePath(args.poses).string() +
+                                  " or --pose-covariances), or --independent-poses");
+    shared = mech::readSharedTermCsv(shared_path);
+    mech::removeSharedTerm(poses, *shared);
+  }
   std::vector<mech::LineRecord> lines;
   if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines);
 
@@ -178,7 +192,20 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     if (!initial.parameters.contains(name)) initial.parameters.at(name);  // throws naming it and the known ones
 
   const auto before = residualsOf(initial, poses);
-  const mech::IdentificationResult result = mech::identify(initial, poses, options);
+  mech::IdentificationResult result = mech::identify(initial, poses, options);
+  if (shared) {
+    // The whole estimator (initialisation included) refitted on poses moved by the shared term.
+    mech::IdentificationOptions quiet = options;
+    quiet.compute_identifiability = false;
+    mech::addSharedTermCovariance(result, poses, *shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+      const mech::IdentificationModel start =
+          kind == mech::H4ModelKind::Model31
+              ? mech::makeInitialModel(initial.mechanism, mech::model31FromModel12(mech::h4Model12Parameters(nominal)),
+                                       shifted, mech::ExternalForm::AxisAligned)
+              : mech::makeH4VariantModel(letter, nominal, shifted, options);
+      return mech::identify(start, shifted, quiet);
+    });
+  }
   if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
 
   // ---- criteria ----
@@ -233,6 +260,16 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
                 result.identifiability.scaling.c_str(), result.identifiability.rank, result.free_names.size());
   out << line;
   for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
+  std::snprintf(line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
+                !weighted ? ""
+                : result.covariance_scale2 > 1.0
+                    ? ": misfit (the model does not explain the measured poses to their covariances)"
+                    : result.covariance_scale2 < 1.0 ? ": the pose covariances overstate the scatter" : ", consistent");
+  out << line;
+  std::snprintf(line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(),
+                result.covariance_scale2,
+                shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
+  out << line;
   if (!result.outliers.empty()) {
     out << "outlier poses:";
     for (const auto& id : result.outliers) out << ' ' << id;
@@ -333,6 +370,11 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
   cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");
   cmd->add_flag("--robust", args->robust, "Huber loss (3 sigma) and outlier report");
+  cmd->add_option("--shared-term", args->shared,
+                  "the calibration term shared by every pose (default: <poses>_shared.csv beside poses.csv when it "
+                  "exists; doc/uncertainty.md)")->check(CLI::ExistingFile);
+  cmd->add_flag("--independent-poses", args->independent_poses,
+                "ignore the shared calibration term (treat the pose errors as independent)");
   cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)")->delimiter(',');
   cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")->capture_default_str();

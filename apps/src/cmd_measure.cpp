@@ -7,6 +7,7 @@
 #include "mire/calibration/camera_io.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/metrology/shared_term_csv.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -103,8 +104,11 @@ int runMeasure(const MeasureSettings& settings) {
       settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
   metrology::writePosesCsv(output, measured);
   metrology::writePosesCovarianceCsv(covariance, measured);
-  std::printf("measured %zu of %zu poses -> %s (covariances: %s)\n", measured.size(), jobs.size(),
-              output.string().c_str(), covariance.string().c_str());
+  const fs::path shared = metrology::sharedTermSidePath(output);
+  const bool wrote_shared = metrology::writeSharedTermCsv(shared, camera, measured);
+  std::printf("measured %zu of %zu poses -> %s (covariances: %s%s)\n", measured.size(), jobs.size(),
+              output.string().c_str(), covariance.string().c_str(),
+              wrote_shared ? ("; shared calibration term: " + shared.string()).c_str() : "");
   printSummary(measured);
   if (failed > 0) {
     std::cerr << "mire measure: " << failed << " pose(s) failed (listed above); the others were written\n";
