@@ -257,16 +257,6 @@ std::string rosMatrix(const std::string& key, const double* values, int rows, in
          numberList(values, rows * cols) + "\n";
 }
 
-// A double-quoted YAML string.
-std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) >= 0x20) out += c;
-  }
-  return out + "\"";
-}
-
 std::string mireModelName(const Camera& camera) {
   if (camera.lens == LensModel::Fisheye) return "fisheye";
   if (camera.distortionCount() == 0) return "pinhole";
@@ -385,7 +375,7 @@ std::string cameraRosYamlString(const Camera& camera, const std::string& camera_
   const double p[12] = {camera.fx(), 0.0, camera.cx(), 0.0, 0.0, camera.fy(), camera.cy(), 0.0, 0.0, 0.0, 1.0, 0.0};
   std::ostringstream out;
   out << "image_width: " << camera.width << "\nimage_height: " << camera.height << "\n";
-  out << "camera_name: " << quoted(camera_name) << "\n";
+  out << "camera_name: " << support::yamlQuoted(camera_name) << "\n";
   out << rosMatrix("camera_matrix", k, 3, 3);
   out << "distortion_model: " << model << "\n";
   out << rosMatrix("distortion_coefficients", d.data(), 1, static_cast<int>(d.size()));

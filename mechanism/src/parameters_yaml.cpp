@@ -27,16 +27,6 @@ std::string joined(const std::vector<std::string>& names) {
   return text;
 }
 
-// A double-quoted YAML string (metadata values are free text).
-std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) >= 0x20) out += c;
-  }
-  return out + "\"";
-}
-
 // Every key a file may hold for these parameters, for "did you mean" hints.
 std::vector<std::string> knownKeys(const ParameterSet& parameters, const std::vector<std::string>& also_allowed) {
   std::vector<std::string> keys = parameterFileMetadataKeys();
@@ -158,7 +148,7 @@ std::string parameterFileString(const ParameterSet& parameters, const Eigen::Vec
   std::istringstream lines(comment);
   for (std::string line; std::getline(lines, line);) out << "# " << line << '\n';
   out << "# Values in SI units (m, rad); each comment gives the human value (mm, deg).\n";
-  for (const auto& [key, text] : metadata) out << key << ": " << quoted(text) << "\n";
+  for (const auto& [key, text] : metadata) out << key << ": " << support::yamlQuoted(text) << "\n";
   for (std::size_t i = 0; i < parameters.size(); ++i) {
     const Parameter& p = parameters[i];
     out << p.name << ": " << support::formatYamlNumber(p.value) << "  # " << unitName(p.unit) << ", "

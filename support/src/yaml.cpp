@@ -383,6 +383,15 @@ YamlMatrix YamlNode::asMatrix(YamlRange range) const {
 
 std::optional<double> parseYamlNumber(const std::string& text) { return parseNumber(text); }
 
+std::string yamlQuoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out + "\"";
+}
+
 std::string formatYamlNumber(double value) {
   if (std::isnan(value)) return ".nan";
   if (std::isinf(value)) return value > 0 ? ".inf" : "-.inf";

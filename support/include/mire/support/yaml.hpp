@@ -141,6 +141,10 @@ std::string formatYamlNumber(double value);
 // .inf/.nan read as non-finite values for the caller to refuse); nullopt if it is no number.
 std::optional<double> parseYamlNumber(const std::string& text);
 
+// Free text as a double-quoted YAML scalar (quotes and backslashes escaped, control characters
+// dropped), for metadata and names in files mire writes.
+std::string yamlQuoted(const std::string& text);
+
 // A number for messages (%.6g), the project's convention.
 std::string formatMessageNumber(double value);
 
