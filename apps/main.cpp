@@ -1,5 +1,8 @@
 // mire: vision-based kinematic calibration of parallel mechanisms.
 #include "commands.hpp"
+#include "validate.hpp"
+
+#include "mire/support/output_transaction.hpp"
 
 #include <exception>
 #include <iostream>
@@ -48,8 +51,15 @@ int main(int argc, char** argv) {
 
   for (const auto& [name, run] : commands) {
     if (!app.got_subcommand(name)) continue;
+    mire::support::installInterruptCleanup();  // an interrupted run leaves no temporaries
     try {
       return run();
+    } catch (const UsageError& e) {
+      std::cerr << "mire " << name << ": " << e.what() << "\n(run 'mire " << name << " --help' for usage)\n";
+      return kUsage;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "mire " << name << ": error: out of memory (see doc/limits.md for the sizes mire handles)\n";
+      return kFailure;
     } catch (const std::exception& e) {
       std::cerr << "mire " << name << ": error: " << e.what() << "\n";
       return kFailure;

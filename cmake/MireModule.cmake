@@ -1,7 +1,11 @@
 # Project-wide warnings and sanitizers, applied to mire's own targets only.
 function(mire_target_options target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Werror)
-  if(MIRE_SANITIZE)
+  if(MIRE_FUZZ)
+    # Coverage for libFuzzer in every library; clang's extra warnings do not gate fuzzing.
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -Wno-error)
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  elseif(MIRE_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
   endif()

@@ -5,6 +5,8 @@
 #include "commands.hpp"
 #include "detections_io.hpp"
 #include "image_folders.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 #include "plot.hpp"
 
 #include "mire/calibration/calibrate.hpp"
@@ -13,6 +15,7 @@
 #include "mire/metrology/target.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/output_transaction.hpp"
 
 
 #include <algorithm>
@@ -111,6 +114,15 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
 
 int runCalibrate(const CalibrateArguments& args) {
   // Everything that can be checked before the long work is checked first.
+  if (args.images_dir.empty() == args.detections_path.empty())
+    throw UsageError("give either --images or --detections");
+  CommandPaths paths{{{args.target_path, "--target"}}, {}, {{args.output_path, "-o"}}, {}};
+  if (!args.images_dir.empty()) paths.input_folders.push_back({args.images_dir, "--images"});
+  if (!args.detections_path.empty()) paths.input_files.push_back({args.detections_path, "--detections"});
+  if (!args.save_detections.empty()) paths.output_files.push_back({args.save_detections, "--save-detections"});
+  if (!args.report_dir.empty()) paths.output_folders.push_back({args.report_dir, "--report"});
+  checkCommandPaths(paths);
+  const int threads = workerThreads(args.threads, "--threads");
   const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
   metrology::Target target = [&] {
     try {
@@ -119,9 +131,7 @@ int runCalibrate(const CalibrateArguments& args) {
       throw std::runtime_error("target spec: " + std::string(error.what()));
     }
   }();
-  const int threads = args.threads > 0 ? args.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (args.images_dir.empty() == args.detections_path.empty())
-    throw std::runtime_error("give either --images or --detections");
+  checkTargetSize(target, args.target_path);
   const CalibrationFolder folder = args.detections_path.empty()
                                        ? detectCalibrationFolder(target, args.images_dir, threads)
                                        : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
@@ -144,20 +154,26 @@ int runCalibrate(const CalibrateArguments& args) {
   const calibration::CalibrationResult result =
       calibration::calibrateCamera(target.points(), views, width, height, options);
   const calibration::ProjectionUncertaintySummary uncertainty = calibration::summarizeProjectionUncertainty(result);
+  std::vector<double> distances;
+  for (const auto& view : result.views)
+    if (view.used) distances.push_back(view.translation.norm());
+  checkImpliedDistances(distances, args.target_path, "view");
 
-  // Outputs: report first, camera.yaml last (a failure leaves no camera.yaml behind).
+  // Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
+  support::OutputTransaction outputs;
+  support::writeFileAtomically(outputs.stageFile(args.output_path),
+                               calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
   if (!args.report_dir.empty()) {
-    const fs::path dir = args.report_dir;
-    fs::create_directories(dir);
+    const fs::path dir = outputs.stageFolder(args.report_dir);
     writePng(dir / "residuals.png", calibration::drawResidualMap(result));
     writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
   }
   if (!args.save_detections.empty())
-    support::writeFileAtomically(args.save_detections,
+    support::writeFileAtomically(outputs.stageFile(args.save_detections),
                                  metrology::detectionsCsv(target, calibrationDetections(folder), width, height));
-  support::writeFileAtomically(args.output_path, calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
+  outputs.commit();
 
   // Summary.
   const auto& p = result.camera.params;

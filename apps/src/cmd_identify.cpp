@@ -3,7 +3,10 @@
 // optional Monte-Carlo study over random pose subsets. Everything is computed before anything
 // is written: bad input stops with a message naming the file/line and writes nothing.
 #include "commands.hpp"
+#include "identify_checks.hpp"
 #include "identify_report.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/gauge.hpp"
@@ -12,6 +15,7 @@
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 
 #include <cctype>
@@ -48,7 +52,7 @@ std::string defaultNominalPath() { return std::string(MIRE_DATASETS_DIR) + "/spe
 mech::GaussianPrior parsePrior(const std::string& text) {
   const auto eq = text.find('='), colon = text.rfind(':');
   if (eq == std::string::npos || colon == std::string::npos || colon < eq)
-    throw std::invalid_argument("--prior '" + text + "': expected name=value:sigma (SI units)");
+    throw UsageError("--prior '" + text + "': expected name=value:sigma (SI units)");
   mech::GaussianPrior prior;
   prior.name = text.substr(0, eq);
   try {
@@ -59,10 +63,11 @@ mech::GaussianPrior parsePrior(const std::string& text) {
     prior.sigma = std::stod(sigma, &used);
     if (used != sigma.size()) throw std::invalid_argument("sigma");
   } catch (const std::exception&) {
-    throw std::invalid_argument("--prior '" + text + "': value and sigma must be numbers (SI units)");
+    throw UsageError("--prior '" + text + "': value and sigma must be numbers (SI units)");
   }
   if (!std::isfinite(prior.mean) || !(prior.sigma > 0.0) || !std::isfinite(prior.sigma))
-    throw std::invalid_argument("--prior '" + text + "': needs a finite value and a sigma > 0");
+    throw UsageError("--prior '" + text + "': needs a finite value and a sigma > 0");
+  checkPriorSigma(text, prior.sigma);
   return prior;
 }
 
@@ -118,13 +123,28 @@ std::string human(const mech::Parameter& p, double si) {
   return buffer;
 }
 
+// Inputs exist and are regular files; outputs clash with none of them (output_paths.hpp).
+void checkPaths(const IdentifyArguments& args) {
+  CommandPaths paths;
+  paths.input_files = {{args.poses, "--poses"}, {args.joints, "--joints"}};
+  if (!args.covariances.empty()) paths.input_files.push_back({args.covariances, "--pose-covariances"});
+  else if (fs::exists(mech::defaultCovariancePath(args.poses)))
+    paths.input_files.push_back({mech::defaultCovariancePath(args.poses), "the covariance side file"});
+  if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
+  if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
+  paths.output_files = {{args.output, "-o"}, {mech::defaultParameterCovariancePath(args.output), "the covariance side file of -o"}};
+  if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
+  checkCommandPaths(paths);
+}
+
 int runIdentify(const IdentifyArguments& args, const std::string& command_line) {
   // ---- model choice ----
+  checkPaths(args);
   char letter = 0;
   if (!args.variant.empty()) {
-    if (args.variant.size() != 1) throw std::invalid_argument("--variant '" + args.variant + "': expected one letter A..H");
     letter = static_cast<char>(std::toupper(static_cast<unsigned char>(args.variant[0])));
-    mech::h4Variant(letter);  // throws for a letter outside A–H
+    if (args.variant.size() != 1 || letter < 'A' || letter > 'H')
+      throw UsageError("--variant '" + args.variant + "': expected one letter A..H");
   }
   // Without --model, the variant's model (A–D: h4-12, E–H: h4-31c); default h4-12.
   const std::string model = !args.model.empty() ? args.model
@@ -134,7 +154,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   const bool h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
   if (!h4) {
     mech::makeRegisteredModel(model);  // throws "unknown model 'x' (known: ...)"
-    if (letter) throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + model);
+    if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + model);
   } else if (model == "h4-12") {
     kind = mech::H4ModelKind::Model12;
     if (!letter) letter = 'D';
@@ -143,15 +163,15 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     if (!letter) letter = 'H';
   } else if (model == "h4-31") {
     kind = mech::H4ModelKind::Model31;
-    if (letter) throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
+    if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
   }
   if (letter && mech::h4Variant(letter).model != kind)
-    throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + model +
+    throw UsageError(std::string("--variant ") + letter + " does not belong to --model " + model +
                                 " (A-D: h4-12, E-H: h4-31c)");
 
   // ---- inputs ----
   if (!h4 && !args.nominal.empty())
-    throw std::invalid_argument("--nominal applies to the H4 models; " + model + " starts from its built-in nominal");
+    throw UsageError("--nominal applies to the H4 models; " + model + " starts from its built-in nominal");
   const mech::H4Nominal nominal = h4 ? readNominal(args.nominal.empty() ? defaultNominalPath() : args.nominal)
                                      : mech::H4Nominal{};
   const mech::RegisteredModel registered = mech::makeRegisteredModel(model, nominal);
@@ -161,6 +181,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   else if (fs::exists(mech::defaultCovariancePath(args.poses))) covariance_path = mech::defaultCovariancePath(args.poses);
   mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance_path, joint_columns);
   auto& poses = observations.poses;
+  checkIdentifyPoses(poses, args.poses, args.unweighted);
   if (args.unweighted)
     for (auto& p : poses) p.covariance.reset();
   std::vector<mech::LineRecord> lines;
@@ -216,16 +237,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   std::optional<mech::MonteCarloStudy> study;
   if (!args.mc.empty()) {
     mech::MonteCarloOptions mc;
-    mc.subset_sizes.clear();
-    for (const auto& text : args.mc) {
-      try {
-        std::size_t used = 0;
-        mc.subset_sizes.push_back(std::stoi(text, &used));
-        if (used != text.size()) throw std::invalid_argument(text);
-      } catch (const std::exception&) {
-        throw std::invalid_argument("--mc '" + text + "': expected subset sizes like 6,15,71");
-      }
-    }
+    mc.subset_sizes = parseSubsetSizes(args.mc, initial.mechanism->jointCount(), initial.parameters.freeCount(), poses.size());
     mc.repeats = args.mc_repeats;
     mc.seed = args.mc_seed;
     mc.threads = args.threads;
@@ -277,11 +289,16 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     std::snprintf(line, sizeof line, "Monte-Carlo study: %d repeats per size, %.2f s\n", args.mc_repeats, study->seconds);
     out << line;
     for (const auto& s : study->summaries) {
-      std::snprintf(line, sizeof line,
-                    "  %3d poses: %d ok, %d failed; V1 %+.4f ± %.4f deg, V2 %.4f ± %.4f deg, V3 %.4f ± %.4f mm\n",
+      std::snprintf(line, sizeof line, "  %3d poses: %d ok, %d failed; V1 %+.4f ± %.4f deg, V2 %.4f ± %.4f deg",
                     s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean * kRadToDeg, s.v1_sigma * kRadToDeg,
-                    s.v2_mean * kRadToDeg, s.v2_sigma * kRadToDeg, s.v3_mean * 1e3, s.v3_sigma * 1e3);
+                    s.v2_mean * kRadToDeg, s.v2_sigma * kRadToDeg);
       out << line;
+      if (line_joints.empty()) {
+        out << ", V3 n/a (no --lines)\n";  // never "nan ± nan"
+      } else {
+        std::snprintf(line, sizeof line, ", V3 %.4f ± %.4f mm\n", s.v3_mean * 1e3, s.v3_sigma * 1e3);
+        out << line;
+      }
     }
     out << "  parameter spread (sigma over the runs):\n  parameter      unit";
     for (const auto& s : study->summaries) {
@@ -311,8 +328,8 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
       {"rms_joint_residual_rad", std::to_string(rms_after)},
       {"condition_number", std::to_string(result.identifiability.condition_number)},
       {"created_by", "mire identify"}};
+  IdentifyReportData data;
   if (!args.report.empty()) {
-    IdentifyReportData data;
     data.command_line = command_line;
     data.model_label = label;
     data.residuals_before = before;
@@ -323,15 +340,19 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     data.v3_after_m = v3_after;
     data.study = study ? &*study : nullptr;
     data.summary_text = out.str();
-    writeIdentifyReport(args.report, data);
   }
+  // All or nothing (doc/robustness.md): the parameters, their covariance side file, then the report.
   const mech::PredictionModel prediction = mech::predictionModelFrom(model, result);
-  mech::writePredictionCovarianceCsv(mech::defaultParameterCovariancePath(args.output), prediction);
-  mech::writeParameterFile(args.output, result.model.parameters, result.sigma, metadata,
+  const fs::path covariance_output = mech::defaultParameterCovariancePath(args.output);
+  support::OutputTransaction outputs;
+  mech::writePredictionCovarianceCsv(outputs.stageFile(covariance_output), prediction);
+  mech::writeParameterFile(outputs.stageFile(args.output), result.model.parameters, result.sigma, metadata,
                            "Identified by mire identify (" + label + ") from " + args.poses + " and " + args.joints +
                                "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");
-  std::cout << out.str() << "wrote " << args.output << ", "
-            << mech::defaultParameterCovariancePath(args.output).string() << " (full parameter covariance)" << (args.report.empty() ? "" : " and the report in " + args.report)
+  if (!args.report.empty()) writeIdentifyReport(outputs.stageFolder(args.report), data);
+  outputs.commit();
+  std::cout << out.str() << "wrote " << args.output << ", " << covariance_output.string()
+            << " (full parameter covariance)" << (args.report.empty() ? "" : " and the report in " + args.report)
             << "\n";
   return kOk;
 }
@@ -341,14 +362,14 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
 Runner addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArguments>();
   CLI::App* cmd = app.add_subcommand("identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
-  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, BRIEF §10)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, BRIEF §10)")->required();
+  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")->required();
   cmd->add_option("--pose-covariances", args->covariances,
                   "6x6 pose covariances (default: <poses>_covariance.csv beside poses.csv when it exists, "
-                  "else the sigma_ columns)")->check(CLI::ExistingFile);
-  cmd->add_flag("--unweighted", args->unweighted, "ignore the pose covariances (plain least squares)");
-  cmd->add_option("--nominal", args->nominal, "nominal model-12 geometry YAML (default datasets/specs/h4_nominal.yaml)")
-      ->check(CLI::ExistingFile);
+                  "else the sigma_ columns)");
+  cmd->add_flag("--unweighted", args->unweighted, "ignore the pose covariances (plain least squares)")
+      ->excludes("--pose-covariances");
+  cmd->add_option("--nominal", args->nominal, "nominal model-12 geometry YAML (default datasets/specs/h4_nominal.yaml)");
   cmd->add_option("--model", args->model,
                   "h4-12 (variants A-D), h4-31 (base frame), h4-31c (camera frame, E-H), delta, delta-legs or "
                   "gough-stewart; default: the variant's model, else h4-12");
@@ -356,12 +377,11 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
   cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");
   cmd->add_flag("--robust", args->robust, "Huber loss (3 sigma) and outlier report");
-  cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)")->delimiter(',');
-  cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")->capture_default_str();
-  cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)")
-      ->check(CLI::ExistingFile);
+  CLI::Option* mc = cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)");
+  cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")->capture_default_str()->check(CLI::Range(1, 1000000))->needs(mc);
+  cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")->capture_default_str()->check(CLI::NonNegativeNumber)->needs(mc);
+  cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")->capture_default_str()->check(CLI::Range(1, kMaxThreads));
+  cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)");
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
   cmd->add_option("--report", args->report, "folder for report.md and its PNG charts");
   return [args] {

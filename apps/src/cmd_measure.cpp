@@ -4,6 +4,8 @@
 #include "commands.hpp"
 #include "detections_io.hpp"
 #include "image_folders.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
@@ -11,6 +13,7 @@
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/output_transaction.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -88,8 +91,20 @@ void reportScreening(std::vector<metrology::MeasuredPose>* measured) {
 }
 
 int runMeasure(const MeasureSettings& settings) {
+  const fs::path output = settings.output_path;
+  const fs::path covariance =
+      settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
+  CommandPaths paths{{{settings.camera_path, "--camera"}, {settings.target_path, "--target"}},
+                     {{settings.poses_dir, "--poses"}},
+                     {{output, "-o"}, {covariance, settings.covariance_path.empty() ? "the covariance side file" : "--covariance"}},
+                     {}};
+  if (!settings.save_detections.empty()) paths.output_files.push_back({settings.save_detections, "--save-detections"});
+  checkCommandPaths(paths);
+  const int threads = workerThreads(settings.threads, "--threads");
   const calibration::Camera camera = calibration::readCamera(settings.camera_path);
+  checkCamera(camera, settings.camera_path);
   const metrology::Target target = metrology::Target::fromFile(settings.target_path);
+  checkTargetSize(target, settings.target_path);
   if (camera.covariance.size() == 0)
     std::cerr << "mire measure: warning: " << settings.camera_path
               << " has no covariance: sigmas include pixel noise only (too optimistic, see README)\n";
@@ -101,7 +116,7 @@ int runMeasure(const MeasureSettings& settings) {
       settings.split_moving == "keep-largest" ? metrology::SplitPolicy::KeepLargest : metrology::SplitPolicy::Fail;
 
   const std::vector<PoseFolderMeasurement> jobs =
-      measurePoseFolders(camera, target, settings.poses_dir, options, settings.threads);
+      measurePoseFolders(camera, target, settings.poses_dir, options, threads);
 
   std::vector<metrology::MeasuredPose> measured;
   int failed = 0;
@@ -123,14 +138,18 @@ int runMeasure(const MeasureSettings& settings) {
     std::cerr << "mire measure: error: no pose could be measured (" << failed << " failed); nothing written\n";
     return kFailure;
   }
-  const fs::path output = settings.output_path;
-  const fs::path covariance =
-      settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
+  std::vector<double> distances;
+  for (const auto& pose : measured) distances.push_back(pose.estimate.translation.norm());
+  checkImpliedDistances(distances, settings.target_path, "pose");
+  // All files or none; the covariances land first, so a poses.csv never pairs with an
+  // older run's side file (doc/robustness.md).
+  support::OutputTransaction outputs;
   if (!settings.save_detections.empty())
-    support::writeFileAtomically(settings.save_detections,
+    support::writeFileAtomically(outputs.stageFile(settings.save_detections),
                                  metrology::detectionsCsv(target, measureDetections(jobs), camera.width, camera.height));
-  metrology::writePosesCsv(output, measured);
-  metrology::writePosesCovarianceCsv(covariance, measured);
+  metrology::writePosesCovarianceCsv(outputs.stageFile(covariance), measured);
+  metrology::writePosesCsv(outputs.stageFile(output), measured);
+  outputs.commit();
   std::printf("measured %zu of %zu poses -> %s (covariances: %s)\n", measured.size(), jobs.size(),
               output.string().c_str(), covariance.string().c_str());
   printSummary(measured);
@@ -148,22 +167,22 @@ Runner addMeasureCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "measure", "measure target poses cTm (with their precision) from one image folder per pose");
   command->add_option("--camera", settings->camera_path, "camera file: camera.yaml, ROS camera_info, ViSP XML or Kalibr camchain (detected from the content)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  command->add_option("--target", settings->target_path, "target.yaml")->required()->check(CLI::ExistingFile);
+      ->required();
+  command->add_option("--target", settings->target_path, "target.yaml")->required();
   command->add_option("--poses", settings->poses_dir, "folder holding one subfolder of images per pose (named by pose id)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+      ->required();
   command->add_option("-o,--output", settings->output_path, "poses.csv to write")->required();
   command->add_option("--covariance", settings->covariance_path,
                       "6x6 covariances side file (default: <output stem>_covariance.csv)");
-  command->add_option("--threads", settings->threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  command->add_option("--threads", settings->threads, "worker threads (default: all cores)")->check(CLI::Range(0, kMaxThreads));
   command->add_option("--ambiguity-ratio", settings->ambiguity_ratio,
                       "flag a pose ambiguous when cost(planar flip) < ratio x cost(best)")
+      ->check(finiteNumber())
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   command->add_option("--rejection-confidence", settings->rejection_confidence,
                       "chi-square confidence of the outlier-observation test (a moved image is the static-pose test's business, see --split-moving)")
+      ->check(finiteNumber())
       ->check(CLI::Range(0.5, 0.999999999))
       ->capture_default_str();
   command->add_option("--save-detections", settings->save_detections,

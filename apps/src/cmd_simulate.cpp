@@ -1,8 +1,12 @@
 // `mire simulate calibration|poses --spec SPEC.yaml -o DIR`: synthetic image sets with their
 // ground truth (issue 3). Glue only: the spec and the generation live in mire::datasets.
 #include "commands.hpp"
+#include "output_paths.hpp"
+#include "simulation_checks.hpp"
+#include "validate.hpp"
 
 #include "mire/datasets/simulation.hpp"
+#include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 
 #include <filesystem>
@@ -23,15 +27,31 @@ void addSpecOptions(CLI::App* command, SimulateOptions* options) {
   command->add_option("-o,--output", options->output, "Output folder (created if needed)")->required();
 }
 
+// The output folder is written whole or not at all: rendered into a temporary folder, then
+// renamed. An existing folder is replaced only when it is empty or a previous simulation.
+void checkOutputFolder(const SimulateOptions& options) {
+  checkCommandPaths({{{options.spec, "--spec"}}, {}, {}, {{options.output, "-o"}}});
+  const std::filesystem::path out = options.output;
+  if (std::filesystem::is_directory(out) && !std::filesystem::is_empty(out) && !std::filesystem::exists(out / "truth.yaml"))
+    throw UsageError("-o '" + options.output + "': exists, holds files and is not a previous simulation (no truth.yaml): "
+                     "choose a new or empty folder");
+}
+
 int runSimulation(const SimulateOptions& options, bool calibration) {
+  checkOutputFolder(options);
   const datasets::SimulationSpec spec = datasets::readSimulationSpec(options.spec);
+  checkSimulationSpec(spec, !calibration);
   const std::size_t total = calibration ? static_cast<std::size_t>(spec.calibration.views * spec.images_per_view)
                                         : spec.poses.size() * static_cast<std::size_t>(spec.images_per_pose);
   support::Progress progress(calibration ? "rendering views" : "rendering poses", total);
   const auto advance = [&](std::size_t, std::size_t) { progress.advance(); };
-  const datasets::SimulationResult result = calibration ? datasets::simulateCalibration(spec, options.output, advance)
-                                                        : datasets::simulatePoses(spec, options.output, advance);
+  support::OutputTransaction outputs;
+  const std::filesystem::path staged =
+      outputs.stageFolder(options.output, support::OutputTransaction::FolderCommit::ReplaceWhole);
+  const datasets::SimulationResult result = calibration ? datasets::simulateCalibration(spec, staged, advance)
+                                                        : datasets::simulatePoses(spec, staged, advance);
   progress.finish();
+  outputs.commit();
   std::cout << "mire simulate " << (calibration ? "calibration" : "poses") << ": wrote " << result.images
             << " images of " << result.views_or_poses << (calibration ? " views" : " poses") << " to "
             << options.output << " (" << static_cast<int>(100.0 * result.visible_fraction + 0.5)

@@ -1,14 +1,17 @@
 #include "image_folders.hpp"
 
+#include "image_check.hpp"
+
 #include "mire/metrology/detection.hpp"
 #include "mire/support/progress.hpp"
 
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
-#include <set>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 
@@ -16,14 +19,6 @@ namespace mire::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-bool isImageFile(const fs::path& path) {
-  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
-                                                     ".pgm", ".ppm", ".pnm", ".pbm", ".webp", ".jp2"};
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  return kExtensions.count(extension) > 0;
-}
 
 std::vector<fs::path> listImages(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw std::runtime_error("image folder '" + dir.string() + "' does not exist or is not a folder");
@@ -35,6 +30,26 @@ std::vector<fs::path> listImages(const fs::path& dir) {
     throw std::runtime_error("image folder '" + dir.string() + "' holds no image (png, jpg, bmp, tif, pgm, ...)");
   return images;
 }
+
+// The image files of a pose folder (other files, e.g. notes.txt, ignored as in calibration
+// folders), each checked: not too large, not truncated, not blank (a blank image would be
+// counted as a view without the target).
+std::vector<fs::path> poseImages(const fs::path& folder) {
+  std::vector<fs::path> images;
+  for (const fs::path& file : metrology::listPoseImages(folder))
+    if (isImageFile(file)) images.push_back(file);
+  for (const fs::path& image : images) {
+    checkImageFile(image);
+    const cv::Mat reduced = cv::imread(image.string(), cv::IMREAD_REDUCED_GRAYSCALE_4);
+    if (reduced.empty()) continue;  // unreadable: the measurement names it
+    double low = 0.0, high = 0.0;
+    cv::minMaxLoc(reduced, &low, &high);
+    if (high - low < 1.0) throw std::runtime_error("image '" + image.string() + "' is blank (every pixel " + std::to_string(static_cast<int>(low)) + ")");
+  }
+  return images;
+}
+
+constexpr int kMinImageSide = 32;  // px (doc/limits.md)
 
 struct ImageOutcome {
   bool read = false;
@@ -48,13 +63,27 @@ void parallelForEach(std::size_t count, int threads, const std::function<void(st
   const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t workers = std::min(count, threads > 0 ? static_cast<std::size_t>(threads) : cores);
   std::atomic<std::size_t> next{0};
+  // The exception boundary of every worker: the first exception stops the others from taking
+  // new items and is rethrown here, in the caller's thread (an exception escaping a thread
+  // would terminate the process).
+  std::exception_ptr first_error;
+  std::mutex error_mutex;
   const auto worker = [&] {
-    for (std::size_t i = next++; i < count; i = next++) work(i);
+    for (std::size_t i = next++; i < count; i = next++) {
+      try {
+        work(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!first_error) first_error = std::current_exception();
+        next = count;
+      }
+    }
   };
   std::vector<std::thread> pool;
   for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(worker);
   worker();
   for (auto& thread : pool) thread.join();
+  if (first_error) std::rethrow_exception(first_error);
 }
 
 CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const fs::path& folder, int threads) {
@@ -63,9 +92,21 @@ CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const
   {
     support::Progress progress("detecting", images.size());
     parallelForEach(images.size(), threads, [&](std::size_t i) {
-      const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
-      if (!gray.empty()) {
-        outcomes[i] = {true, gray.cols, gray.rows, metrology::detectTarget(target, gray)};
+      try {
+        checkImageFile(images[i]);
+        const cv::Mat gray = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
+        if (gray.empty()) {
+          // unreadable: reported below, naming the image
+        } else if (gray.cols < kMinImageSide || gray.rows < kMinImageSide) {
+          outcomes[i] = {true, gray.cols, gray.rows, {}};  // no detector works on it (OpenCV asserts)
+          outcomes[i].detection.reason = "image smaller than " + std::to_string(kMinImageSide) + " px";
+        } else {
+          outcomes[i] = {true, gray.cols, gray.rows, metrology::detectTarget(target, gray)};
+        }
+      } catch (const cv::Exception& error) {
+        throw std::runtime_error("image '" + images[i].string() + "': OpenCV failed on it (" + error.err + ")");
+      } catch (const std::bad_alloc&) {
+        throw std::runtime_error("image '" + images[i].string() + "': out of memory while reading or detecting");
       }
       progress.advance();
     });
@@ -114,12 +155,15 @@ std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera&
   parallelForEach(poses.size(), threads, [&](std::size_t i) {
     PoseFolderMeasurement& pose = poses[i];
     try {
-      const auto images = metrology::listPoseImages(pose.folder);
+      const auto images = poseImages(pose.folder);
       pose.images_total = static_cast<int>(images.size());
       if (images.empty())
         pose.measurement.error = "no image files in " + pose.folder.string();
       else
         pose.measurement = metrology::measurePoseFromFiles(camera, target, images, options);
+    } catch (const cv::Exception& e) {
+      pose.measurement.ok = false;
+      pose.measurement.error = pose.folder.string() + ": OpenCV failed (" + e.err + ")";
     } catch (const std::exception& e) {
       pose.measurement.ok = false;
       pose.measurement.error = e.what();

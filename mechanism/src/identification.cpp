@@ -254,6 +254,7 @@ IdentificationResult identify(const IdentificationModel& initial,
       throw std::invalid_argument("prior on '" + prior.name + "': mean and sigma must be finite, sigma > 0");
   }
   const std::size_t free_count = params.freeCount();
+  if (free_count == 0) throw std::invalid_argument("identification: no free parameter left (every one is fixed)");
   if (static_cast<std::size_t>(J) * poses.size() + options.priors.size() <= free_count)
     throw std::invalid_argument("identification: " + std::to_string(poses.size()) + " poses give " +
                                 std::to_string(J * poses.size()) + " residuals for " +
@@ -400,6 +401,10 @@ IdentificationResult identify(const IdentificationModel& initial,
   }
   Eigen::Index kept_rows = 0;
   for (bool k : keep) kept_rows += k ? J : 0;
+  if (kept_rows + prior_rows.rows() <= static_cast<Eigen::Index>(free_indices.size()))
+    throw std::runtime_error("identification: " + std::to_string(result.outliers.size()) + " of " +
+                             std::to_string(poses.size()) + " poses are outliers; the others cannot determine the " +
+                             std::to_string(free_indices.size()) + " free parameters (check the poses file)");
   Eigen::MatrixXd A(kept_rows + prior_rows.rows(), Jw_free.cols());
   double chi2_kept = prior_chi2;
   Eigen::Index row = 0;

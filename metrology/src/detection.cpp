@@ -139,6 +139,10 @@ Detection orderGrid(const Target& target, const cv::Mat& gray, const std::vector
     fitting.erase(std::remove_if(fitting.begin(), fitting.end(), [&](const Candidate& c) { return c.dark_origin != wanted; }),
                   fitting.end());
   }
+  if (fitting.empty()) {  // non-finite residuals (e.g. an absurd square size): nothing fits
+    result.reason = "grid found but no ordering of it fits the target (check target.yaml's sizes)";
+    return result;
+  }
   // Ambiguous boards: x_M points as much as possible towards the image's right.
   const Candidate& chosen = *std::max_element(fitting.begin(), fitting.end(), [](const Candidate& a, const Candidate& b) {
     return a.x_axis_rightness < b.x_axis_rightness;

@@ -1,4 +1,5 @@
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/output_transaction.hpp"
 
 #include <fstream>
 #include <random>
@@ -23,6 +24,11 @@ void writeAtomically(const fs::path& path, const std::function<bool(const fs::pa
     if (ec) throw std::runtime_error(path.parent_path().string() + ": cannot create folder: " + ec.message());
   }
   const fs::path temporary = temporaryBeside(path);
+  registerTemporary(temporary);  // removed by the interrupt handler if the run is stopped
+  struct Unregister {
+    const fs::path& path;
+    ~Unregister() { unregisterTemporary(path); }
+  } const unregister{temporary};
   bool written = false;
   try {
     written = writer(temporary);

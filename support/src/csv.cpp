@@ -35,6 +35,8 @@ CsvTable readCsv(const std::filesystem::path& path) {
   std::size_t line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    // A UTF-8 byte-order mark (Excel's "CSV UTF-8") is not part of the first column's name.
+    if (line_number == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     const std::string content = trim(line);
     if (content.empty() || content[0] == '#') continue;
     auto cells = splitLine(content);
