@@ -24,9 +24,9 @@ TEST(InterruptCleanup, SigintDuringSimulateLeavesNothing) {
   const std::string d = dir.path().string();
   const std::string script = "cd " + d + " && { " + test::mireBinary().string() +
                              " simulate calibration --spec spec.yaml -o out >/dev/null 2>&1 & pid=$!; "
-                             "for i in $(seq 600); do ls -a | grep -q '^.tmp-dir-' && break; sleep 0.05; done; "
+                             "for i in $(seq 600); do ls -a | grep -q ^.tmp-dir- && break; sleep 0.05; done; "
                              "sleep 0.5; kill -INT $pid; wait $pid; echo $? > code; }";
-  ASSERT_EQ(test::runCommand("sh -c \"" + script + "\""), 0);
+  ASSERT_EQ(test::runCommand("sh -c '" + script + "'"), 0);
   std::ifstream code_file(dir.path() / "code");
   int code = -1;
   code_file >> code;
