@@ -1,6 +1,7 @@
 // Identification with Ceres (paper eq. 2/4, BRIEF §1, §7): weighted IKM residuals, priors,
 // robust loss, covariance of the estimate and the identifiability report at the solution.
 #include "mire/mechanism/identification.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
 
 #include <ceres/ceres.h>
 
@@ -390,13 +391,17 @@ IdentificationResult identify(const IdentificationModel& initial,
   result.chi2 = r.squaredNorm();
   const double scale2_all = (result.chi2 + prior_chi2) / std::max(1, result.dof);
   std::vector<bool> keep(poses.size(), true);
+  std::vector<double> pose_chi2;
+  for (PoseResidual& pr : result.poses) pose_chi2.push_back(pr.chi2);
+  // Test each pose at the residual scale achieved (robust), so model misfit is not "outliers".
+  result.outlier_scale2 = result.weighted ? robustPoseScale2(pose_chi2, J) : 1.0;
   for (std::size_t j = 0; j < poses.size(); ++j) {
     PoseResidual& pr = result.poses[j];
     if (!result.weighted) pr.chi2 /= scale2_all;
-    pr.outlier = pr.chi2 > threshold;
+    pr.outlier = pr.chi2 / result.outlier_scale2 > threshold;
     if (pr.outlier) {
       result.outliers.push_back(pr.id);
-      if (options.loss != RobustLoss::None) keep[j] = false;
+      if (options.loss != RobustLoss::None) keep[j] = pr.used = false;
     }
   }
   Eigen::Index kept_rows = 0;
@@ -431,8 +436,13 @@ IdentificationResult identify(const IdentificationModel& initial,
   }
   const Eigen::MatrixXd scaled_v = svd.matrixV() * inv_s2.asDiagonal();
   const Eigen::MatrixXd information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
-  result.covariance = information_inverse;
-  if (!result.weighted) result.covariance *= scale2;
+  result.information_inverse = information_inverse;
+  result.whitening = whitening;
+  result.covariance_scale2 = !result.weighted ? scale2
+                             : options.scale_on_misfit ? misfitScale2(chi2_kept, dof_kept, options.outlier_probability)
+                                                       : 1.0;
+  result.covariance_method = result.weighted && result.covariance_scale2 == 1.0 ? "measured" : "residual-scaled";
+  result.covariance = information_inverse * result.covariance_scale2;
 
   // The axis alignment was estimated from the same orientations: add its uncertainty,
   // Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).

@@ -71,6 +71,9 @@ struct IdentificationOptions {
   // A pose is an outlier when its whitened χ² (J dof; scaled by σ̂² when unweighted)
   // exceeds the χ² quantile at 1 − outlier_probability.
   double outlier_probability = 1e-3;
+  // Weighted fits: scale the covariance by χ²/dof when the χ² test at outlier_probability
+  // (two-sided) rejects the measured pose covariances (model error, doc/uncertainty.md).
+  bool scale_on_misfit = true;
   int max_iterations = 100;
   bool compute_identifiability = true;
   IdentifiabilityOptions identifiability;
@@ -81,6 +84,7 @@ struct PoseResidual {
   Eigen::VectorXd residual;  // q̄ − f [rad], unwhitened
   double chi2 = 0.0;         // whitened (σ̂-normalised when unweighted)
   bool outlier = false;
+  bool used = true;          // in the covariance (false: an outlier left out under a robust loss)
 };
 
 struct IdentificationResult {
@@ -101,6 +105,16 @@ struct IdentificationResult {
   // not rescaled (the measured covariances set the scale).
   double residual_scale = 0.0;
   double rms_joint_residual = 0.0;  // [rad], unweighted, over all joints of all poses
+  // Covariance stage (identification_covariance.hpp, doc/uncertainty.md): which σ is printed.
+  // "measured" (weighted, χ² consistent), "residual-scaled" (× covariance_scale2 = χ²/dof: the
+  // misfit of a weighted fit, or an unweighted fit), plus "+ shared" once the calibration's
+  // shared term is added (shared_covariance).
+  std::string covariance_method;
+  double covariance_scale2 = 1.0;
+  double outlier_scale2 = 1.0;              // scale² of the outlier test (achieved, robust)
+  Eigen::MatrixXd information_inverse;      // (AᵀA)⁻¹ of the whitened problem, unscaled
+  std::vector<Eigen::MatrixXd> whitening;   // W_j of every pose (4 × 4 for the H4)
+  Eigen::MatrixXd shared_covariance;        // G Σ_k Gᵀ when added (else empty)
   std::vector<PoseResidual> poses;
   std::vector<std::string> outliers;  // pose ids
 

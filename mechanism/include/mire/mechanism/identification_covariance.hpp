@@ -1,0 +1,68 @@
+#pragma once
+// The covariance stage of the identification (doc/uncertainty.md):
+//  * misfit: the whitened residuals' χ²/dof tested against its χ² distribution; when the
+//    measured pose covariances do not explain the residuals (model error, or covariances too
+//    large or too small) the parameter covariance is scaled by χ²/dof (residual-scaled);
+//  * the outlier-pose test at the residual scale actually achieved (a robust, median-based
+//    scale), so model misfit shows as one χ²/dof figure, not as most poses "outliers";
+//  * the error shared by every pose — the camera calibration — propagated exactly through the
+//    estimator: Σ_ξ += G Σ_k Gᵀ with G = ∂ξ̂/∂k = −(AᵀA)⁻¹ Aᵀ ∂r_w/∂k (implicit function
+//    theorem at the solution; A the whitened Jacobian, r_w the whitened residuals).
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/identification.hpp"
+#include "mire/mechanism/pose.hpp"
+
+namespace mire::mechanism {
+
+// χ² quantile with k dof exceeded with probability p (lower tail with `lower`), Wilson–Hilferty.
+double chi2Quantile(int k, double p, bool lower = false);
+
+// Scale² of the per-pose whitened χ² (J dof each) actually achieved, robust to a few outlier
+// poses: median(χ²_j) / median of χ²_J, never below 1 (the pose covariances are the floor).
+double robustPoseScale2(const std::vector<double>& pose_chi2, int joint_count);
+
+// Scale² applied to (AᵀA)⁻¹ of a weighted fit: χ²/dof when it lies outside the central
+// 1 − 2p band of its χ² distribution (misfit, or covariances that overstate the noise), else 1.
+double misfitScale2(double chi2, int dof, double p);
+
+// Sandwich (cluster-robust, one cluster per pose) covariance of the free parameters:
+// H⁻¹ (Σ_j A_jᵀ r_j r_jᵀ A_j) H⁻¹ · m/(m − p), H⁻¹ = result.information_inverse, A_j and r_j the
+// whitened Jacobian and residuals of the poses used (m of them, p free parameters).
+Eigen::MatrixXd sandwichCovariance(const IdentificationResult& result, const std::vector<PoseObservation>& poses);
+
+// What `mire measure` knows about the error shared by every pose: the camera's covariance
+// Σ_k (n × n, over `names`) and each pose's sensitivity ∂cTm/∂k (6 × n, rows tx ty tz rx ry rz).
+struct SharedPoseTerm {
+  std::vector<std::string> names;
+  Eigen::MatrixXd covariance;
+  std::map<std::string, Eigen::MatrixXd> sensitivity;  // by pose id
+  bool empty() const { return names.empty(); }
+  // The per-pose part of the shared term, D_j Σ_k D_jᵀ (zero for an unknown id).
+  Eigen::MatrixXd poseCovariance(const std::string& pose_id) const;
+};
+
+// <stem>_shared.csv beside poses.csv (doc/uncertainty.md "Shared terms").
+std::filesystem::path sharedTermPath(const std::filesystem::path& poses_csv);
+// Reads the side file; throws std::runtime_error naming the file, line and problem.
+SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path);
+// The CSV text written by `mire measure` (ids in order; sensitivities 6 × n each).
+std::string sharedTermCsvString(const std::vector<std::string>& names, const Eigen::MatrixXd& covariance,
+                                const std::vector<std::pair<std::string, Eigen::MatrixXd>>& sensitivities);
+
+// Removes the shared part from every pose covariance (Σ_j − D_j Σ_k D_jᵀ), so that the fit is
+// weighted by the independent part only; throws naming a pose whose covariance would not stay
+// positive definite or that has no sensitivity.
+void removeSharedTerm(std::vector<PoseObservation>& poses, const SharedPoseTerm& shared);
+
+// Adds G Σ_k Gᵀ to result.covariance (and result.shared_covariance, result.sigma) for the
+// poses the fit used. `poses` are those given to identify().
+void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                             const SharedPoseTerm& shared);
+
+}  // namespace mire::mechanism

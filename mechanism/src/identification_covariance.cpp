@@ -1,0 +1,201 @@
+// The covariance stage of the identification: misfit scaling, the achieved-scale outlier test
+// and the calibration's shared term (identification_covariance.hpp, doc/uncertainty.md).
+#include "mire/mechanism/identification_covariance.hpp"
+
+#include "mire/support/csv.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace mire::mechanism {
+
+namespace {
+
+// Upper quantile of the standard normal distribution, by bisection on erfc.
+double normalUpperQuantile(double p) {
+  double lo = -10.0, hi = 10.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+const char* const kAxes[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
+
+int axisIndex(const std::string& text) {
+  for (int k = 0; k < 6; ++k)
+    if (text == kAxes[k]) return k;
+  return -1;
+}
+
+}  // namespace
+
+double chi2Quantile(int k, double p, bool lower) {
+  const double z = normalUpperQuantile(p) * (lower ? -1.0 : 1.0);
+  const double a = 2.0 / (9.0 * std::max(1, k));
+  return std::max(0.0, k * std::pow(1.0 - a + z * std::sqrt(a), 3.0));
+}
+
+double robustPoseScale2(const std::vector<double>& pose_chi2, int joint_count) {
+  if (pose_chi2.size() < 3 || joint_count < 1) return 1.0;
+  std::vector<double> values = pose_chi2;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return std::max(1.0, *middle / chi2Quantile(joint_count, 0.5));
+}
+
+double misfitScale2(double chi2, int dof, double p) {
+  if (dof < 1 || !(chi2 >= 0.0)) return 1.0;
+  const bool outside = chi2 > chi2Quantile(dof, p) || chi2 < chi2Quantile(dof, p, /*lower=*/true);
+  return outside ? chi2 / dof : 1.0;
+}
+
+Eigen::MatrixXd SharedPoseTerm::poseCovariance(const std::string& pose_id) const {
+  const auto it = sensitivity.find(pose_id);
+  if (it == sensitivity.end()) return Eigen::MatrixXd::Zero(6, 6);
+  return it->second * covariance * it->second.transpose();
+}
+
+std::filesystem::path sharedTermPath(const std::filesystem::path& poses_csv) {
+  return poses_csv.parent_path() / (poses_csv.stem().string() + "_shared.csv");
+}
+
+SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
+  const support::CsvTable table = support::readCsv(path);
+  const std::size_t kind_col = table.column("kind"), id_col = table.column("id"), row_col = table.column("row");
+  SharedPoseTerm shared;
+  for (std::size_t c = 0; c < table.header.size(); ++c)
+    if (c != kind_col && c != id_col && c != row_col) shared.names.push_back(table.header[c]);
+  const auto n = static_cast<Eigen::Index>(shared.names.size());
+  if (n == 0) throw std::runtime_error(path.string() + ": no parameter columns after kind,id,row");
+  shared.covariance = Eigen::MatrixXd::Constant(n, n, std::nan(""));
+  const auto valueRow = [&](std::size_t r) {
+    Eigen::RowVectorXd v(n);
+    for (Eigen::Index k = 0; k < n; ++k) v[k] = table.number(r, table.column(shared.names[static_cast<std::size_t>(k)]));
+    return v;
+  };
+  std::map<std::string, std::set<int>> seen;
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const std::string& kind = table.rows[r][kind_col];
+    const std::string& row = table.rows[r][row_col];
+    if (kind == "covariance") {
+      const auto it = std::find(shared.names.begin(), shared.names.end(), row);
+      if (it == shared.names.end())
+        throw std::runtime_error(table.where(r) + ": column 'row': '" + row + "' is not a parameter column");
+      shared.covariance.row(it - shared.names.begin()) = valueRow(r);
+    } else if (kind == "sensitivity") {
+      const std::string& id = table.rows[r][id_col];
+      const int axis = axisIndex(row);
+      if (axis < 0) throw std::runtime_error(table.where(r) + ": column 'row': '" + row + "' is not one of tx ty tz rx ry rz");
+      if (!seen[id].insert(axis).second)
+        throw std::runtime_error(table.where(r) + ": duplicate row '" + row + "' of pose '" + id + "'");
+      shared.sensitivity.try_emplace(id, Eigen::MatrixXd::Zero(6, n)).first->second.row(axis) = valueRow(r);
+    } else {
+      throw std::runtime_error(table.where(r) + ": column 'kind': '" + kind + "' is not 'covariance' or 'sensitivity'");
+    }
+  }
+  for (const auto& [id, rows] : seen)
+    if (rows.size() != 6)
+      throw std::runtime_error(path.string() + ": pose '" + id + "' has " + std::to_string(rows.size()) +
+                               " of the 6 sensitivity rows");
+  if (!shared.covariance.allFinite())
+    throw std::runtime_error(path.string() + ": the camera covariance needs one 'covariance' row per parameter");
+  if ((shared.covariance - shared.covariance.transpose()).cwiseAbs().maxCoeff() >
+      1e-9 * shared.covariance.cwiseAbs().maxCoeff())
+    throw std::runtime_error(path.string() + ": the camera covariance is not symmetric");
+  return shared;
+}
+
+std::string sharedTermCsvString(const std::vector<std::string>& names, const Eigen::MatrixXd& covariance,
+                                const std::vector<std::pair<std::string, Eigen::MatrixXd>>& sensitivities) {
+  std::ostringstream out;
+  out << "kind,id,row";
+  for (const auto& name : names) out << ',' << name;
+  out << '\n';
+  for (Eigen::Index r = 0; r < covariance.rows(); ++r) {
+    out << "covariance,camera," << names[static_cast<std::size_t>(r)];
+    for (Eigen::Index c = 0; c < covariance.cols(); ++c) out << ',' << support::formatNumber(covariance(r, c));
+    out << '\n';
+  }
+  for (const auto& [id, d] : sensitivities)
+    for (int r = 0; r < 6; ++r) {
+      out << "sensitivity," << id << ',' << kAxes[r];
+      for (Eigen::Index c = 0; c < d.cols(); ++c) out << ',' << support::formatNumber(d(r, c));
+      out << '\n';
+    }
+  return out.str();
+}
+
+void removeSharedTerm(std::vector<PoseObservation>& poses, const SharedPoseTerm& shared) {
+  for (PoseObservation& p : poses) {
+    if (!p.covariance) continue;
+    if (!shared.sensitivity.count(p.id))
+      throw std::runtime_error("pose '" + p.id + "' has no sensitivity in the shared-term file");
+    const PoseCovariance independent = *p.covariance - PoseCovariance(shared.poseCovariance(p.id));
+    const Eigen::SelfAdjointEigenSolver<PoseCovariance> eigen(0.5 * (independent + independent.transpose()));
+    if (eigen.eigenvalues().minCoeff() <= 1e-12 * eigen.eigenvalues().maxCoeff())
+      throw std::runtime_error("pose '" + p.id +
+                               "': its covariance minus the shared calibration part is not positive definite");
+    p.covariance = 0.5 * (independent + independent.transpose());
+  }
+}
+
+Eigen::MatrixXd sandwichCovariance(const IdentificationResult& result, const std::vector<PoseObservation>& poses) {
+  const int J = result.model.mechanism->jointCount();
+  const Eigen::MatrixXd J_rad = identificationJacobian(result.model, poses);
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
+  int used = 0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    if (!result.poses.at(j).used) continue;
+    const Eigen::MatrixXd& W = result.whitening.at(j);
+    const Eigen::VectorXd score =
+        (W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J)).transpose() * (W * result.poses[j].residual);
+    meat += score * score.transpose();
+    ++used;
+  }
+  const double correction = used > J_rad.cols() ? double(used) / double(used - J_rad.cols()) : 1.0;
+  return result.information_inverse * meat * result.information_inverse * correction;
+}
+
+void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                             const SharedPoseTerm& shared) {
+  if (shared.empty() || result.information_inverse.size() == 0) return;
+  const IdentificationModel& model = result.model;
+  const int J = model.mechanism->jointCount();
+  const Eigen::MatrixXd J_rad = identificationJacobian(model, poses);  // unwhitened, free columns
+  const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
+  const auto n = static_cast<Eigen::Index>(shared.names.size());
+  // Aᵀ ∂r_w/∂k summed over the poses used: r_j = q̄_j − f(cTm_j), ∂r_j/∂k = −J_p,j D_j.
+  Eigen::MatrixXd At_dr = Eigen::MatrixXd::Zero(J_rad.cols(), n);
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    if (j < result.poses.size() && !result.poses[j].used) continue;
+    const auto it = shared.sensitivity.find(poses[j].id);
+    if (it == shared.sensitivity.end())
+      throw std::runtime_error("pose '" + poses[j].id + "' has no sensitivity in the shared-term file");
+    const Eigen::MatrixXd& W = result.whitening.at(j);
+    const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    const Eigen::MatrixXd Jp = model.mechanism->jointJacobianWrtPose(model.external, g, e, poses[j].cTm);
+    At_dr -= A_j.transpose() * (W * (Jp * it->second));
+  }
+  const Eigen::MatrixXd G = -result.information_inverse * At_dr;
+  result.shared_covariance = G * shared.covariance * G.transpose();
+  result.covariance += result.shared_covariance;
+  result.covariance_method += " + shared calibration term";
+  const std::vector<std::size_t> free_indices = model.parameters.freeIndices();
+  for (std::size_t i = 0; i < model.parameters.size(); ++i) {
+    const auto s = static_cast<Eigen::Index>(i);
+    if (!std::isfinite(result.sigma[s]) || result.sigma[s] == 0.0) continue;
+    const std::size_t leader = model.parameters.tieLeader(i);
+    for (std::size_t f = 0; f < free_indices.size(); ++f)
+      if (free_indices[f] == leader)
+        result.sigma[s] = std::sqrt(result.covariance(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(f)));
+  }
+}
+
+}  // namespace mire::mechanism
