@@ -13,11 +13,13 @@
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -39,9 +41,9 @@ namespace mech = mire::mechanism;
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 struct IdentifyArguments {
-  std::string poses, joints, covariances, nominal, model, variant, lines, output, report;
+  std::string poses, joints, covariances, nominal, model, variant, lines, output, report, shared;
   std::vector<std::string> fix, priors, mc;
-  bool robust = false, unweighted = false;
+  bool robust = false, unweighted = false, independent_poses = false;
   int mc_repeats = 100, threads = 2;
   unsigned long long mc_seed = 1;
 };
@@ -132,6 +134,9 @@ void checkPaths(const IdentifyArguments& args) {
     paths.input_files.push_back({mech::defaultCovariancePath(args.poses), "the covariance side file"});
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
   if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
+  if (!args.shared.empty()) paths.input_files.push_back({args.shared, "--shared-term"});
+  else if (!args.independent_poses && fs::exists(mech::sharedTermPath(args.poses)))
+    paths.input_files.push_back({mech::sharedTermPath(args.poses), "the shared-term side file"});
   paths.output_files = {{args.output, "-o"}, {mech::defaultParameterCovariancePath(args.output), "the covariance side file of -o"}};
   if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
   checkCommandPaths(paths);
@@ -153,7 +158,11 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   mech::H4ModelKind kind = mech::H4ModelKind::Model12;
   const bool h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
   if (!h4) {
-    mech::makeRegisteredModel(model);  // throws "unknown model 'x' (known: ...)"
+    try {
+      mech::makeRegisteredModel(model);
+    } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
+      throw UsageError("--model '" + model + "': " + error.what());
+    }
     if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + model);
   } else if (model == "h4-12") {
     kind = mech::H4ModelKind::Model12;
@@ -184,6 +193,18 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   checkIdentifyPoses(poses, args.poses, args.unweighted);
   if (args.unweighted)
     for (auto& p : poses) p.covariance.reset();
+  // The calibration error shared by every pose (doc/uncertainty.md): weight by the independent
+  // part of each covariance, then add its propagation G Σ_k Gᵀ to the parameter covariance.
+  std::optional<mech::SharedPoseTerm> shared;
+  const fs::path shared_path = args.shared.empty() ? mech::sharedTermPath(args.poses) : fs::path(args.shared);
+  if (!args.independent_poses && (!args.shared.empty() || fs::exists(shared_path))) {
+    if (!covariance_path && !args.unweighted)
+      throw UsageError(shared_path.string() + " needs the full pose covariances (" +
+                                  mech::defaultCovariancePath(args.poses).string() +
+                                  " or --pose-covariances), or --independent-poses");
+    shared = mech::readSharedTermCsv(shared_path);
+    mech::removeSharedTerm(poses, *shared);
+  }
   std::vector<mech::LineRecord> lines;
   if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines, joint_columns);
 
@@ -218,6 +239,28 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
 
   const auto before = residualsOf(initial, poses);
   mech::IdentificationResult result = mech::identify(initial, poses, options);
+  if (shared) {
+    // The whole estimator (initialisation included) refitted on poses moved by the shared term,
+    // with the gauge the main fit chose.
+    mech::IdentificationOptions quiet = options;
+    quiet.compute_identifiability = false;
+    mech::addSharedTermCovariance(result, poses, *shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+      mech::IdentificationModel start;
+      if (!h4) {
+        start = mech::makeInitialModel(registered.mechanism, registered.nominal, shifted, registered.external_form);
+        start.parameters.fix(options.fix);
+        if (gauge) start.parameters.fix(gauge->gauge);
+      } else if (kind == mech::H4ModelKind::Model31) {
+        start = mech::makeInitialModel(initial.mechanism, mech::model31FromModel12(mech::h4Model12Parameters(nominal)),
+                                       shifted, mech::ExternalForm::AxisAligned);
+      } else {
+        start = mech::makeH4VariantModel(letter, nominal, shifted, options);
+      }
+      mech::IdentificationResult refit = mech::identify(start, shifted, quiet);
+      mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
+      return refit;
+    });
+  }
   mech::alignTranslatingTarget(*result.model.mechanism, result.model.external, result.model.parameters, poses);
   if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
 
@@ -264,6 +307,16 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
                 result.identifiability.scaling.c_str(), result.identifiability.rank, result.free_names.size());
   out << line;
   for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
+  std::snprintf(line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
+                !weighted ? ""
+                : result.covariance_scale2 > 1.0
+                    ? ": misfit (the model does not explain the measured poses to their covariances)"
+                    : result.covariance_scale2 < 1.0 ? ": the pose covariances overstate the scatter" : ", consistent");
+  out << line;
+  std::snprintf(line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(),
+                result.covariance_scale2,
+                shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
+  out << line;
   if (!result.outliers.empty()) {
     out << "outlier poses:";
     for (const auto& id : result.outliers) out << ' ' << id;
@@ -377,6 +430,11 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
   cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");
   cmd->add_flag("--robust", args->robust, "Huber loss (3 sigma) and outlier report");
+  cmd->add_option("--shared-term", args->shared,
+                  "the calibration term shared by every pose (default: <poses>_shared.csv beside poses.csv when it "
+                  "exists; doc/uncertainty.md)");
+  cmd->add_flag("--independent-poses", args->independent_poses,
+                "ignore the shared calibration term (treat the pose errors as independent)")->excludes("--shared-term");
   CLI::Option* mc = cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)");
   cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")->capture_default_str()->check(CLI::Range(1, 1000000))->needs(mc);
   cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")->capture_default_str()->check(CLI::NonNegativeNumber)->needs(mc);

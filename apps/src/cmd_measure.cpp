@@ -12,6 +12,7 @@
 #include "mire/metrology/campaign_screening.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/metrology/shared_term_csv.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
 
@@ -98,6 +99,8 @@ int runMeasure(const MeasureSettings& settings) {
                      {{settings.poses_dir, "--poses"}},
                      {{output, "-o"}, {covariance, settings.covariance_path.empty() ? "the covariance side file" : "--covariance"}},
                      {}};
+  const fs::path shared = metrology::sharedTermSidePath(output);
+  paths.output_files.push_back({shared, "the shared-term side file"});
   if (!settings.save_detections.empty()) paths.output_files.push_back({settings.save_detections, "--save-detections"});
   checkCommandPaths(paths);
   const int threads = workerThreads(settings.threads, "--threads");
@@ -141,17 +144,22 @@ int runMeasure(const MeasureSettings& settings) {
   std::vector<double> distances;
   for (const auto& pose : measured) distances.push_back(pose.estimate.translation.norm());
   checkImpliedDistances(distances, settings.target_path, "pose");
-  // All files or none; the covariances land first, so a poses.csv never pairs with an
-  // older run's side file (doc/robustness.md).
+  // All files or none; the side files land first, so a poses.csv never pairs with an older
+  // run's side files (doc/robustness.md). Without a camera covariance there is no shared
+  // term: an older run's file is removed so identify cannot pair it.
   support::OutputTransaction outputs;
   if (!settings.save_detections.empty())
     support::writeFileAtomically(outputs.stageFile(settings.save_detections),
                                  metrology::detectionsCsv(target, measureDetections(jobs), camera.width, camera.height));
+  const std::string shared_text = metrology::sharedTermCsvString(camera, measured);
+  if (!shared_text.empty()) support::writeFileAtomically(outputs.stageFile(shared), shared_text);
   metrology::writePosesCovarianceCsv(outputs.stageFile(covariance), measured);
   metrology::writePosesCsv(outputs.stageFile(output), measured);
   outputs.commit();
-  std::printf("measured %zu of %zu poses -> %s (covariances: %s)\n", measured.size(), jobs.size(),
-              output.string().c_str(), covariance.string().c_str());
+  if (shared_text.empty()) fs::remove(shared);
+  std::printf("measured %zu of %zu poses -> %s (covariances: %s%s)\n", measured.size(), jobs.size(),
+              output.string().c_str(), covariance.string().c_str(),
+              shared_text.empty() ? "" : ("; shared calibration term: " + shared.string()).c_str());
   printSummary(measured);
   if (failed > 0) {
     std::cerr << "mire measure: " << failed << " pose(s) failed (listed above); the others were written\n";

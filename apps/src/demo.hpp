@@ -54,6 +54,13 @@ struct DemoPoseCount {
   double median_parameter_sigma_ratio = 0.0;  // median over parameters of σ(size)/σ(6)
 };
 
+// One identified parameter of variant D (all poses) scored against the simulator's truth (the
+// true robot's model-12 part; z_BC in the model's z_ME gauge, paper eq. 24).
+struct DemoParameterScore {
+  std::string name, unit;  // display unit (mm, deg)
+  double estimate = 0, sigma = 0, truth = 0;  // display units
+};
+
 struct DemoResults {
   std::vector<StageTiming> timings;
   DemoCalibration calibration;
@@ -65,6 +72,10 @@ struct DemoResults {
   std::vector<DemoPoseCount> pose_counts;
   int pose_count_repeats = 0;
   std::array<double, 4> square_before_mm{}, square_after_mm{};
+  std::vector<DemoParameterScore> identified;  // variant D on all poses
+  std::string sigma_method;                    // which σ identify printed (and why)
+  double chi2_per_dof = 0.0;
+  std::size_t outlier_count = 0;
   std::vector<std::string> files;  // written, relative to the output folder
 };
 

@@ -9,10 +9,12 @@
 #include "mire/datasets/h4_campaign.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/metrology/shared_term_csv.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/progress.hpp"
 
@@ -21,6 +23,7 @@
 #include <cmath>
 #include <iostream>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -104,6 +107,7 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
   if (measured.empty()) throw std::runtime_error("no pose could be measured");
   metrology::writePosesCsv(poses_csv, measured);
   metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
+  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured);
 
   summary.measured = static_cast<int>(measured.size());
   summary.total = static_cast<int>(measurements.size());
@@ -153,6 +157,46 @@ std::array<double, 4> squareSides(const datasets::H4TrueRobot& robot, const mech
   std::array<double, 4> sides_mm{};
   for (int k = 0; k < 4; ++k) sides_mm[k] = 1e3 * result.side_error_m[k];
   return sides_mm;
+}
+
+// Variant D on all poses as `mire identify` runs it: weighted by the independent part of the
+// pose covariances, plus the calibration term shared by every pose (doc/uncertainty.md).
+mechanism::IdentificationResult identifyWithSharedTerm(std::vector<mechanism::PoseObservation> poses,
+                                                       const fs::path& poses_csv,
+                                                       const mechanism::IdentificationOptions& options) {
+  const fs::path shared_path = mechanism::sharedTermPath(poses_csv);
+  std::optional<mechanism::SharedPoseTerm> shared;
+  if (fs::exists(shared_path)) {
+    shared = mechanism::readSharedTermCsv(shared_path);
+    mechanism::removeSharedTerm(poses, *shared);
+  }
+  auto result = mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, poses, options);
+  if (shared)
+    mechanism::addSharedTermCovariance(result, poses, *shared, [&](const std::vector<mechanism::PoseObservation>& shifted) {
+      return mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, shifted, options);
+    });
+  return result;
+}
+
+// error/σ of every identified parameter against the simulator's truth (scoring only).
+void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& campaign,
+                     const mechanism::IdentificationResult& result, DemoResults& results) {
+  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
+  const auto& p = result.model.parameters;
+  Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
+  truth << mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, options.seed)).values(),
+      result.model.external.valuesFrom(campaign.robot.baseTCamera(), campaign.robot.markerTEffector());
+  truth[static_cast<Eigen::Index>(p.index("z_BC"))] += truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
+  for (const auto& name : result.free_names) {
+    const std::size_t i = p.index(name);
+    const auto unit = p[i].unit;
+    results.identified.push_back({name, mechanism::displayUnitName(unit), mechanism::toDisplay(unit, p[i].value),
+                                  mechanism::toDisplay(unit, result.sigma[static_cast<Eigen::Index>(i)]),
+                                  mechanism::toDisplay(unit, truth[static_cast<Eigen::Index>(i)])});
+  }
+  results.sigma_method = result.covariance_method;
+  results.chi2_per_dof = result.chi2 / std::max(1, result.dof);
+  results.outlier_count = result.outliers.size();
 }
 
 // Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
@@ -243,7 +287,8 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
 
   // Square test (paper §6.4): the controller runs model 12 with nominal, then identified (D,
   // all poses) parameters; the TRUE robot draws the square.
-  const auto identified_d = mechanism::identifyH4Variant('D', nominal, poses, identification);
+  const auto identified_d = identifyWithSharedTerm(poses, poses_csv, identification);
+  scoreIdentified(options, campaign, identified_d, results);
   mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
                                 {{"model", "h4-12"}, {"variant", "D"}}, "H4 model 12, variant D, identified by mire demo");
   const auto& model = *identified_d.model.mechanism;

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 namespace mire::mechanism {
@@ -112,26 +111,6 @@ SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
   return shared;
 }
 
-std::string sharedTermCsvString(const std::vector<std::string>& names, const Eigen::MatrixXd& covariance,
-                                const std::vector<std::pair<std::string, Eigen::MatrixXd>>& sensitivities) {
-  std::ostringstream out;
-  out << "kind,id,row";
-  for (const auto& name : names) out << ',' << name;
-  out << '\n';
-  for (Eigen::Index r = 0; r < covariance.rows(); ++r) {
-    out << "covariance,camera," << names[static_cast<std::size_t>(r)];
-    for (Eigen::Index c = 0; c < covariance.cols(); ++c) out << ',' << support::formatNumber(covariance(r, c));
-    out << '\n';
-  }
-  for (const auto& [id, d] : sensitivities)
-    for (int r = 0; r < 6; ++r) {
-      out << "sensitivity," << id << ',' << kAxes[r];
-      for (Eigen::Index c = 0; c < d.cols(); ++c) out << ',' << support::formatNumber(d(r, c));
-      out << '\n';
-    }
-  return out.str();
-}
-
 void removeSharedTerm(std::vector<PoseObservation>& poses, const SharedPoseTerm& shared) {
   for (PoseObservation& p : poses) {
     if (!p.covariance) continue;
@@ -163,28 +142,80 @@ Eigen::MatrixXd sandwichCovariance(const IdentificationResult& result, const std
   return result.information_inverse * meat * result.information_inverse * correction;
 }
 
-void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                             const SharedPoseTerm& shared) {
-  if (shared.empty() || result.information_inverse.size() == 0) return;
+namespace {
+
+// ∂ξ̂/∂k with the axis alignment held (implicit function theorem at the solution).
+Eigen::MatrixXd analyticSensitivity(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                    const SharedPoseTerm& shared) {
   const IdentificationModel& model = result.model;
   const int J = model.mechanism->jointCount();
   const Eigen::MatrixXd J_rad = identificationJacobian(model, poses);  // unwhitened, free columns
   const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
-  const auto n = static_cast<Eigen::Index>(shared.names.size());
   // Aᵀ ∂r_w/∂k summed over the poses used: r_j = q̄_j − f(cTm_j), ∂r_j/∂k = −J_p,j D_j.
-  Eigen::MatrixXd At_dr = Eigen::MatrixXd::Zero(J_rad.cols(), n);
+  Eigen::MatrixXd At_dr = Eigen::MatrixXd::Zero(J_rad.cols(), static_cast<Eigen::Index>(shared.names.size()));
   for (std::size_t j = 0; j < poses.size(); ++j) {
     if (j < result.poses.size() && !result.poses[j].used) continue;
-    const auto it = shared.sensitivity.find(poses[j].id);
-    if (it == shared.sensitivity.end())
-      throw std::runtime_error("pose '" + poses[j].id + "' has no sensitivity in the shared-term file");
     const Eigen::MatrixXd& W = result.whitening.at(j);
     const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
     const Eigen::MatrixXd Jp = model.mechanism->jointJacobianWrtPose(model.external, g, e, poses[j].cTm);
-    At_dr -= A_j.transpose() * (W * (Jp * it->second));
+    At_dr -= A_j.transpose() * (W * (Jp * shared.sensitivity.at(poses[j].id)));
   }
-  const Eigen::MatrixXd G = -result.information_inverse * At_dr;
-  result.shared_covariance = G * shared.covariance * G.transpose();
+  return -result.information_inverse * At_dr;
+}
+
+Eigen::VectorXd freeValues(const IdentificationResult& r) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(r.free_names.size()));
+  for (std::size_t f = 0; f < r.free_names.size(); ++f)
+    v[static_cast<Eigen::Index>(f)] = r.model.parameters.value(r.free_names[f]);
+  return v;
+}
+
+// G·√Σ_k by central differences of the whole estimator along Σ_k's principal directions.
+Eigen::MatrixXd refitSensitivity(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                 const SharedPoseTerm& shared, const Refit& refit) {
+  // Σ_k = S C Sᵀ (S = diag σ_k, C the correlation), C = U Λ Uᵀ: the steps S u_i √λ_i are
+  // well scaled whatever the units of k.
+  const auto n = shared.covariance.rows();
+  const Eigen::VectorXd scale = shared.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  Eigen::VectorXd inverse_scale = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) inverse_scale[i] = scale[i] > 0.0 ? 1.0 / scale[i] : 0.0;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(inverse_scale.asDiagonal() * shared.covariance *
+                                                             inverse_scale.asDiagonal());
+  Eigen::MatrixXd columns = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(result.free_names.size()), n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double lambda = eigen.eigenvalues()[i];
+    if (!(lambda > 0.0)) continue;
+    const Eigen::VectorXd step = scale.asDiagonal() * eigen.eigenvectors().col(i) * std::sqrt(lambda);
+    Eigen::VectorXd values[2];
+    for (int side = 0; side < 2; ++side) {
+      std::vector<PoseObservation> shifted = poses;
+      for (PoseObservation& p : shifted) p.cTm += (side == 0 ? 1.0 : -1.0) * shared.sensitivity.at(p.id) * step;
+      const IdentificationResult r = refit(shifted);
+      if (r.free_names != result.free_names)
+        throw std::runtime_error("shared calibration term: the refit changed the free parameters");
+      values[side] = freeValues(r);
+    }
+    columns.col(i) = 0.5 * (values[0] - values[1]);
+  }
+  return columns;
+}
+
+}  // namespace
+
+void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                             const SharedPoseTerm& shared, const Refit& refit) {
+  if (shared.empty() || result.information_inverse.size() == 0) return;
+  const IdentificationModel& model = result.model;
+  for (const PoseObservation& p : poses)
+    if (!shared.sensitivity.count(p.id))
+      throw std::runtime_error("pose '" + p.id + "' has no sensitivity in the shared-term file");
+  if (refit) {
+    const Eigen::MatrixXd columns = refitSensitivity(result, poses, shared, refit);
+    result.shared_covariance = columns * columns.transpose();
+  } else {
+    const Eigen::MatrixXd G = analyticSensitivity(result, poses, shared);
+    result.shared_covariance = G * shared.covariance * G.transpose();
+  }
   result.covariance += result.shared_covariance;
   result.covariance_method += " + shared calibration term";
   const std::vector<std::size_t> free_indices = model.parameters.freeIndices();

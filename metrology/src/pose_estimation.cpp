@@ -276,6 +276,7 @@ PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<E
     const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
     const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();
     estimate.covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
+    estimate.intrinsics_sensitivity = sensitivity;
   }
   estimate.covariance = estimate.covariance_noise + estimate.covariance_intrinsics;
   estimate.valid = true;

@@ -183,8 +183,11 @@ constexpr support::YamlRange kLengthRange{0.0, 10.0};  // metres: a printed targ
 constexpr support::YamlRange kPositionRange{-10.0, 10.0};
 
 double length(const support::YamlNode& root, const char* key) {
-  const double value = root.number(key, kLengthRange);
+  const double value = root.number(key, {-1e300, 1e300});
   if (!(value > 0.0)) root.at(key).fail("must be a positive length in metres");
+  if (value > kLengthRange.max)  // the usual slip: a length written in millimetres
+    root.at(key).fail(support::formatMessageNumber(value) + " m is not a printed target; lengths are in metres, not "
+                      "millimetres (25 mm is " + std::string(key) + ": 0.025)");
   return value;
 }
 

@@ -350,7 +350,8 @@ void optionCases(std::vector<Case>& c) {
     add(c, "Identify" + name, [x](Env e) { return identifyDefault(e, x); }, 2, {message});
   }
   add(c, "UnknownSubcommand", [](Env) { return std::string("calibrat --target x"); }, 2, {"unknown subcommand 'calibrat'"});
-  add(c, "CalibrateMissingRequired", [](Env e) { return "calibrate --target " + e.cal_target(); }, 2, {"--images"});
+  add(c, "CalibrateMissingRequired", [](Env e) { return "calibrate --target " + e.cal_target() + " -o " + e.p("out/camera.yaml"); },
+      2, {"--images"});
   add(c, "MeasureUnknownOption", [](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--fast"); }, 2,
       {"--fast"});
   add(c, "SimulateNoKind", [](Env e) { return "simulate --spec " + e.f.spec.string(); }, 2, {"subcommand"});
@@ -365,9 +366,9 @@ void cameraTargetCases(std::vector<Case>& c) {
         return measureWithCamera(e, cameraFile(e, "420., 0., 239.5, 0., 420., 9000., 0., 0., 1.", kD));
       }, 1, {"camera.yaml", "principal point"});
   add(c, "CameraHugeK1", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "1.0e6, 0.02, 0., 0., 0.")); }, 1,
-      {"camera.yaml", "k1"});
+      {"camera.yaml", "distortion_coefficients"});
   add(c, "CameraHugeK3", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "-0.1, 0.02, 0., 0., -5.0e4")); }, 1,
-      {"camera.yaml", "k3"});
+      {"camera.yaml", "distortion_coefficients"});
   add(c, "CameraZeroFx", [](Env e) { return measureWithCamera(e, cameraFile(e, "0., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD)); },
       1, {"camera.yaml"});
   add(c, "CameraNegativeFy", [](Env e) {
@@ -558,7 +559,7 @@ void specCases(std::vector<Case>& c) {
       {"DuplicateId",
        "    - { id: \"p1\", t: [ 0.0, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n"
        "    - { id: \"p1\", t: [ 0.01, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n",
-       {"spec.yaml", "'p1' appears twice"}},
+       {"spec.yaml", "'p1' is given twice"}},
       {"DotDotId", "    - { id: \"..\", t: [ 0.0, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml", "'..'"}},
       {"DotId", "    - { id: \".\", t: [ 0.0, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml"}},
       {"HiddenId", "    - { id: \".hidden\", t: [ 0.0, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml", ".hidden"}},

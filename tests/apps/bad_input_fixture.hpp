@@ -109,6 +109,9 @@ struct Case {
   std::vector<std::string> message;  // each must appear in stdout+stderr (with {dir} = the case folder)
 };
 
+// gtest prints a case by its name (ctest's test names stay readable).
+inline void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 const Fixture& fixture();
 const std::vector<Case>& allCases();
 

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -47,22 +48,26 @@ struct SharedPoseTerm {
   Eigen::MatrixXd poseCovariance(const std::string& pose_id) const;
 };
 
-// <stem>_shared.csv beside poses.csv (doc/uncertainty.md "Shared terms").
+// <stem>_shared.csv beside poses.csv, written by `mire measure` (metrology/shared_term_csv.hpp,
+// doc/uncertainty.md "Shared terms").
 std::filesystem::path sharedTermPath(const std::filesystem::path& poses_csv);
 // Reads the side file; throws std::runtime_error naming the file, line and problem.
 SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path);
-// The CSV text written by `mire measure` (ids in order; sensitivities 6 × n each).
-std::string sharedTermCsvString(const std::vector<std::string>& names, const Eigen::MatrixXd& covariance,
-                                const std::vector<std::pair<std::string, Eigen::MatrixXd>>& sensitivities);
-
 // Removes the shared part from every pose covariance (Σ_j − D_j Σ_k D_jᵀ), so that the fit is
 // weighted by the independent part only; throws naming a pose whose covariance would not stay
 // positive definite or that has no sensitivity.
 void removeSharedTerm(std::vector<PoseObservation>& poses, const SharedPoseTerm& shared);
 
-// Adds G Σ_k Gᵀ to result.covariance (and result.shared_covariance, result.sigma) for the
-// poses the fit used. `poses` are those given to identify().
+// Adds G Σ_k Gᵀ to result.covariance (and result.shared_covariance, result.sigma). `poses` are
+// those given to identify().
+//  * Without `refit`: G = −(AᵀA)⁻¹ Aᵀ ∂r_w/∂k at the solution, the external axis alignment
+//    held at its estimate.
+//  * With `refit` (the whole estimator, initialisation included, run on perturbed poses): G by
+//    central differences of the estimate along each principal direction u_i of Σ_k, ±√λ_i —
+//    this also carries the shared error through the axis alignment estimated from the same
+//    orientations (2n refits).
+using Refit = std::function<IdentificationResult(const std::vector<PoseObservation>&)>;
 void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                             const SharedPoseTerm& shared);
+                             const SharedPoseTerm& shared, const Refit& refit = {});
 
 }  // namespace mire::mechanism

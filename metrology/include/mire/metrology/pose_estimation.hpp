@@ -51,6 +51,10 @@ struct PoseEstimate {
   Matrix6d covariance_pixel_noise = Matrix6d::Zero();  // from the feature scatter alone
   Matrix6d covariance_noise = Matrix6d::Zero();        // (a) = pixel noise × max(1, reduced χ²)
   Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b) from Camera::covariance
+  // ∂(t, r)/∂k, 6 × n over Camera::params (the implicit-function sensitivity behind (b)); the
+  // same calibration error k enters every pose, so `identify` needs it (shared_term_csv.hpp).
+  // Empty without a camera covariance.
+  Eigen::MatrixXd intrinsics_sensitivity;
   Matrix6d covariance = Matrix6d::Zero();             // (a) + (b)
   double rms_px = 0.0;          // RMS reprojection residual of the averaged features (px)
   // Σ of the whitened residuals² / (2N − 6), whitened with the covariance actually used: the
