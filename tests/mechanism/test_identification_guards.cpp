@@ -2,6 +2,7 @@
 // left, or a robust fit whose outliers leave too few equations.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "h4_test_robot.hpp"
@@ -29,23 +30,27 @@ TEST(IdentificationGuards, EveryParameterFixedIsAnError) {
   }
 }
 
-TEST(IdentificationGuards, RobustFitWithEveryPoseAnOutlierIsAnError) {
+// Covariances 10^-12 of the real noise: every pose's chi-square is far beyond the threshold at
+// the measured scale. That is a misfit of the whole covariance, not 81 outliers: the outlier test
+// runs at the achieved scale (doc/uncertainty.md), so the robust fit succeeds, flags (almost) no
+// pose and reports the residual-scaled sigma - never a crash, never sigma 0.
+TEST(IdentificationGuards, RobustFitWithEveryPoseMisweightedIsResidualScaled) {
   const test::TestRobot robot;
   std::mt19937 rng(4);
   auto poses = robot.observe(test::TestRobot::protocolPoses(), &rng);
-  // Covariances 10^-12 of the real noise: every pose's chi-square is far beyond the threshold.
   for (auto& p : poses) {
     ASSERT_TRUE(p.covariance.has_value());
     *p.covariance *= 1e-12;
   }
   IdentificationOptions options;
   options.loss = RobustLoss::Huber;
-  try {
-    identify(initialModel(robot, poses), poses, options);
-    FAIL() << "expected an error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("are outliers"), std::string::npos) << e.what();
-  }
+  const IdentificationResult result = identify(initialModel(robot, poses), poses, options);
+  EXPECT_EQ(result.covariance_method.rfind("residual-scaled", 0), 0u) << result.covariance_method;
+  EXPECT_GT(result.covariance_scale2, 1e9);
+  EXPECT_LT(result.outliers.size(), poses.size() / 10);
+  EXPECT_TRUE(result.sigma.allFinite());
+  EXPECT_GT(result.sigma.minCoeff(), -1e-300);
+  EXPECT_GT(result.sigma.maxCoeff(), 0.0);
 }
 
 }  // namespace
