@@ -159,22 +159,18 @@ std::array<double, 4> squareSides(const datasets::H4TrueRobot& robot, const mech
   return sides_mm;
 }
 
-// Variant D on all poses as `mire identify` runs it: weighted by the independent part of the
-// pose covariances, plus the calibration term shared by every pose (doc/uncertainty.md).
-mechanism::IdentificationResult identifyWithSharedTerm(std::vector<mechanism::PoseObservation> poses,
+// Variant D on all poses as `mire identify` runs it: weighted by the full pose covariances,
+// plus the calibration term shared by every pose propagated by refits (doc/uncertainty.md).
+mechanism::IdentificationResult identifyWithSharedTerm(const std::vector<mechanism::PoseObservation>& poses,
                                                        const fs::path& poses_csv,
                                                        const mechanism::IdentificationOptions& options) {
   const fs::path shared_path = mechanism::sharedTermPath(poses_csv);
-  std::optional<mechanism::SharedPoseTerm> shared;
-  if (fs::exists(shared_path)) {
-    shared = mechanism::readSharedTermCsv(shared_path);
-    mechanism::removeSharedTerm(poses, *shared);
-  }
   auto result = mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, poses, options);
-  if (shared)
-    mechanism::addSharedTermCovariance(result, poses, *shared, [&](const std::vector<mechanism::PoseObservation>& shifted) {
-      return mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, shifted, options);
-    });
+  if (fs::exists(shared_path))
+    mechanism::addSharedTermCovariance(result, poses, mechanism::readSharedTermCsv(shared_path),
+                                       [&](const std::vector<mechanism::PoseObservation>& shifted) {
+                                         return mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, shifted, options);
+                                       });
   return result;
 }
 
