@@ -1,0 +1,4 @@
+#include "bindings.hpp"
+namespace mire::python {
+void bindMechanisms(py::module_&) {}
+}

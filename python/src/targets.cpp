@@ -1,0 +1,4 @@
+#include "bindings.hpp"
+namespace mire::python {
+void bindTargets(py::module_&) {}
+}
