@@ -7,10 +7,10 @@ PYBIND11_MODULE(mire, m) {
   m.doc() = "mire: camera calibration, target pose measurement and kinematic identification (doc/python.md)";
   mp::bindErrors(m);
   auto calibration = m.def_submodule("calibration", "cameras, camera files, calibration (mire::calibration)");
-  mp::bindCameras(calibration);
-  mp::bindCalibration(calibration);
   auto metrology = m.def_submodule("metrology", "targets, detection, pose measurement (mire::metrology)");
-  mp::bindTargets(metrology);
+  mp::bindCameras(calibration);
+  mp::bindTargets(metrology);  // before calibration: calibrateFromImages takes a Target
+  mp::bindCalibration(calibration);
   mp::bindMeasurement(metrology);
   auto mechanism = m.def_submodule("mechanism", "mechanisms, identification, evaluation (mire::mechanism)");
   mp::bindMechanisms(mechanism);
