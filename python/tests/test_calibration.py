@@ -126,3 +126,17 @@ def test_calibration_errors_are_value_errors(synthetic):
         cal.calibrateCamera(board, views, 640, 480, options)
     with pytest.raises(ValueError, match="opencv5"):
         cal.parseDistortionModel("brown")
+
+
+def test_calibrate_from_a_detections_file_equals_the_images(tiny_calibration, tmp_path):
+    """`mire calibrate --save-detections` writes every view's features; calibrating from them
+    in Python gives the camera calibrating from the images gave."""
+    target_file = tiny_calibration / "target.yaml"
+    run_cli("calibrate", "--target", target_file, "--images", tiny_calibration / "images", "--threads", "1",
+            "--save-detections", tmp_path / "detections.csv", "-o", tmp_path / "camera.yaml")
+    target = met.Target.fromFile(target_file)
+    detections = met.readDetectionsFile(tmp_path / "detections.csv", target)
+    assert (detections.width, detections.height) == (320, 240)
+    views = [cal.CalibrationView(d.image, d.ids, d.pixels) for d in detections.images]
+    result = cal.calibrateCamera(target.points(), views, detections.width, detections.height)
+    assert_relative(result.camera.params, cal.readCamera(tmp_path / "camera.yaml").params, 1e-12, "params")
