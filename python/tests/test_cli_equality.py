@@ -1,6 +1,7 @@
 """The Python path equals the CLI: identification on a simulated campaign (default suite), and
 the whole demo campaign — camera, poses and identified parameters — to 1e-12 relative
-(marked slow: run with MIRE_SLOW_TESTS=1)."""
+(about 40 s: skipped by a plain pytest run unless MIRE_SLOW_TESTS=1; ctest runs it as its own
+test, python_demo_equality)."""
 import os
 
 import numpy as np
@@ -79,7 +80,7 @@ def test_identify_equals_mire_identify(tmp_path):
     assert_same_parameters(result, tmp_path / "identified.yaml")
 
 
-@pytest.mark.skipif(os.environ.get("MIRE_SLOW_TESTS") != "1", reason="slow (the whole demo): MIRE_SLOW_TESTS=1")
+@pytest.mark.skipif(os.environ.get("MIRE_SLOW_TESTS") != "1", reason="slow (the whole demo): ctest python_demo_equality, or MIRE_SLOW_TESTS=1")
 def test_demo_campaign_equals_the_cli(tmp_path):
     """`mire demo --quick` (simulate, calibrate, measure, identify) against the Python pipeline
     on the same campaign files: camera, every pose and variant D's parameters."""
