@@ -42,6 +42,7 @@ void bindCameras(py::module_& m);
 void bindCalibration(py::module_& m);
 void bindTargets(py::module_& m);
 void bindMeasurement(py::module_& m);
-void bindMechanisms(py::module_& m);
+void bindMechanisms(py::module_& m);     // calls bindIdentification
+void bindIdentification(py::module_& m);
 
 }  // namespace mire::python

@@ -337,8 +337,6 @@ void bindObservations(py::module_& m) {
 
 }  // namespace
 
-void bindIdentification(py::module_& m);
-
 void bindMechanisms(py::module_& m) {
   bindParameters(m);
   bindExternal(m);
