@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
   libopencv-dev libopencv-contrib-dev libvisp-dev libapriltag-dev
   libeigen3-dev libceres-dev libgtest-dev libcli11-dev libyaml-cpp-dev
-  python3-yaml python3-mrcal)
+  libpng-dev python3-yaml python3-mrcal)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
