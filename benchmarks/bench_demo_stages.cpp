@@ -1,105 +1,113 @@
-// Per-step CPU cost of the demo's image pipeline (issue 18), one thread: render, noise, PNG
-// encode/decode, detection and refinement, one pose measurement. Run by hand.
-#include "mire/datasets/h4_campaign.hpp"
-#include "mire/datasets/render.hpp"
+// Per-step CPU cost of `mire demo`'s image pipeline (issue 18, doc/detection-speed.md), on one
+// thread: renderer set-up, one render, the noise of one image, PNG encoding and decoding
+// (OpenCV's settings and mire's stored PNG), detection, refinement and one pose of 10 images.
+// Run by hand: bench_demo_stages DEMO_DIR (the output of `mire demo -o DEMO_DIR`).
 #include "mire/calibration/camera_formats.hpp"
+#include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/png.hpp"
+#include "mire/datasets/render.hpp"
 #include "mire/metrology/detection.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <png.h>
+#include <algorithm>
 #include <ctime>
 #include <iostream>
+#include <memory>
 
 namespace {
-std::vector<unsigned char> pngRaw(const cv::Mat& img, int filter, int level, int strategy) {
-  std::vector<unsigned char> out;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  png_set_write_fn(png, &out, [](png_structp p, png_bytep d, png_size_t n) {
-    auto* o = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(p));
-    o->insert(o->end(), d, d + n); }, [](png_structp) {});
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, filter);
-  png_set_compression_level(png, level);
-  png_set_compression_strategy(png, strategy);
-  png_set_IHDR(png, info, img.cols, img.rows, 8, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
-  png_write_info(png, info);
-  for (int r = 0; r < img.rows; ++r) png_write_row(png, img.ptr<unsigned char>(r));
-  png_write_end(png, info);
-  png_destroy_write_struct(&png, &info);
-  return out;
-}
-double cpuMs() {
+
+// CPU time of this thread: the machine is shared, wall time is not reproducible.
+double threadCpuMs() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
-template <typename F>
-double best(int repeats, F&& f) {
-  double b = 1e300;
+
+template <typename Function>
+double bestMs(int repeats, Function&& function) {
+  double best = 1e300;
   for (int k = 0; k < repeats; ++k) {
-    const double s = cpuMs();
-    f();
-    b = std::min(b, cpuMs() - s);
+    const double start = threadCpuMs();
+    function();
+    best = std::min(best, threadCpuMs() - start);
   }
-  return b;
+  return best;
 }
+
+void pngRow(const char* name, const cv::Mat& image, const std::vector<int>& params) {
+  std::vector<uchar> bytes;
+  const double encode = bestMs(3, [&] { cv::imencode(".png", image, bytes, params); });
+  const double decode = bestMs(3, [&] { cv::imdecode(bytes, cv::IMREAD_GRAYSCALE); });
+  std::cout << "  " << name << ": encode " << encode << " ms, decode " << decode << " ms, " << bytes.size() / 1024
+            << " KiB\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace mire;
+  if (argc != 2) {
+    std::cerr << "usage: bench_demo_stages DEMO_DIR   (from `mire demo -o DEMO_DIR`)\n";
+    return 2;
+  }
+  const std::filesystem::path demo = argv[1];
   cv::setNumThreads(1);
-  const std::string dir = argc > 1 ? argv[1] : "/tmp/speed2_base";
   const auto spec = datasets::H4CampaignSpec::reference();
   const calibration::Camera camera = calibration::readCamera(spec.camera_file);
   const metrology::Target target = metrology::Target::fromFile(spec.target_file);
+
   std::unique_ptr<datasets::Renderer> renderer;
-  std::cout << "renderer set-up: " << best(1, [&] { renderer = std::make_unique<datasets::Renderer>(camera, target, spec.render); }) << " ms\n";
-  // a pose from the demo's truth: first pose folder's first image is used for detection only
+  std::cout << "renderer set-up: "
+            << bestMs(1, [&] { renderer = std::make_unique<datasets::Renderer>(camera, target, spec.render); }) << " ms\n";
   datasets::ViewPlacement placement;
   placement.centre_pixel = Eigen::Vector2d(511.5, 383.5);
   placement.distance_m = 0.75;
   placement.tilt_rad = 0.3;
   const Eigen::Isometry3d pose = datasets::placeTarget(camera, target, placement);
-  datasets::Rendering r;
-  std::cout << "render: " << best(3, [&] { r = renderer->render(pose); }) << " ms (" << r.supersampled_pixels << " ss px)\n";
-  cv::Mat sigma;
-  std::cout << "noiseSigma: " << best(3, [&] { sigma = datasets::noiseSigma(r.radiance, spec.noise); }) << " ms\n";
-  cv::Mat noisy;
-  std::cout << "addNoiseWithSigma: " << best(3, [&] { noisy = datasets::addNoiseWithSigma(r.radiance, sigma, 7); }) << " ms\n";
-  const std::vector<std::vector<int>> settings = {{}, {cv::IMWRITE_PNG_COMPRESSION, 0}, {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY},
-      {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_FIXED}, {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_FILTERED},
-      {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY}};
-  for (const auto& params : settings) {
-    const int level = params.empty() ? -1 : params[1] * 100 + (params.size() > 2 ? params[3] : 0);
-    std::vector<uchar> buf;
-    const double enc = best(3, [&] { cv::imencode(".png", noisy, buf, params); });
-    cv::Mat back;
-    const double dec = best(3, [&] { back = cv::imdecode(buf, cv::IMREAD_GRAYSCALE); });
-    std::cout << "png level " << level << ": encode " << enc << " ms, decode " << dec << " ms, " << buf.size() / 1024 << " KiB\n";
+  datasets::Rendering rendering;
+  std::cout << "render: " << bestMs(3, [&] { rendering = renderer->render(pose); }) << " ms ("
+            << rendering.supersampled_pixels << " pixels supersampled)\n";
+  cv::Mat sigma, noisy;
+  std::cout << "noise sigma (once per render): "
+            << bestMs(3, [&] { sigma = datasets::noiseSigma(rendering.radiance, spec.noise); }) << " ms\n";
+  std::cout << "noisy image: "
+            << bestMs(3, [&] { noisy = datasets::addNoiseWithSigma(rendering.radiance, sigma, 7); }) << " ms\n";
+
+  std::cout << "PNG of the noisy image:\n";
+  pngRow("OpenCV default (zlib 1, RLE, Sub filter)", noisy, {});
+  pngRow("OpenCV level 0 (no compression, adaptive filters)", noisy, {cv::IMWRITE_PNG_COMPRESSION, 0});
+  pngRow("OpenCV Huffman only", noisy, {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_HUFFMAN_ONLY});
+  {
+    std::string stored;
+    const double encode = bestMs(3, [&] { stored = datasets::encodePng(noisy, datasets::PngEncoding::Stored); });
+    const std::vector<uchar> bytes(stored.begin(), stored.end());
+    const double decode = bestMs(3, [&] { cv::imdecode(bytes, cv::IMREAD_GRAYSCALE); });
+    std::cout << "  mire stored (no filter, zlib 0): encode " << encode << " ms, decode " << decode << " ms, "
+              << bytes.size() / 1024 << " KiB\n";
   }
-  for (const auto& [name, filter, level, strategy] : std::vector<std::tuple<const char*, int, int, int>>{
-           {"none/0", PNG_FILTER_NONE, 0, 0}, {"none/1/huff", PNG_FILTER_NONE, 1, 2}, {"sub/1/rle", PNG_FILTER_SUB, 1, 3}}) {
-    std::vector<unsigned char> buf;
-    const double enc = best(3, [&] { buf = pngRaw(noisy, filter, level, strategy); });
-    cv::Mat back;
-    const double dec = best(3, [&] { back = cv::imdecode(buf, cv::IMREAD_GRAYSCALE); });
-    std::cout << "libpng " << name << ": encode " << enc << " ms, decode " << dec << " ms, " << buf.size() / 1024 << " KiB, same " << (cv::norm(back, noisy, cv::NORM_INF) == 0) << "\n";
+
+  const auto files = metrology::listPoseImages(demo / "campaign/poses/p001");
+  if (files.empty()) {
+    std::cerr << demo << ": no campaign/poses/p001 images\n";
+    return 1;
   }
-  const cv::Mat image = cv::imread(dir + "/campaign/poses/p001/img_00.png", cv::IMREAD_GRAYSCALE);
-  metrology::Detection d;
-  std::cout << "detectTarget: " << best(3, [&] { d = metrology::detectTarget(target, image); }) << " ms found " << d.found << "\n";
-  std::cout << "refineDetection: " << best(3, [&] { metrology::refineDetection(target, image, d); }) << " ms\n";
-  const auto files = metrology::listPoseImages(dir + "/campaign/poses/p001");
-  const calibration::Camera calibrated = calibration::readCamera(dir + "/camera.yaml");
+  const cv::Mat image = cv::imread(files.front().string(), cv::IMREAD_GRAYSCALE);
+  metrology::Detection detection;
+  std::cout << "detectTarget: " << bestMs(3, [&] { detection = metrology::detectTarget(target, image); }) << " ms ("
+            << detection.pixels.size() << " corners)\n";
+  std::cout << "refineDetection: " << bestMs(3, [&] { metrology::refineDetection(target, image, detection); }) << " ms\n";
+  const calibration::Camera calibrated = calibration::readCamera(demo / "camera.yaml");
   metrology::MeasurementOptions options;
   options.integrity.split = metrology::SplitPolicy::KeepLargest;
-  std::cout << "measurePoseFromFiles (10 images): " << best(3, [&] { metrology::measurePoseFromFiles(calibrated, target, files, options); }) << " ms\n";
+  std::cout << "measurePoseFromFiles (" << files.size() << " images, p001): "
+            << bestMs(3, [&] { metrology::measurePoseFromFiles(calibrated, target, files, options); }) << " ms\n";
   std::vector<cv::Mat> images;
   std::vector<std::string> names;
-  for (const auto& f : files) images.push_back(cv::imread(f.string(), cv::IMREAD_GRAYSCALE)), names.push_back(f.string());
-  std::cout << "measurePose (decoded): " << best(3, [&] { metrology::measurePose(calibrated, target, images, names, options); }) << " ms\n";
+  for (const auto& file : files) images.push_back(cv::imread(file.string(), cv::IMREAD_GRAYSCALE)), names.push_back(file.string());
+  std::cout << "measurePose (decoded images): "
+            << bestMs(3, [&] { metrology::measurePose(calibrated, target, images, names, options); }) << " ms\n";
   return 0;
 }
