@@ -262,21 +262,12 @@ cv::Mat noiseSigma(const cv::Mat& radiance, const NoiseOptions& noise) {
 cv::Mat addNoiseWithSigma(const cv::Mat& radiance, const cv::Mat& sigma, std::uint64_t seed) {
   if (radiance.type() != CV_32F || sigma.type() != CV_32F || radiance.size() != sigma.size())
     throw std::invalid_argument("addNoiseWithSigma expects CV_32F radiance and sigma images of one size");
-  // One normal draw per pixel, row by row into a buffer that stays in cache, then radiance +
-  // σ·z rounded and clamped in the same pass (issue 18: four passes over full images before).
-  // The same numbers as one fill of the whole image: cv::RNG draws them in sequence.
   cv::RNG rng(seed);
-  cv::Mat normal(1, radiance.cols, CV_32F);
-  cv::Mat image(radiance.size(), CV_8U);
-  for (int j = 0; j < radiance.rows; ++j) {
-    rng.fill(normal, cv::RNG::NORMAL, 0.0, 1.0);
-    const float* level = radiance.ptr<float>(j);
-    const float* scale = sigma.ptr<float>(j);
-    const float* z = normal.ptr<float>(0);
-    auto* out = image.ptr<std::uint8_t>(j);
-    for (int i = 0; i < radiance.cols; ++i) out[i] = cv::saturate_cast<std::uint8_t>(z[i] * scale[i] + level[i]);
-  }
-  return image;
+  cv::Mat noisy(radiance.size(), CV_32F);
+  rng.fill(noisy, cv::RNG::NORMAL, 0.0, 1.0);  // one normal draw per pixel
+  cv::multiply(noisy, sigma, noisy);
+  noisy += radiance;
+  return quantize(noisy);
 }
 
 cv::Mat addNoise(const cv::Mat& radiance, const NoiseOptions& noise, std::uint64_t seed) {
