@@ -111,6 +111,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   simulation.render = spec.render;
   simulation.noise = spec.noise;
   simulation.seed = spec.seed;
+  simulation.png = spec.png;
   simulation.calibration.views = spec.calibration_views;
   simulation.images_per_pose = spec.images_per_pose;
   simulation.poses_from_grid = false;
@@ -130,13 +131,18 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
     return [&progress, offset, total](std::size_t done, std::size_t) { progress(offset + done, total); };
   };
 
+  // A previous campaign in the same folder: its images go (a smaller run would leave stale
+  // views behind, and renaming onto a non-empty poses/ folder fails).
   const fs::path calibration_dir = directory / "calibration";
+  fs::remove_all(campaign.calibration_images());
+  fs::remove_all(campaign.pose_images());
   simulateCalibration(simulation, calibration_dir, offset_progress(0));
   moveToTruth(calibration_dir / "camera.yaml", truth_dir, "camera.yaml");
   moveToTruth(calibration_dir / "truth.yaml", truth_dir, "calibration_truth.yaml");
   fs::remove(calibration_dir / "target.yaml");
 
   const fs::path measurement_dir = directory / "measurement";
+  fs::remove_all(measurement_dir);  // left by an interrupted run
   simulatePoses(simulation, measurement_dir, offset_progress(calibration_images));
   fs::rename(measurement_dir / "poses", campaign.pose_images());
   moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");

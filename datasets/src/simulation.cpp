@@ -9,7 +9,6 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -87,17 +86,13 @@ std::uint64_t noiseSeed(std::uint64_t seed, std::size_t item, std::size_t image)
   return z ^ (z >> 31);
 }
 
-void writePng(const std::filesystem::path& path, const cv::Mat& image) {
-  support::writeAtomically(path, [&](const std::filesystem::path& temporary) { return cv::imwrite(temporary.string(), image); });
-}
-
 // Renders every item (a view or a pose) once and writes its noisy images, items in parallel
 // (issue 18: the PNG encoding, single-threaded in OpenCV, cost more than the render). Each
 // item's render runs serially inside its worker (nested parallel_for_); the output does not
 // depend on the schedule (per-pixel jitter, noise seeded by item and image). Returns each
 // item's feature truth; `progress` is called under a lock, one image at a time.
 std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vector<Eigen::Isometry3d>& poses,
-                                      int images_per_item, const NoiseOptions& noise, std::uint64_t seed,
+                                      int images_per_item, const NoiseOptions& noise, std::uint64_t seed, PngEncoding png,
                                       const std::function<std::filesystem::path(std::size_t, int)>& image_path,
                                       const ProgressCallback& progress) {
   std::vector<FeatureTruth> truths(poses.size());
@@ -111,7 +106,7 @@ std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vecto
       const cv::Mat sigma = noiseSigma(rendering.radiance, noise);
       for (int image = 0; image < images_per_item; ++image) {
         writePng(image_path(k, image),
-                 addNoiseWithSigma(rendering.radiance, sigma, noiseSeed(seed, k, static_cast<std::size_t>(image))));
+                 addNoiseWithSigma(rendering.radiance, sigma, noiseSeed(seed, k, static_cast<std::size_t>(image))), png);
         const std::lock_guard<std::mutex> lock(progress_mutex);
         ++done;
         if (progress) progress(done, total);
@@ -279,7 +274,7 @@ void readPoses(const SpecSection& poses, SimulationSpec& spec) {
 SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   const support::YamlFile yaml = support::YamlFile::load(path);
   const support::YamlNode& root = yaml.rootMap();
-  root.checkKeys({"camera", "target", "seed", "render", "noise", "calibration", "poses"});
+  root.checkKeys({"camera", "target", "seed", "render", "noise", "calibration", "poses", "png"});
   const std::filesystem::path base = path.parent_path();
   const auto resolve = [&](const std::string& relative) {
     const std::filesystem::path p(relative);
@@ -300,6 +295,9 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   spec.noise.shot_noise_gain = noise.number("shot_noise_gain", 0.0, 0.0, 1e9);
   readCalibrationViews(top.child("calibration"), spec);
   readPoses(top.child("poses"), spec);
+  const std::string png = top.text("png", "compressed");
+  if (png == "stored") spec.png = PngEncoding::Stored;
+  else if (png != "compressed") top.fail("png", "'" + png + "' is not one of compressed, stored");
   return spec;
 }
 
@@ -329,7 +327,7 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
     return file + ".png";
   };
   const std::vector<FeatureTruth> truths =
-      renderItems(renderer, views, spec.images_per_view, spec.noise, spec.seed,
+      renderItems(renderer, views, spec.images_per_view, spec.noise, spec.seed, spec.png,
                   [&](std::size_t k, int image) { return output_dir / image_file(k, image); }, progress);
   std::size_t visible = 0, features = 0;
   for (std::size_t k = 0; k < views.size(); ++k) {
@@ -378,7 +376,7 @@ SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem
   }
   // The robot is static while its images are taken: one render, independent noise each.
   const std::vector<FeatureTruth> truths = renderItems(
-      renderer, poses, spec.images_per_pose, spec.noise, spec.seed,
+      renderer, poses, spec.images_per_pose, spec.noise, spec.seed, spec.png,
       [&](std::size_t k, int image) {
         char name[32];
         std::snprintf(name, sizeof name, "img_%02d.png", image);

@@ -4,6 +4,7 @@
 // YAML file (cv::FileStorage) documented in datasets/specs/simulate_*.yaml; `mire simulate`
 // and `mire demo` both call the functions here.
 #include "mire/calibration/camera_model.hpp"
+#include "mire/datasets/png.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/metrology/target.hpp"
 
@@ -98,6 +99,8 @@ struct SimulationSpec {
   bool poses_from_grid = true;
   PoseGridSpec grid;
   int images_per_pose = 10;
+  // How the images are written (spec key `png: compressed | stored`, png.hpp).
+  PngEncoding png = PngEncoding::Compressed;
 };
 
 // Reads a spec; throws std::runtime_error naming the file and the key on any problem.
