@@ -23,7 +23,7 @@ command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (scripts/setup
 # -O1 without debug info: the instrumented Ceres/Eigen code of mechanism/ compiles several times
 # faster than at -O2 -g, and parsers run fast enough (ASan still names the functions).
 cmake -S "$root" -B "$root/build-fuzz" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DMIRE_FUZZ=ON \
-  -DMIRE_BUILD_TESTS=OFF -DMIRE_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g0" >/dev/null
+  -DMIRE_BUILD_TESTS=OFF -DMIRE_BUILD_BENCHMARKS=OFF -DMIRE_PYTHON=OFF -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g0" >/dev/null
 cmake --build "$root/build-fuzz" --target fuzzers -j "$(nproc)"
 findings="$root/build-fuzz/findings"
 mkdir -p "$findings"

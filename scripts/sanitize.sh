@@ -6,7 +6,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bash "$root/scripts/setup.sh"
-cmake -S "$root" -B "$root/build-asan" -G Ninja -DMIRE_SANITIZE=ON -DMIRE_BUILD_BENCHMARKS=OFF \
+cmake -S "$root" -B "$root/build-asan" -G Ninja -DMIRE_SANITIZE=ON -DMIRE_BUILD_BENCHMARKS=OFF -DMIRE_PYTHON=OFF \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$root/build-asan" -j "$(nproc)"
 cd "$root/build-asan"
