@@ -292,8 +292,9 @@ PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& join
   const ExternalParameterization full = fullForm();
   const Eigen::VectorXd mount = m.mounting.values();
   const auto cTmOf = [&](const Eigen::VectorXd& X, const Eigen::VectorXd& mt) {
+    // cTm = cTb · bTe · eTm; targetFromEffector() is mTe, hence the inverse.
     return nearestRotationVector(toPoseVector(full.baseFromCamera(mt).inverse() * m.mechanism->poseToTransform(X) *
-                                              full.targetFromEffector(mt)),
+                                              full.targetFromEffector(mt).inverse()),
                                  out.cTm);
   };
   Eigen::MatrixXd dX(6, P), dM(6, 12);
