@@ -48,6 +48,15 @@ int runIkm(const IkmArguments& args) {
                             "' is unreachable (joint(s) " + legs + ")");
       continue;
     }
+    if (!p.ikm.withinStroke()) {  // the command would drive a leg past its end stop
+      std::string legs;
+      for (int j : p.ikm.out_of_stroke_joints)
+        legs += (legs.empty() ? "" : ", ") + std::to_string(j + 1) + " (" +
+                support::formatNumber(p.ikm.joints[j]) + " " + mech::unitName(m.jointUnits()[static_cast<std::size_t>(j)]) + ")";
+      unreachable.push_back(args.poses + ":" + std::to_string(row.line) + ": pose '" + row.id +
+                            "' is outside the stroke of joint(s) " + legs);
+      continue;
+    }
     out << row.id;
     for (Eigen::Index k = 0; k < p.ikm.joints.size(); ++k) out << ',' << support::formatNumber(p.ikm.joints[k]);
     for (Eigen::Index k = 0; k < p.ikm.joints.size(); ++k)
@@ -59,7 +68,7 @@ int runIkm(const IkmArguments& args) {
   if (written == 0) throw std::runtime_error(args.poses + ": no reachable pose; nothing written");
   support::writeFileAtomically(args.output, out.str());
   std::cout << "model " << loaded.model.model_name << ": joint commands for " << written << " poses"
-            << (unreachable.empty() ? "" : ", " + std::to_string(unreachable.size()) + " unreachable (named above)")
+            << (unreachable.empty() ? "" : ", " + std::to_string(unreachable.size()) + " unreachable or outside the strokes (named above)")
             << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote " << args.output
             << "\n";
   return unreachable.empty() ? kOk : kPartialFailure;

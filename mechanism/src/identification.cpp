@@ -472,6 +472,7 @@ IdentificationResult identify(const IdentificationModel& initial,
     const Eigen::MatrixXd S = -information_inverse.lazyProduct(At_dr);
     const Eigen::MatrixXd S_cov = S.lazyProduct(alignment.covariance);
     result.alignment_covariance = S_cov.lazyProduct(S.transpose());
+    result.alignment_sensitivity = S;
     result.covariance += result.alignment_covariance;
   }
   result.free_names = params.freeNames();

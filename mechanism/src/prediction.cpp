@@ -147,7 +147,28 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
     T.block(static_cast<Eigen::Index>(geo.size()), static_cast<Eigen::Index>(k), 12, 1) =
         (nearFull0(toFull(p)) - nearFull0(toFull(q))) / (2 * kConversionStep);
   }
-  m.covariance = T * result.covariance * T.transpose();
+  // Aligned forms: the mounting also depends on the estimated axis alignment δ, whose
+  // uncertainty is already folded into the parameters (Σξ = Σ₀ + S·Σδ·Sᵀ). The mounting then
+  // varies with (ξ, δ) jointly: Cov(ξ, δ) = S·Σδ, Cov(δ) = Σδ, and ∂full/∂δ by central
+  // differences of the tilted alignment — leaving it out overstates the σ of the predictions
+  // (the parameters' compensation of the alignment error would count as an error).
+  const AxisAlignment& alignment = id.external.alignment();
+  if (is_full || result.alignment_sensitivity.rows() != nf || alignment.covariance.isZero()) {
+    m.covariance = T * result.covariance * T.transpose();
+    return m;
+  }
+  Eigen::MatrixXd Td = Eigen::MatrixXd::Zero(T.rows(), 4);
+  for (int k = 0; k < 4; ++k) {
+    const auto tilted = [&](double step) {
+      const ExternalParameterization form(id.external.form(), tiltAlignment(alignment, step * Eigen::Vector4d::Unit(k)));
+      return nearFull0(Eigen::VectorXd(full.valuesFrom(form.baseFromCamera(e0), form.targetFromEffector(e0))));
+    };
+    Td.block(static_cast<Eigen::Index>(geo.size()), k, 12, 1) =
+        (tilted(kConversionStep) - tilted(-kConversionStep)) / (2 * kConversionStep);
+  }
+  const Eigen::MatrixXd cross = result.alignment_sensitivity * alignment.covariance;  // Cov(ξ, δ)
+  m.covariance = T * result.covariance * T.transpose() + Td * alignment.covariance * Td.transpose() +
+                 T * cross * Td.transpose() + Td * cross.transpose() * T.transpose();
   return m;
 }
 
@@ -292,8 +313,9 @@ PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& join
   const ExternalParameterization full = fullForm();
   const Eigen::VectorXd mount = m.mounting.values();
   const auto cTmOf = [&](const Eigen::VectorXd& X, const Eigen::VectorXd& mt) {
+    // cTm = cTb · bTe · eTm; targetFromEffector() is mTe, hence the inverse.
     return nearestRotationVector(toPoseVector(full.baseFromCamera(mt).inverse() * m.mechanism->poseToTransform(X) *
-                                              full.targetFromEffector(mt)),
+                                              full.targetFromEffector(mt).inverse()),
                                  out.cTm);
   };
   Eigen::MatrixXd dX(6, P), dM(6, 12);

@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <Eigen/Geometry>
 
 namespace mire::datasets {
@@ -126,7 +127,12 @@ inline Campaign simulateCampaign(const std::string& name, unsigned seed, double 
   for (const Eigen::Isometry3d& bTe : c.bTe) {
     PoseObservation p;
     p.id = std::to_string(c.poses.size() + 1);
-    p.joints = m.inverseKinematics(c.truth.values(), bTe).joints;
+    const IkmResult ikm = m.inverseKinematics(c.truth.values(), bTe);
+    // The protocol stays inside the joints' strokes (a simulator never drives past an end stop).
+    if (!ikm.reachable() || !ikm.withinStroke())
+      throw std::logic_error(m.name() + " campaign: pose " + std::to_string(c.poses.size() + 1) +
+                             " is unreachable or outside the joints' strokes");
+    p.joints = ikm.joints;
     p.cTm = toPoseVector(c.bTc.inverse() * bTe * c.mTe.inverse());
     for (int k = 0; k < 3; ++k) p.cTm[k] += noise_t * normal(rng);
     for (int k = 3; k < 6; ++k) p.cTm[k] += noise_r * normal(rng);

@@ -49,6 +49,8 @@ struct DefectiveRobot {
       const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);
       return ikm.reachable() ? ikm.joints : Eigen::VectorXd();
     }
+    // The hexapod's legs stop at their strokes (the model's leg_min..leg_max).
+    if (!mechanism().inverseKinematics(geometry.values(), T).withinStroke()) return Eigen::VectorXd();
     Eigen::VectorXd q(6);
     for (int i = 0; i < 6; ++i) {
       const std::string n = std::to_string(i + 1);

@@ -22,6 +22,10 @@ struct GoughStewartNominal {
   std::array<double, 6> platform_angles_deg{310, 50, 70, 170, 190, 290};
   double home_height = 0.40;
   double home_reading = 0.05;
+  // Leg-length stroke [m] (home legs are 0.451 m): about ±100 mm, wider than the
+  // protocol's ±40 mm, ±30 mm in z, ±6° tilts. The IKM reports legs outside it (IkmResult).
+  double leg_min = 0.35;
+  double leg_max = 0.55;
 };
 
 ParameterSet goughStewartParameters(const GoughStewartNominal& nominal = {});

@@ -94,6 +94,10 @@ struct IdentificationResult {
   // The part of `covariance` due to the estimated rotation-axis alignment (aligned forms:
   // AxisAlignment::covariance propagated through the solution's sensitivity to the tilts).
   Eigen::MatrixXd alignment_covariance;
+  // S = ∂ξ̂/∂δ (free parameters × 4 tilts; empty for the full form): the estimate's
+  // sensitivity to the alignment, so that predictions through the aligned mounting can carry
+  // the alignment's own uncertainty jointly with the parameters' (prediction.cpp).
+  Eigen::MatrixXd alignment_sensitivity;
   Eigen::VectorXd sigma;                  // per parameter in model.parameters order; 0 if fixed
   double sigmaOf(const std::string& name) const;  // throws for an unknown name
 

@@ -39,6 +39,11 @@ struct IkmResult {
   Eigen::VectorXd joints;                // q [rad or m], size jointCount()
   std::vector<int> unreachable_joints;   // 0-based joint indices
   bool reachable() const { return unreachable_joints.empty(); }
+  // Reachable, but outside the joint's stroke (mechanisms that declare one: the
+  // Gough–Stewart leg lengths, doc/mechanisms.md); `joints` keeps the value. The
+  // identification ignores it (a measured pose was reached); commands must not.
+  std::vector<int> out_of_stroke_joints;
+  bool withinStroke() const { return out_of_stroke_joints.empty(); }
 };
 
 struct FkmOptions {

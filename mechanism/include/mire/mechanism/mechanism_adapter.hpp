@@ -27,6 +27,7 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +38,13 @@
 namespace mire::mechanism {
 
 namespace detail {
+
+// Kinematics that declare joint strokes: bool inStroke(const double* g, int joint, double q).
+template <class K, class = void>
+struct HasStroke : std::false_type {};
+template <class K>
+struct HasStroke<K, std::void_t<decltype(std::declval<const K&>().inStroke(static_cast<const double*>(nullptr), 0, 0.0))>>
+    : std::true_type {};
 
 inline std::vector<int> unreachableList(int mask, int joints) {
   std::vector<int> list;
@@ -163,6 +171,10 @@ class MechanismAdapter final : public Mechanism {
     const int mask = kinematics_.inverseKinematics(geometric.data(), R.data(), t.data(),
                                                    result.joints.data());
     markUnreachable(mask, result);
+    if constexpr (detail::HasStroke<K>::value)
+      for (int i = 0; i < K::kJoints; ++i)
+        if (!(mask & (1 << i)) && !kinematics_.inStroke(geometric.data(), i, result.joints[i]))
+          result.out_of_stroke_joints.push_back(i);
     return result;
   }
 

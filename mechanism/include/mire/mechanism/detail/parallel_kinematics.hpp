@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -95,8 +96,15 @@ struct GoughStewartKinematics {
   static constexpr int kJoints = 6;
   static constexpr int kPoseDof = 6;
   double home_height = 0.40;
+  // Leg-length stroke [m]: ρ_i = q̄_i + ρ0_i must lie in [leg_min, leg_max].
+  double leg_min = 0.0;
+  double leg_max = std::numeric_limits<double>::infinity();
 
   std::string name() const { return "gough-stewart"; }
+  bool inStroke(const double* g, int leg, double q) const {
+    const double rho = q + g[36 + leg];
+    return rho >= leg_min && rho <= leg_max;
+  }
   std::vector<std::string> poseComponentNames() const { return {"x", "y", "z", "rx", "ry", "rz"}; }
   std::vector<Unit> poseComponentUnits() const {
     return {Unit::Metre, Unit::Metre, Unit::Metre, Unit::Radian, Unit::Radian, Unit::Radian};
