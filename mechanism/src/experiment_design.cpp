@@ -265,18 +265,31 @@ std::vector<double> predictedPositionSigma(const CandidateInformation& info, con
   const Eigen::VectorXd g = info.model.geometricValues();
   const int G = info.geometric_free;
   const Eigen::MatrixXd Cg = covariance.topLeftCorner(G, G);
-  const int nq = m.jointCount();
-  std::vector<double> out;
+  // Free geometric directions in the geometric values (ties move their whole group).
+  const Eigen::MatrixXd E = info.model.parameters.expansion().topLeftCorner(g.size(), G);
+  std::vector<Eigen::MatrixXd> sensitivities;  // ∂X_position/∂ξg per pose
   for (int j : poses) {
-    const Eigen::MatrixXd Jx = ikmPoseJacobian(m, g, info.poses.at(static_cast<std::size_t>(j)));
+    const Eigen::VectorXd& X = info.poses.at(static_cast<std::size_t>(j));
+    const Eigen::MatrixXd Jx = ikmPoseJacobian(m, g, X);
     if (Jx.size() == 0) continue;
-    // ∂ε/∂ξg = −∂f/∂ξg at fixed X: the unwhitened rows of the identification Jacobian.
-    const Eigen::MatrixXd Jg =
-        identificationJacobian(info.model, {info.observations[static_cast<std::size_t>(j)]}).leftCols(G);
-    const Eigen::MatrixXd dX = Jx.completeOrthogonalDecomposition().pseudoInverse() * Jg;  // −(−)
-    const Eigen::MatrixXd CX = dX * Cg * dX.transpose();
-    out.push_back(std::sqrt(std::max(0.0, CX.topLeftCorner(3, 3).trace())));
-    (void)nq;
+    Eigen::MatrixXd Jg(m.jointCount(), G);
+    const Eigen::Isometry3d bTe = m.poseToTransform(X);
+    for (int k = 0; k < G; ++k) {
+      const double h = 1e-7;
+      const IkmResult a = m.inverseKinematics(g + h * E.col(k), bTe), b = m.inverseKinematics(g - h * E.col(k), bTe);
+      Jg.col(k) = (a.joints - b.joints) / (2 * h);
+    }
+    // Implicit function theorem: ∂X/∂ξg = −(∂q/∂X)⁺·∂q/∂ξg.
+    sensitivities.push_back(-(Jx.completeOrthogonalDecomposition().pseudoInverse() * Jg).topRows(3));
+  }
+  // A common translation of every pose is a choice of base frame (it merges with the camera
+  // mounting), not a positioning error: it is removed, as a distance test does.
+  Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(3, G);
+  for (const auto& S : sensitivities) mean += S / static_cast<double>(sensitivities.size());
+  std::vector<double> out;
+  for (const auto& S : sensitivities) {
+    const Eigen::MatrixXd D = S - mean;
+    out.push_back(std::sqrt(std::max(0.0, (D * Cg * D.transpose()).trace())));
   }
   return out;
 }
