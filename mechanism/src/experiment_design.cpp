@@ -267,28 +267,46 @@ std::vector<double> predictedPositionSigma(const CandidateInformation& info, con
   const Eigen::MatrixXd Cg = covariance.topLeftCorner(G, G);
   // Free geometric directions in the geometric values (ties move their whole group).
   const Eigen::MatrixXd E = info.model.parameters.expansion().topLeftCorner(g.size(), G);
+  const Eigen::VectorXd ee = info.model.externalValues();
   std::vector<Eigen::MatrixXd> sensitivities;  // ∂X_position/∂ξg per pose
+  std::vector<Eigen::Vector3d> positions;
   for (int j : poses) {
-    const Eigen::VectorXd& X = info.poses.at(static_cast<std::size_t>(j));
+    // The pose in the model's own base frame (h4-31c's is the aligned camera frame).
+    const PoseObservation& o = info.observations.at(static_cast<std::size_t>(j));
+    const Eigen::Isometry3d bTe = info.model.external.effectorInBase(ee, o.cTm);
+    const Eigen::VectorXd X = m.transformToPose(bTe);
     const Eigen::MatrixXd Jx = ikmPoseJacobian(m, g, X);
     if (Jx.size() == 0) continue;
-    Eigen::MatrixXd Jg(m.jointCount(), G);
-    const Eigen::Isometry3d bTe = m.poseToTransform(X);
+    Eigen::MatrixXd Jg = Eigen::MatrixXd::Constant(m.jointCount(), G, std::numeric_limits<double>::quiet_NaN());
     for (int k = 0; k < G; ++k) {
       const double h = 1e-7;
       const IkmResult a = m.inverseKinematics(g + h * E.col(k), bTe), b = m.inverseKinematics(g - h * E.col(k), bTe);
+      if (!a.reachable() || !b.reachable()) break;
       Jg.col(k) = (a.joints - b.joints) / (2 * h);
     }
+    if (!Jg.allFinite()) continue;
     // Implicit function theorem: ∂X/∂ξg = −(∂q/∂X)⁺·∂q/∂ξg.
     sensitivities.push_back(-(Jx.completeOrthogonalDecomposition().pseudoInverse() * Jg).topRows(3));
+    positions.push_back(bTe.translation());
   }
-  // A common translation of every pose is a choice of base frame (it merges with the camera
-  // mounting), not a positioning error: it is removed, as a distance test does.
-  Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(3, G);
-  for (const auto& S : sensitivities) mean += S / static_cast<double>(sensitivities.size());
+  const auto n = static_cast<Eigen::Index>(sensitivities.size());
+  if (n == 0) return {};
+  // A common rigid motion of every pose is a choice of base frame (it merges with the camera
+  // mounting and, for per-leg models, with the gauge), not a positioning error: it is
+  // projected out, so what remains is the error of distances between poses (the square test).
+  Eigen::MatrixXd S(3 * n, G), B(3 * n, 6);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : positions) centre += p / static_cast<double>(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    S.middleRows(3 * j, 3) = sensitivities[static_cast<std::size_t>(j)];
+    const Eigen::Vector3d p = positions[static_cast<std::size_t>(j)] - centre;
+    B.block(3 * j, 0, 3, 3).setIdentity();
+    B.block(3 * j, 3, 3, 3) << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;  // δω × p = −[p]×δω
+  }
+  const Eigen::MatrixXd P = S - B * B.completeOrthogonalDecomposition().solve(S);
   std::vector<double> out;
-  for (const auto& S : sensitivities) {
-    const Eigen::MatrixXd D = S - mean;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::MatrixXd D = P.middleRows(3 * j, 3);
     out.push_back(std::sqrt(std::max(0.0, (D * Cg * D.transpose()).trace())));
   }
   return out;

@@ -291,8 +291,8 @@ std::string designReportText(const DesignReport& r) {
                 r.median_ratio_plan_random);
   out << line;
   std::snprintf(line, sizeof line,
-                "predicted positioning accuracy after identification (effector position sigma, RMS over the "
-                "workspace): plan %.4f mm (max %.4f mm), random sets %.4f mm\n",
+                "predicted positioning accuracy after identification (effector position sigma, common rigid "
+                "motion removed, RMS over the workspace): plan %.4f mm (max %.4f mm), random sets %.4f mm\n",
                 r.position_sigma_plan_rms * 1e3, r.position_sigma_plan_max * 1e3, r.position_sigma_random_rms * 1e3);
   out << line;
   return out.str();

@@ -145,8 +145,8 @@ std::vector<int> chooseDesign(const CandidateInformation& info, const DesignOpti
 
 // Predicted effector position σ after identification at `poses` (mechanism pose components):
 // the geometric covariance (the geometric block of designCovariance) propagated through the
-// FKM, ∂X/∂ξg = −(∂q/∂X)⁺·∂q/∂ξg, relative to the mean over `poses` (a common translation
-// is a choice of base frame); per pose √trace of the position covariance [m].
+// FKM, ∂X/∂ξg = −(∂q/∂X)⁺·∂q/∂ξg, with the rigid motion common to all `poses` projected out
+// (a choice of base frame); per pose √trace of the position covariance [m].
 std::vector<double> predictedPositionSigma(const CandidateInformation& info, const Eigen::MatrixXd& covariance,
                                            const std::vector<int>& poses);
 
