@@ -111,7 +111,9 @@ bool nested(const ModelScore& a, const ModelScore& b) {
   }
   // Model 12 is model 31 at ψ_i = α_i + π, β_i = π/2 (doc/mechanism-models.md); the Delta is
   // its per-leg model with equal legs (doc/mechanisms.md).
-  return (a.model_name == "h4-12" && (b.model_name == "h4-31c" || b.model_name == "h4-31")) ||
+  // Only a model-31 variant that frees h and the forearms nests every model-12 variant.
+  const auto frees = [&b](const char* n) { return std::find(b.free_names.begin(), b.free_names.end(), n) != b.free_names.end(); };
+  return (a.model_name == "h4-12" && (b.model_name == "h4-31c" || b.model_name == "h4-31") && frees("h") && frees("l1")) ||
          (a.model_name == "delta" && b.model_name == "delta-legs");
 }
 
