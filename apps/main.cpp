@@ -22,7 +22,9 @@ int main(int argc, char** argv) {
       {"calibrate", addCalibrateCommand(app)}, {"measure", addMeasureCommand(app)},
       {"identify", addIdentifyCommand(app)},   {"simulate", addSimulateCommand(app)},
       {"demo", addDemoCommand(app)},           {"convert", addConvertCommand(app)}, {"fkm", addFkmCommand(app)},
-      {"ikm", addIkmCommand(app)}};
+      {"ikm", addIkmCommand(app)},
+      {"plan", addPlanCommand(app)},
+      {"select", addSelectCommand(app)}};
 
   // Name an unknown subcommand plainly (CLI11 would only say that one is required).
   if (argc > 1 && argv[1][0] != '-') {

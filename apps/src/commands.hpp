@@ -27,6 +27,8 @@ Runner addDemoCommand(CLI::App& app);
 Runner addConvertCommand(CLI::App& app);
 Runner addFkmCommand(CLI::App& app);
 Runner addIkmCommand(CLI::App& app);
+Runner addPlanCommand(CLI::App& app);
+Runner addSelectCommand(CLI::App& app);
 
 // The version string printed by `mire --version`.
 std::string versionString();

@@ -1,0 +1,136 @@
+// `mire plan`: which poses to measure (doc/plan-and-select.md). From a model's nominal
+// geometry, a workspace and a mounting guess, N poses chosen among random candidates by the
+// DETMAX exchange on the Fisher information of the identification (Ds-optimal by default, the
+// mounting as nuisance parameters), with the predicted σ of every parameter for the plan,
+// random sets of the same size and the whole candidate set. Everything is computed before
+// anything is written.
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "commands.hpp"
+#include "kinematics_files.hpp"
+#include "plan_inputs.hpp"
+#include "mire/mechanism/experiment_design.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+namespace mech = mire::mechanism;
+
+struct PlanArguments {
+  std::string model, nominal, workspace, output, externals, camera, target, criterion = "D", report;
+  int count = 15, candidates = 10000;
+  unsigned seed = 1;
+};
+
+mech::DesignCriterion parseCriterion(const std::string& text) {
+  if (text == "D" || text == "d") return mech::DesignCriterion::D;
+  if (text == "A" || text == "a") return mech::DesignCriterion::A;
+  if (text == "E" || text == "e") return mech::DesignCriterion::E;
+  throw std::invalid_argument("--criterion '" + text + "': expected D, A or E");
+}
+
+// plan.csv: pose_id, the effector pose, the joints through the nominal IKM, visibility
+// ("unchecked" without --camera).
+std::string planCsv(const mech::CandidateInformation& info, const std::vector<int>& design) {
+  const mech::Mechanism& m = *info.model.mechanism;
+  std::ostringstream out;
+  out << "pose_id";
+  for (const std::string& c : poseColumnNames(m)) out << ',' << c;
+  for (const std::string& c : m.jointColumnNames()) out << ',' << c;
+  out << ",visible\n";
+  char id[32];
+  for (std::size_t k = 0; k < design.size(); ++k) {
+    const auto j = static_cast<std::size_t>(design[k]);
+    std::snprintf(id, sizeof id, "p%03zu", k + 1);
+    out << id;
+    for (Eigen::Index c = 0; c < info.poses[j].size(); ++c) out << ',' << support::formatNumber(info.poses[j][c]);
+    for (Eigen::Index c = 0; c < info.observations[j].joints.size(); ++c)
+      out << ',' << support::formatNumber(info.observations[j].joints[c]);
+    out << ",unchecked\n";
+  }
+  return out.str();
+}
+
+// sigma.csv of the report: per free parameter the predicted σ (SI) of the three designs.
+std::string sigmaCsv(const mech::DesignReport& r) {
+  std::ostringstream out;
+  out << "name,unit,role,sigma_plan,sigma_random,sigma_all\n";
+  for (std::size_t i = 0; i < r.names.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    out << r.names[i] << ',' << mech::unitName(r.units[i]) << ','
+        << (static_cast<int>(i) < r.geometric_free ? "geometric" : "mounting") << ','
+        << support::formatNumber(r.sigma_plan[k], 6) << ',' << support::formatNumber(r.sigma_random[k], 6) << ','
+        << support::formatNumber(r.sigma_all[k], 6) << '\n';
+  }
+  return out.str();
+}
+
+int runPlan(const PlanArguments& args) {
+  if (!args.camera.empty() || !args.target.empty()) {
+    std::cerr << "mire plan: --camera/--target (visibility and camera-weighted poses) are not implemented yet\n";
+    return kUsage;
+  }
+  const mech::DesignCriterion criterion = parseCriterion(args.criterion);
+  std::vector<fs::path> inputs{args.workspace};
+  if (!args.nominal.empty()) inputs.push_back(args.nominal);
+  if (!args.externals.empty()) inputs.push_back(args.externals);
+  checkOutputIsNotInput(args.output, inputs);
+  if (args.count < 1) throw std::invalid_argument("--count must be >= 1");
+  if (args.candidates < args.count) throw std::invalid_argument("--candidates must be >= --count");
+
+  const mech::DesignModel model = readDesignModel(args.model, args.nominal);
+  const mech::Mechanism& m = *model.registered.mechanism;
+  const mech::Workspace workspace = readWorkspaceYaml(args.workspace, m);
+  const mech::MountingGuess mounting =
+      args.externals.empty() ? mech::defaultMountingGuess(workspace) : readMountingYaml(args.externals);
+  mech::DesignOptions options;
+  options.criterion = criterion;
+  options.count = args.count;
+  options.seed = args.seed;
+  const auto poses = mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed);
+  const mech::CandidateInformation info = mech::candidateInformation(model, mounting, poses, options);
+  const mech::DesignReport report = mech::planExperiment(info, options);
+
+  const std::string text = "model " + args.model + ": " + std::to_string(poses.size()) + " candidate poses, " +
+                           std::to_string(info.free_names.size()) + " free parameters (" +
+                           std::to_string(info.geometric_free) + " geometric)\n" + mech::designReportText(report);
+  support::writeFileAtomically(args.output, planCsv(info, report.design));
+  if (!args.report.empty()) {
+    fs::create_directories(args.report);
+    support::writeFileAtomically(fs::path(args.report) / "plan_report.txt", text);
+    support::writeFileAtomically(fs::path(args.report) / "plan_sigma.csv", sigmaCsv(report));
+  }
+  std::cout << text << "wrote " << args.output << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv")
+            << "\n";
+  return kOk;
+}
+
+}  // namespace
+
+Runner addPlanCommand(CLI::App& app) {
+  auto args = std::make_shared<PlanArguments>();
+  CLI::App* cmd = app.add_subcommand("plan", "choose the poses to measure (optimal experiment design)");
+  cmd->add_option("--model", args->model, "h4-12, h4-31, h4-31c, delta, delta-legs, gough-stewart")->required();
+  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)")->check(CLI::ExistingFile);
+  cmd->add_option("--workspace", args->workspace, "workspace YAML (x_m, y_m, z_m ranges, rotations)")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--count", args->count, "number of poses to choose")->required();
+  cmd->add_option("-o,--output", args->output, "plan.csv")->required();
+  cmd->add_option("--externals", args->externals, "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM)")->check(CLI::ExistingFile);
+  cmd->add_option("--camera", args->camera, "camera.yaml (visibility, pose covariance)")->check(CLI::ExistingFile);
+  cmd->add_option("--target", args->target, "target.yaml (with --camera)")->check(CLI::ExistingFile);
+  cmd->add_option("--criterion", args->criterion, "D (Ds-optimal, default), A or E")->capture_default_str();
+  cmd->add_option("--candidates", args->candidates, "candidate poses drawn in the workspace")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")->capture_default_str();
+  cmd->add_option("--report", args->report, "report folder (plan_report.txt, plan_sigma.csv)");
+  return [args] { return runPlan(*args); };
+}
+
+}  // namespace mire::app

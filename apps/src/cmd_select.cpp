@@ -1,0 +1,137 @@
+// `mire select`: which model to identify (doc/plan-and-select.md). Every candidate
+// model/variant is identified on the campaign and scored by k-fold cross-validated joint
+// residual, with AIC/BIC, nested F-tests, condition number and rank beside it; the simplest
+// model within one standard error of the best CV score is recommended. The last line printed
+// is exactly "recommended: <name>".
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <regex>
+#include <sstream>
+
+#include "commands.hpp"
+#include "plan_inputs.hpp"
+#include "plot.hpp"
+#include "mire/mechanism/model_selection.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+namespace mech = mire::mechanism;
+
+struct SelectArguments {
+  std::string poses, joints, lines, nominal, models, report, covariances;
+  int folds = 10;
+  unsigned seed = 1;
+};
+
+// The joint columns of joints.csv's header (q<i>_rad or q<i>_m): the mechanism family.
+std::pair<int, mech::Unit> jointColumns(const fs::path& joints_csv) {
+  std::ifstream in(joints_csv);
+  std::string header;
+  if (!std::getline(in, header)) throw std::runtime_error(joints_csv.string() + ":1: empty file");
+  const std::regex q("q[0-9]+_(rad|m)");
+  int count = 0;
+  mech::Unit unit = mech::Unit::Radian;
+  std::stringstream columns(header);
+  for (std::string c; std::getline(columns, c, ',');) {
+    while (!c.empty() && (c.back() == '\r' || c.back() == ' ')) c.pop_back();
+    std::smatch m;
+    if (!std::regex_match(c, m, q)) continue;
+    ++count;
+    unit = m[1] == "m" ? mech::Unit::Metre : mech::Unit::Radian;
+  }
+  if (count == 0) throw std::runtime_error(joints_csv.string() + ":1: no joint column (q1_rad or q1_m ...)");
+  return {count, unit};
+}
+
+std::string scoresCsv(const mech::SelectionResult& r) {
+  std::ostringstream out;
+  out << "model,ok,parameters,cv_rms,cv_rms_se,fit_rms,aic,bic,condition,rank,v3_m,recommended\n";
+  for (std::size_t i = 0; i < r.scores.size(); ++i) {
+    const mech::ModelScore& s = r.scores[i];
+    out << s.label << ',' << (s.ok ? 1 : 0) << ',' << s.parameters << ',' << support::formatNumber(s.cv_rms(), 8) << ','
+        << support::formatNumber(s.cv_rms_se(), 8) << ',' << support::formatNumber(s.fit_rms, 8) << ','
+        << support::formatNumber(s.aic, 8) << ',' << support::formatNumber(s.bic, 8) << ','
+        << support::formatNumber(s.condition, 6) << ',' << s.rank << ','
+        << (std::isfinite(s.v3) ? support::formatNumber(s.v3, 8) : std::string()) << ','
+        << (static_cast<int>(i) == r.recommended ? 1 : 0) << '\n';
+  }
+  return out.str();
+}
+
+void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech::Unit unit) {
+  std::vector<std::string> labels;
+  Series cv{"CV rms", {}, seriesColour(0)}, upper{"CV rms + 1 SE", {}, seriesColour(1)},
+      fit{"fit rms (all poses)", {}, seriesColour(2)};
+  for (const mech::ModelScore& s : r.scores) {
+    labels.push_back(s.label + " (" + std::to_string(s.parameters) + ")");
+    cv.values.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms()) : NAN);
+    upper.values.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms() + s.cv_rms_se()) : NAN);
+    fit.values.push_back(s.ok ? mech::toDisplay(unit, s.fit_rms) : NAN);
+  }
+  writePng(path, barChart("cross-validated joint residual per model (parameter count); recommended: " +
+                              r.recommendedLabel(),
+                          "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, upper, fit}));
+}
+
+int runSelect(const SelectArguments& args) {
+  const auto [joint_count, unit] = jointColumns(args.joints);
+  const std::string models = args.models.empty() ? mech::defaultSelectionModels(joint_count, unit) : args.models;
+  const auto candidates = mech::parseSelectionCandidates(
+      models, [&](const std::string& name) { return readDesignModel(name, args.nominal); });
+  const mech::Mechanism& m = *candidates.front().model.registered.mechanism;
+  for (const auto& c : candidates)
+    if (c.model.registered.mechanism->jointCount() != m.jointCount())
+      throw std::invalid_argument("--models: " + c.label + " and " + candidates.front().label +
+                                  " are different mechanisms");
+  std::optional<fs::path> covariance;
+  if (!args.covariances.empty()) covariance = fs::path(args.covariances);
+  else if (fs::exists(mech::defaultCovariancePath(args.poses))) covariance = mech::defaultCovariancePath(args.poses);
+  const mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance, m.jointColumnNames());
+  std::vector<mech::LineRecord> lines;
+  if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines, m.jointColumnNames());
+  mech::SelectionOptions options;
+  options.folds = args.folds;
+  options.seed = args.seed;
+  const mech::SelectionResult result = mech::selectModel(candidates, observations.poses, lines, options);
+  if (result.recommended < 0) throw std::runtime_error("no candidate model could be identified on this campaign");
+  const std::string table = mech::selectionTable(result, m.jointUnits().front());
+  if (!args.report.empty()) {
+    fs::create_directories(args.report);
+    support::writeFileAtomically(fs::path(args.report) / "select_report.txt",
+                                 table + "recommended: " + result.recommendedLabel() + "\n");
+    support::writeFileAtomically(fs::path(args.report) / "select_scores.csv", scoresCsv(result));
+    writeSelectPlot(fs::path(args.report) / "select_cv.png", result, m.jointUnits().front());
+  }
+  std::cout << observations.poses.size() << " poses, " << args.folds << "-fold cross-validation, "
+            << candidates.size() << " candidate models (" << support::formatNumber(result.seconds, 3) << " s)\n"
+            << table << "recommended: " << result.recommendedLabel() << "\n";
+  return kOk;
+}
+
+}  // namespace
+
+Runner addSelectCommand(CLI::App& app) {
+  auto args = std::make_shared<SelectArguments>();
+  CLI::App* cmd = app.add_subcommand("select", "choose the model to identify (cross-validation, one-SE rule)");
+  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--lines", args->lines, "straight-line joint records (lines.csv): V3 per model")->check(CLI::ExistingFile);
+  cmd->add_option("--covariances", args->covariances, "pose covariance side file (default <poses stem>_covariance.csv)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)")->check(CLI::ExistingFile);
+  cmd->add_option("--models", args->models, "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
+                                             "(default: all of the mechanism)");
+  cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "seed of the fold assignment")->capture_default_str();
+  cmd->add_option("--report", args->report, "report folder (select_report.txt, select_scores.csv, select_cv.png)");
+  return [args] { return runSelect(*args); };
+}
+
+}  // namespace mire::app

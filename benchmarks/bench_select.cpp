@@ -1,0 +1,112 @@
+// `mire select` acceptance study (doc/plan-and-select.md), run by hand:
+//  1. 20 simulated H4 campaigns (81 protocol poses, 0.2 mm / 0.03° pose noise) whose true robot
+//     is exactly model 12: how often a model-12 variant (A–D) is recommended;
+//  2. 20 campaigns whose arm and forearm lengths differ per leg by 1–3 mm: how often a
+//     model-31 variant (E–H) is recommended;
+//  3. Delta (27 poses): equal legs → `delta`, legs differing by 1 mm / 0.5° → `delta-legs`;
+//  4. time of one selection over the eight H4 variants, 10-fold CV, 81 poses.
+// Usage: bench_select [campaigns=20]
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mire/datasets/h4_true_robot.hpp"
+#include "mire/datasets/mechanism_campaign.hpp"
+#include "mire/datasets/mechanism_true_robots.hpp"
+#include "mire/mechanism/model_selection.hpp"
+
+using namespace mire::mechanism;
+namespace ds = mire::datasets;
+
+namespace {
+
+std::vector<SelectionCandidate> h4Candidates() {
+  return parseSelectionCandidates("h4-12:A,B,C,D,h4-31c:E,F,G,H",
+                                  [](const std::string& n) { return makeDesignModel(n); });
+}
+
+// A true H4 with model-12 errors (1 mm / 0.5°) and, when `legs_differ`, arm and forearm
+// lengths changed per leg by 1–3 mm (random sign).
+std::vector<PoseObservation> h4Campaign(unsigned seed, bool legs_differ) {
+  const ds::H4ErrorSizes sizes = ds::H4ErrorSizes::withoutUnmodelledDefects();
+  ds::H4TrueGeometry g = ds::geometryFromModel12(ds::drawModel12Values(H4Nominal{}, sizes, seed));
+  if (legs_differ) {
+    std::mt19937 rng(seed + 77);
+    std::uniform_real_distribution<double> size(1e-3, 3e-3);
+    for (auto& leg : g.legs) {
+      leg.arm_length += (rng() & 1U ? 1 : -1) * size(rng);
+      leg.forearm_length += (rng() & 1U ? 1 : -1) * size(rng);
+    }
+  }
+  const ds::H4TrueRobot robot(g);
+  const ds::H4MeasurementNoise noise;
+  return ds::toObservations(ds::simulateMeasurements(robot, ds::protocolPoses(), noise, seed), noise);
+}
+
+std::string describe(const SelectionResult& r) {
+  std::string s;
+  for (const ModelScore& m : r.scores) {
+    char b[64];
+    std::snprintf(b, sizeof b, " %s:%.4g", m.label.c_str(), m.ok ? m.cv_rms() * 180 / 3.14159265358979 * 1e3 : -1.0);
+    s += b;
+  }
+  return s;
+}
+
+void h4Case(bool legs_differ, int campaigns) {
+  const auto candidates = h4Candidates();
+  int hits = 0;
+  std::map<std::string, int> counts;
+  std::vector<double> times;
+  for (int c = 0; c < campaigns; ++c) {
+    const auto poses = h4Campaign(100u + static_cast<unsigned>(c), legs_differ);
+    const std::clock_t c0 = std::clock();
+    const SelectionResult r = selectModel(candidates, poses);
+    const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    const std::string rec = r.recommendedLabel();
+    ++counts[rec];
+    times.push_back(cpu);
+    const bool model31 = rec == "E" || rec == "F" || rec == "G" || rec == "H";
+    hits += legs_differ == model31 ? 1 : 0;
+    std::printf("  campaign %2d: recommended %s, best %s; CV rms [mdeg]%s\n", c, rec.c_str(),
+                r.best >= 0 ? r.scores[static_cast<std::size_t>(r.best)].label.c_str() : "-", describe(r).c_str());
+  }
+  std::sort(times.begin(), times.end());
+  std::printf("H4 %s: %s variant recommended in %d of %d campaigns (", legs_differ ? "legs differ 1-3 mm" : "exact model 12",
+              legs_differ ? "a model-31" : "a model-12", hits, campaigns);
+  for (const auto& [k, v] : counts) std::printf(" %s:%d", k.c_str(), v);
+  std::printf(" ); selection CPU time median %.3f s, max %.3f s\n", times[times.size() / 2], times.back());
+}
+
+void deltaCase(bool legs_differ, int campaigns) {
+  const auto candidates =
+      parseSelectionCandidates("delta,delta-legs", [](const std::string& n) { return makeDesignModel(n); });
+  int hits = 0;
+  for (int c = 0; c < campaigns; ++c) {
+    const ds::DefectiveRobot robot = ds::makeDefectiveDelta(200u + static_cast<unsigned>(c), legs_differ, 0.0);
+    const ds::Campaign campaign = ds::simulateDefectiveCampaign(robot, "delta", 300u + static_cast<unsigned>(c));
+    SelectionOptions options;
+    options.folds = 9;  // 27 poses: 3 per fold
+    const SelectionResult r = selectModel(candidates, campaign.poses, {}, options);
+    const std::string rec = r.recommendedLabel();
+    hits += (rec == "delta-legs") == legs_differ ? 1 : 0;
+    std::printf("  campaign %2d: recommended %s;%s\n", c, rec.c_str(), describe(r).c_str());
+  }
+  std::printf("Delta %s: %s recommended in %d of %d campaigns\n", legs_differ ? "legs differ" : "equal legs",
+              legs_differ ? "delta-legs" : "delta", hits, campaigns);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int campaigns = argc > 1 ? std::atoi(argv[1]) : 20;
+  h4Case(false, campaigns);
+  h4Case(true, campaigns);
+  deltaCase(false, campaigns);
+  deltaCase(true, campaigns);
+  return 0;
+}

@@ -1,0 +1,78 @@
+// Model selection (doc/plan-and-select.md): on simulated H4 campaigns the one-SE rule
+// recommends a model-12 variant when the robot is model 12, a model-31 variant when its legs
+// differ; the --models parser and its errors.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "mire/datasets/h4_true_robot.hpp"
+#include "mire/mechanism/model_selection.hpp"
+
+namespace mire::mechanism {
+namespace {
+
+namespace ds = mire::datasets;
+
+std::vector<SelectionCandidate> h4Candidates(const std::string& text = "h4-12:A,B,C,D,h4-31c:E,F,G,H") {
+  return parseSelectionCandidates(text, [](const std::string& n) { return makeDesignModel(n); });
+}
+
+std::vector<PoseObservation> h4Campaign(unsigned seed, bool legs_differ) {
+  ds::H4TrueGeometry g =
+      ds::geometryFromModel12(ds::drawModel12Values(H4Nominal{}, ds::H4ErrorSizes::withoutUnmodelledDefects(), seed));
+  if (legs_differ) {
+    std::mt19937 rng(seed + 77);
+    std::uniform_real_distribution<double> size(1e-3, 3e-3);
+    for (auto& leg : g.legs) {
+      leg.arm_length += (rng() & 1U ? 1 : -1) * size(rng);
+      leg.forearm_length += (rng() & 1U ? 1 : -1) * size(rng);
+    }
+  }
+  const ds::H4MeasurementNoise noise;
+  return ds::toObservations(ds::simulateMeasurements(ds::H4TrueRobot(g), ds::protocolPoses(), noise, seed), noise);
+}
+
+TEST(ModelSelection, ParsesVariantsAndModels) {
+  const auto c = h4Candidates();
+  ASSERT_EQ(c.size(), 8u);
+  EXPECT_EQ(c[0].label, "A");
+  EXPECT_EQ(c[0].model.registered.name, "h4-12");
+  EXPECT_EQ(c[7].label, "H");
+  EXPECT_EQ(c[7].model.registered.name, "h4-31c");
+  const auto d = h4Candidates("delta,delta-legs");
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[1].label, "delta-legs");
+  EXPECT_THROW(h4Candidates("h4-12:E"), std::invalid_argument);   // E is a model-31 variant
+  EXPECT_THROW(h4Candidates("delta:A"), std::invalid_argument);
+  EXPECT_THROW(h4Candidates("h4-99"), std::invalid_argument);     // unknown model
+  EXPECT_THROW(h4Candidates("A,B"), std::invalid_argument);       // letters without a model
+  EXPECT_EQ(defaultSelectionModels(4, Unit::Radian), "h4-12:A,B,C,D,h4-31c:E,F,G,H");
+  EXPECT_EQ(defaultSelectionModels(6, Unit::Metre), "gough-stewart");
+}
+
+TEST(ModelSelection, ExactModel12RobotGetsAModel12Variant) {
+  const SelectionResult r = selectModel(h4Candidates("h4-12:B,C,D,h4-31c:G,H"), h4Campaign(100, false));
+  ASSERT_GE(r.recommended, 0);
+  const std::string rec = r.recommendedLabel();
+  EXPECT_TRUE(rec == "B" || rec == "C" || rec == "D") << rec;
+  for (const ModelScore& s : r.scores) {
+    EXPECT_TRUE(s.ok) << s.label << ": " << s.message;
+    EXPECT_GT(s.cv_se, 0.0);
+    EXPECT_GE(s.cv_rms(), 0.8 * s.fit_rms) << s.label;  // held-out residuals are not smaller than fitted ones
+  }
+  EXPECT_FALSE(r.tests.empty());
+}
+
+TEST(ModelSelection, LegsThatDifferGetAModel31Variant) {
+  const SelectionResult r = selectModel(h4Candidates("h4-12:C,D,h4-31c:G,H"), h4Campaign(101, true));
+  const std::string rec = r.recommendedLabel();
+  EXPECT_TRUE(rec == "G" || rec == "H") << rec;
+  // The F-test of D within G/H rejects model 12.
+  bool rejected = false;
+  for (const NestedTest& t : r.tests)
+    if (r.scores[static_cast<std::size_t>(t.simpler)].label == "D") rejected = t.p_value < 1e-3;
+  EXPECT_TRUE(rejected);
+}
+
+}  // namespace
+}  // namespace mire::mechanism
