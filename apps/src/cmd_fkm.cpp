@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 #include "kinematics_files.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
@@ -75,13 +77,13 @@ std::string covarianceCsv(const std::vector<std::string>& ids, const std::vector
 
 int runFkm(const FkmArguments& args) {
   if (args.frame != "base" && args.frame != "camera")
-    throw std::invalid_argument("--frame '" + args.frame + "': expected base or camera");
+    throw UsageError("--frame '" + args.frame + "': expected base or camera");
   const fs::path output(args.output);
   const fs::path side_out = mech::defaultParameterCovariancePath(output);  // <stem>_covariance.csv
-  std::vector<fs::path> inputs{args.params, args.joints};
-  if (!args.covariance.empty()) inputs.push_back(args.covariance);
-  checkOutputIsNotInput(output, inputs);
-  if (args.frame == "camera") checkOutputIsNotInput(side_out, inputs);
+  CommandPaths paths{{{args.params, "--params"}, {args.joints, "--joints"}}, {}, {{output, "-o"}}, {}};
+  if (!args.covariance.empty()) paths.input_files.push_back({args.covariance, "--covariance"});
+  if (args.frame == "camera") paths.output_files.push_back({side_out, "the covariance side file of -o"});
+  checkCommandPaths(paths);
   std::optional<fs::path> covariance;
   if (!args.covariance.empty()) covariance = fs::path(args.covariance);
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
@@ -122,11 +124,10 @@ int runFkm(const FkmArguments& args) {
 Runner addFkmCommand(CLI::App& app) {
   auto args = std::make_shared<FkmArguments>();
   CLI::App* cmd = app.add_subcommand("fkm", "predict effector (or target) poses from joint readings with an identified model");
-  cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required();
+  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)");
   cmd->add_option("--joints", args->joints, "joint readings (joints.csv with the mechanism's q<i>_rad / q<i>_m columns)")
-      ->required()->check(CLI::ExistingFile);
+      ->required();
   cmd->add_option("--frame", args->frame, "base (effector pose in B) or camera (cTm in poses.csv's format)")->capture_default_str();
   cmd->add_option("-o,--output", args->output, "predicted poses (CSV)")->required();
   return [args] { return runFkm(*args); };

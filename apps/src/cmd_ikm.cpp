@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 #include "kinematics_files.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/support/atomic_file.hpp"
@@ -23,9 +25,9 @@ struct IkmArguments {
 };
 
 int runIkm(const IkmArguments& args) {
-  std::vector<fs::path> inputs{args.params, args.poses};
-  if (!args.covariance.empty()) inputs.push_back(args.covariance);
-  checkOutputIsNotInput(args.output, inputs);
+  CommandPaths paths{{{args.params, "--params"}, {args.poses, "--poses"}}, {}, {{args.output, "-o"}}, {}};
+  if (!args.covariance.empty()) paths.input_files.push_back({args.covariance, "--covariance"});
+  checkCommandPaths(paths);
   std::optional<fs::path> covariance;
   if (!args.covariance.empty()) covariance = fs::path(args.covariance);
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
@@ -79,11 +81,10 @@ int runIkm(const IkmArguments& args) {
 Runner addIkmCommand(CLI::App& app) {
   auto args = std::make_shared<IkmArguments>();
   CLI::App* cmd = app.add_subcommand("ikm", "joint commands for desired effector poses with an identified model");
-  cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required();
+  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)");
   cmd->add_option("--poses", args->poses, "desired effector poses in the base frame (pose_id,x_m,y_m,z_m[,theta_rad | ,rx_rad,ry_rad,rz_rad])")
-      ->required()->check(CLI::ExistingFile);
+      ->required();
   cmd->add_option("-o,--output", args->output, "joint commands (joints.csv with sigma_ columns)")->required();
   return [args] { return runIkm(*args); };
 }

@@ -11,10 +11,13 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 #include "kinematics_files.hpp"
 #include "plan_inputs.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/output_transaction.hpp"
 #include "mire/support/csv.hpp"
 
 namespace mire::app {
@@ -78,12 +81,13 @@ int runPlan(const PlanArguments& args) {
     return kUsage;
   }
   const mech::DesignCriterion criterion = parseCriterion(args.criterion);
-  std::vector<fs::path> inputs{args.workspace};
-  if (!args.nominal.empty()) inputs.push_back(args.nominal);
-  if (!args.externals.empty()) inputs.push_back(args.externals);
-  checkOutputIsNotInput(args.output, inputs);
-  if (args.count < 1) throw std::invalid_argument("--count must be >= 1");
-  if (args.candidates < args.count) throw std::invalid_argument("--candidates must be >= --count");
+  CommandPaths paths{{{args.workspace, "--workspace"}}, {}, {{args.output, "-o"}}, {}};
+  if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
+  if (!args.externals.empty()) paths.input_files.push_back({args.externals, "--externals"});
+  if (!args.report.empty()) paths.output_folders.push_back({args.report, "--report"});
+  checkCommandPaths(paths);
+  if (args.count < 1) throw UsageError("--count must be >= 1");
+  if (args.candidates < args.count) throw UsageError("--candidates must be >= --count");
 
   const mech::DesignModel model = readDesignModel(args.model, args.nominal);
   const mech::Mechanism& m = *model.registered.mechanism;
@@ -101,12 +105,15 @@ int runPlan(const PlanArguments& args) {
   const std::string text = "model " + args.model + ": " + std::to_string(poses.size()) + " candidate poses, " +
                            std::to_string(info.free_names.size()) + " free parameters (" +
                            std::to_string(info.geometric_free) + " geometric)\n" + mech::designReportText(report);
-  support::writeFileAtomically(args.output, planCsv(info, report.design));
+  // All or nothing (doc/robustness.md): plan.csv, then the report.
+  support::OutputTransaction outputs;
+  support::writeFileAtomically(outputs.stageFile(args.output), planCsv(info, report.design));
   if (!args.report.empty()) {
-    fs::create_directories(args.report);
-    support::writeFileAtomically(fs::path(args.report) / "plan_report.txt", text);
-    support::writeFileAtomically(fs::path(args.report) / "plan_sigma.csv", sigmaCsv(report));
+    const fs::path dir = outputs.stageFolder(args.report);
+    support::writeFileAtomically(dir / "plan_report.txt", text);
+    support::writeFileAtomically(dir / "plan_sigma.csv", sigmaCsv(report));
   }
+  outputs.commit();
   std::cout << text << "wrote " << args.output << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv")
             << "\n";
   return kOk;
@@ -118,14 +125,14 @@ Runner addPlanCommand(CLI::App& app) {
   auto args = std::make_shared<PlanArguments>();
   CLI::App* cmd = app.add_subcommand("plan", "choose the poses to measure (optimal experiment design)");
   cmd->add_option("--model", args->model, "h4-12, h4-31, h4-31c, delta, delta-legs, gough-stewart")->required();
-  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)")->check(CLI::ExistingFile);
+  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)");
   cmd->add_option("--workspace", args->workspace, "workspace YAML (x_m, y_m, z_m ranges, rotations)")
-      ->required()->check(CLI::ExistingFile);
+      ->required();
   cmd->add_option("--count", args->count, "number of poses to choose")->required();
   cmd->add_option("-o,--output", args->output, "plan.csv")->required();
-  cmd->add_option("--externals", args->externals, "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM)")->check(CLI::ExistingFile);
-  cmd->add_option("--camera", args->camera, "camera.yaml (visibility, pose covariance)")->check(CLI::ExistingFile);
-  cmd->add_option("--target", args->target, "target.yaml (with --camera)")->check(CLI::ExistingFile);
+  cmd->add_option("--externals", args->externals, "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM)");
+  cmd->add_option("--camera", args->camera, "camera.yaml (visibility, pose covariance)");
+  cmd->add_option("--target", args->target, "target.yaml (with --camera)");
   cmd->add_option("--criterion", args->criterion, "D (Ds-optimal, default), A or E")->capture_default_str();
   cmd->add_option("--candidates", args->candidates, "candidate poses drawn in the workspace")->capture_default_str();
   cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")->capture_default_str();

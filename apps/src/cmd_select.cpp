@@ -12,10 +12,13 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 #include "plan_inputs.hpp"
 #include "plot.hpp"
 #include "mire/mechanism/model_selection.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/output_transaction.hpp"
 #include "mire/support/csv.hpp"
 
 namespace mire::app {
@@ -81,6 +84,12 @@ void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech:
 }
 
 int runSelect(const SelectArguments& args) {
+  CommandPaths paths{{{args.poses, "--poses"}, {args.joints, "--joints"}}, {}, {}, {}};
+  if (!args.covariances.empty()) paths.input_files.push_back({args.covariances, "--pose-covariances"});
+  if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
+  if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
+  if (!args.report.empty()) paths.output_folders.push_back({args.report, "--report"});
+  checkCommandPaths(paths);
   const auto [joint_count, unit] = jointColumns(args.joints);
   const std::string models = args.models.empty() ? mech::defaultSelectionModels(joint_count, unit) : args.models;
   const auto candidates = mech::parseSelectionCandidates(
@@ -102,12 +111,13 @@ int runSelect(const SelectArguments& args) {
   const mech::SelectionResult result = mech::selectModel(candidates, observations.poses, lines, options);
   if (result.recommended < 0) throw std::runtime_error("no candidate model could be identified on this campaign");
   const std::string table = mech::selectionTable(result, m.jointUnits().front());
-  if (!args.report.empty()) {
-    fs::create_directories(args.report);
-    support::writeFileAtomically(fs::path(args.report) / "select_report.txt",
-                                 table + "recommended: " + result.recommendedLabel() + "\n");
-    support::writeFileAtomically(fs::path(args.report) / "select_scores.csv", scoresCsv(result));
-    writeSelectPlot(fs::path(args.report) / "select_cv.png", result, m.jointUnits().front());
+  if (!args.report.empty()) {  // all files or none (doc/robustness.md)
+    support::OutputTransaction outputs;
+    const fs::path dir = outputs.stageFolder(args.report);
+    support::writeFileAtomically(dir / "select_report.txt", table + "recommended: " + result.recommendedLabel() + "\n");
+    support::writeFileAtomically(dir / "select_scores.csv", scoresCsv(result));
+    writeSelectPlot(dir / "select_cv.png", result, m.jointUnits().front());
+    outputs.commit();
   }
   std::cout << observations.poses.size() << " poses, " << args.folds << "-fold cross-validation, "
             << candidates.size() << " candidate models (" << support::formatNumber(result.seconds, 3) << " s)\n"
@@ -120,12 +130,11 @@ int runSelect(const SelectArguments& args) {
 Runner addSelectCommand(CLI::App& app) {
   auto args = std::make_shared<SelectArguments>();
   CLI::App* cmd = app.add_subcommand("select", "choose the model to identify (cross-validation, one-SE rule)");
-  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--lines", args->lines, "straight-line joint records (lines.csv): V3 per model")->check(CLI::ExistingFile);
-  cmd->add_option("--covariances", args->covariances, "pose covariance side file (default <poses stem>_covariance.csv)")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)")->check(CLI::ExistingFile);
+  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv)")->required();
+  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv)")->required();
+  cmd->add_option("--lines", args->lines, "straight-line joint records (lines.csv): V3 per model");
+  cmd->add_option("--covariances", args->covariances, "pose covariance side file (default <poses stem>_covariance.csv)");
+  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)");
   cmd->add_option("--models", args->models, "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
                                              "(default: all of the mechanism)");
   cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();

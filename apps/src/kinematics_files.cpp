@@ -37,13 +37,4 @@ std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, cons
   return rows;
 }
 
-void checkOutputIsNotInput(const std::filesystem::path& output, const std::vector<std::filesystem::path>& inputs) {
-  for (const auto& input : inputs) {
-    std::error_code ec;
-    const bool same = std::filesystem::exists(output) ? std::filesystem::equivalent(output, input, ec)
-                                                      : std::filesystem::absolute(output) == std::filesystem::absolute(input);
-    if (same) throw std::invalid_argument("output " + output.string() + " is the input " + input.string());
-  }
-}
-
 }  // namespace mire::app

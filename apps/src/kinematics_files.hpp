@@ -24,7 +24,5 @@ struct EffectorRow {
 // Reads effector.csv (pose_id + poseColumnNames()); errors name file:line.
 std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& mechanism);
 
-// Refuses an output path equal to an input (by filesystem equivalence when both exist).
-void checkOutputIsNotInput(const std::filesystem::path& output, const std::vector<std::filesystem::path>& inputs);
 
 }  // namespace mire::app
