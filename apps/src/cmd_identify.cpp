@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "identify_report.hpp"
 
+#include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/prediction.hpp"
@@ -42,7 +43,7 @@ struct IdentifyArguments {
   unsigned long long mc_seed = 1;
 };
 
-std::string defaultNominalPath() { return std::string(MIRE_DATASETS_DIR) + "/specs/h4_nominal.yaml"; }
+std::string defaultNominalPath() { return datasets::specPath("h4_nominal.yaml").string(); }
 
 // --prior name=value:sigma (SI).
 mech::GaussianPrior parsePrior(const std::string& text) {
