@@ -8,6 +8,7 @@
 #include "output_paths.hpp"
 #include "validate.hpp"
 
+#include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/prediction.hpp"
@@ -48,7 +49,7 @@ struct IdentifyArguments {
   unsigned long long mc_seed = 1;
 };
 
-std::string defaultNominalPath() { return std::string(MIRE_DATASETS_DIR) + "/specs/h4_nominal.yaml"; }
+std::string defaultNominalPath() { return datasets::specPath("h4_nominal.yaml").string(); }
 
 // --prior name=value:sigma (SI).
 mech::GaussianPrior parsePrior(const std::string& text) {

@@ -1,4 +1,5 @@
 #include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/data_dir.hpp"
 
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"
@@ -16,8 +17,8 @@ namespace fs = std::filesystem;
 
 H4CampaignSpec H4CampaignSpec::reference() {
   H4CampaignSpec spec;
-  spec.camera_file = fs::path(MIRE_DATASETS_DIR) / "specs" / "reference_camera.yaml";
-  spec.target_file = fs::path(MIRE_DATASETS_DIR) / "specs" / "target_h4.yaml";
+  spec.camera_file = specPath("reference_camera.yaml");
+  spec.target_file = specPath("target_h4.yaml");
   // A real 3.8 mm lens at f/4 is slightly soft, and an 8-bit sensor is noisy (BRIEF §3).
   spec.render.blur_sigma_px = 0.6;
   spec.noise.gaussian_sigma = 1.5;

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Code style (doc/install.md "Code style"): .clang-format and .clang-tidy at the repository root.
+#   scripts/format.sh            reformat every C++ file in place (review the diff before committing)
+#   scripts/format.sh --check    list what clang-format would change, per module; exit 1 if anything
+#   scripts/format.sh --tidy [MODULE...]   clang-tidy over the modules' sources (needs build/compile_commands.json)
+# Needs Debian's clang-format and clang-tidy (apt-get install clang-format clang-tidy).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
+modules=(support calibration metrology mechanism datasets apps tests benchmarks examples)
+mode="${1:-}"
+
+case "$mode" in
+  "")
+    git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+    ;;
+  --check)
+    status=0
+    for module in "${modules[@]}"; do
+      files=0; lines=0
+      while IFS= read -r file; do
+        changed=$(clang-format "$file" | diff "$file" - | grep -c '^<' || true)
+        if [ "$changed" -gt 0 ]; then files=$((files + 1)); lines=$((lines + changed)); fi
+      done < <(git ls-files "$module/*.cpp" "$module/*.hpp")
+      printf '%-12s %4d files, %5d lines clang-format would change\n' "$module" "$files" "$lines"
+      [ "$files" -eq 0 ] || status=1
+    done
+    exit $status
+    ;;
+  --tidy)
+    shift
+    [ -f build/compile_commands.json ] || { echo "format.sh: configure build/ first (scripts/build.sh)" >&2; exit 2; }
+    (($#)) && modules=("$@")
+    for module in "${modules[@]}"; do
+      mapfile -t files < <(git ls-files "$module/*.cpp")
+      ((${#files[@]})) || continue
+      log="build/clang-tidy-$module.log"
+      clang-tidy -p build --quiet "${files[@]}" >"$log" 2>/dev/null || true
+      printf '%-12s %5d clang-tidy warnings (%s)\n' "$module" "$(grep -c 'warning:' "$log" || true)" "$log"
+    done
+    ;;
+  *)
+    echo "usage: scripts/format.sh [--check | --tidy [MODULE...]]" >&2
+    exit 2
+    ;;
+esac
