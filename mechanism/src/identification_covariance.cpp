@@ -111,20 +111,6 @@ SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
   return shared;
 }
 
-void removeSharedTerm(std::vector<PoseObservation>& poses, const SharedPoseTerm& shared) {
-  for (PoseObservation& p : poses) {
-    if (!p.covariance) continue;
-    if (!shared.sensitivity.count(p.id))
-      throw std::runtime_error("pose '" + p.id + "' has no sensitivity in the shared-term file");
-    const PoseCovariance independent = *p.covariance - PoseCovariance(shared.poseCovariance(p.id));
-    const Eigen::SelfAdjointEigenSolver<PoseCovariance> eigen(0.5 * (independent + independent.transpose()));
-    if (eigen.eigenvalues().minCoeff() <= 1e-12 * eigen.eigenvalues().maxCoeff())
-      throw std::runtime_error("pose '" + p.id +
-                               "': its covariance minus the shared calibration part is not positive definite");
-    p.covariance = 0.5 * (independent + independent.transpose());
-  }
-}
-
 Eigen::MatrixXd sandwichCovariance(const IdentificationResult& result, const std::vector<PoseObservation>& poses) {
   const int J = result.model.mechanism->jointCount();
   const Eigen::MatrixXd J_rad = identificationJacobian(result.model, poses);

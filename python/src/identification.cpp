@@ -6,9 +6,12 @@
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/identification.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/variants.hpp"
 
 #include <memory>
+
+#include <pybind11/functional.h>
 
 namespace mire::python {
 namespace {
@@ -126,6 +129,8 @@ void bindResult(py::module_& m) {
       .def_readonly("chi2", &R::chi2)
       .def_readonly("dof", &R::dof)
       .def_readonly("residual_scale", &R::residual_scale)
+      .def_readonly("covariance_method", &R::covariance_method)
+      .def_readonly("covariance_scale2", &R::covariance_scale2)
       .def_readonly("rms_joint_residual", &R::rms_joint_residual)
       .def_readonly("poses", &R::poses)
       .def_readonly("outliers", &R::outliers)
@@ -170,6 +175,17 @@ void bindResult(py::module_& m) {
         py::arg("options") = mech::IdentificationOptions{}, release);
   m.def("identifyH4Variant", &mech::identifyH4Variant, py::arg("letter"), py::arg("nominal"), py::arg("poses"),
         py::arg("options") = mech::IdentificationOptions{}, release);
+  // The calibration term shared by every pose (doc/uncertainty.md): `refit` is called with the
+  // shifted poses and returns the identification result of the whole estimator on them.
+  using T = mech::SharedPoseTerm;
+  py::class_<T>(m, "SharedPoseTerm")
+      .def_readonly("names", &T::names)
+      .def_readonly("covariance", &T::covariance)
+      .def("poseCovariance", &T::poseCovariance, py::arg("pose_id"));
+  m.def("sharedTermPath", &mech::sharedTermPath, py::arg("poses_csv"));
+  m.def("readSharedTermCsv", &mech::readSharedTermCsv, py::arg("path"));
+  m.def("addSharedTermCovariance", &mech::addSharedTermCovariance, py::arg("result"), py::arg("poses"),
+        py::arg("shared"), py::arg("refit") = mech::Refit{});
 }
 
 void bindEvaluation(py::module_& m) {

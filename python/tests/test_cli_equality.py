@@ -114,4 +114,11 @@ def test_demo_campaign_equals_the_cli(tmp_path):
     met.writePosesCsv(tmp_path / "poses.csv", measured)
     met.writePosesCovarianceCsv(tmp_path / "poses_covariance.csv", measured)
     result = identify_like_the_cli(tmp_path / "poses.csv", campaign / "joints.csv", nominal=mech.H4Nominal())
+    # The demo adds the calibration term shared by every pose, by refits of variant D.
+    poses = mech.readObservations(tmp_path / "poses.csv", campaign / "joints.csv", tmp_path / "poses_covariance.csv",
+                                  result.model.mechanism.jointColumnNames()).poses
+    shared = mech.readSharedTermCsv(mech.sharedTermPath(out / "poses.csv"))
+    mech.addSharedTermCovariance(result, poses, shared,
+                                 lambda shifted: mech.identifyH4Variant("D", mech.H4Nominal(), shifted))
+    assert "shared" in result.covariance_method
     assert_same_parameters(result, out / "identified_D.yaml")

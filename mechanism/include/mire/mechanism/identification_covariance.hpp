@@ -53,10 +53,6 @@ struct SharedPoseTerm {
 std::filesystem::path sharedTermPath(const std::filesystem::path& poses_csv);
 // Reads the side file; throws std::runtime_error naming the file, line and problem.
 SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path);
-// Removes the shared part from every pose covariance (Σ_j − D_j Σ_k D_jᵀ), so that the fit is
-// weighted by the independent part only; throws naming a pose whose covariance would not stay
-// positive definite or that has no sensitivity.
-void removeSharedTerm(std::vector<PoseObservation>& poses, const SharedPoseTerm& shared);
 
 // Adds G Σ_k Gᵀ to result.covariance (and result.shared_covariance, result.sigma). `poses` are
 // those given to identify().
