@@ -7,13 +7,15 @@ function(mire_target_options target)
   if(MIRE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
-  if(MIRE_FUZZ)
-    # Coverage for libFuzzer in every library; clang's extra warnings do not gate fuzzing.
-    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -Wno-error)
-    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
-  elseif(MIRE_SANITIZE)
+  if(MIRE_SANITIZE OR MIRE_FUZZ)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
-    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+    # PUBLIC: whatever links a sanitized static library (tests, fuzzers, a program built against
+    # the installed package) needs the sanitizer runtime too.
+    target_link_options(${target} PUBLIC -fsanitize=address,undefined)
+  endif()
+  if(MIRE_FUZZ)
+    # Coverage for libFuzzer in every library (the ASan runtime provides the hooks elsewhere).
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer-no-link)
   endif()
 endfunction()
 

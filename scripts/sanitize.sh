@@ -1,14 +1,10 @@
 #!/usr/bin/env bash
-# Builds mire with AddressSanitizer + UndefinedBehaviorSanitizer (-DMIRE_SANITIZE=ON, gcc, in
-# build-asan/) and runs the whole test suite there under a suite-level time budget
-# (MIRE_SANITIZE_BUDGET seconds, default 1500). Any sanitizer report fails its test.
-# Extra arguments go to ctest (e.g. -R BadInput). Cost: doc/robustness.md.
+# Runs the whole test suite in the instrumented build (scripts/build_asan.sh: clang, ASan + UBSan)
+# under a suite-level time budget (MIRE_SANITIZE_BUDGET seconds, default 1500). Any sanitizer
+# report fails its test. Extra arguments go to ctest (e.g. -R BadInput). Cost: doc/robustness.md.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-bash "$root/scripts/setup.sh"
-cmake -S "$root" -B "$root/build-asan" -G Ninja -DMIRE_SANITIZE=ON -DMIRE_BUILD_BENCHMARKS=OFF -DMIRE_PYTHON=OFF \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$root/build-asan" -j "$(nproc)"
+bash "$root/scripts/build_asan.sh"
 cd "$root/build-asan"
 # Leaks are not checked: OpenCV, ViSP and Ceres keep process-lifetime allocations that LSan
 # reports at exit; every other ASan/UBSan finding aborts the process (and fails the test).
