@@ -44,5 +44,6 @@ void bindTargets(py::module_& m);
 void bindMeasurement(py::module_& m);
 void bindMechanisms(py::module_& m);     // calls bindIdentification
 void bindIdentification(py::module_& m);
+void bindExperiment(py::module_& m);     // plan / select (after bindMechanisms)
 
 }  // namespace mire::python

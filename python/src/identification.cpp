@@ -159,7 +159,11 @@ void bindResult(py::module_& m) {
       [](const MechanismPtr& mechanism, const mech::ExternalParameterization& form, mech::ParameterSet& parameters,
          const std::vector<mech::PoseObservation>& poses) { mech::alignTranslatingTarget(*mechanism, form, parameters, poses); },
       py::arg("mechanism"), py::arg("form"), py::arg("parameters"), py::arg("poses"), "Updates `parameters` in place.");
+}
 
+// The H4 variants A–H (paper Table 2) and the calibration term shared by every pose.
+void bindVariants(py::module_& m) {
+  const auto release = py::call_guard<py::gil_scoped_release>();
   py::class_<mech::H4Variant>(m, "H4Variant")
       .def_readonly("letter", &mech::H4Variant::letter)
       .def_readonly("model", &mech::H4Variant::model)
@@ -188,6 +192,7 @@ void bindResult(py::module_& m) {
         py::arg("shared"), py::arg("refit") = mech::Refit{});
 }
 
+// V1/V2 (joint residuals), V3 (straightness, eq. 29) and the square test.
 void bindEvaluation(py::module_& m) {
   using J = mech::JointResidualCriteria;
   py::class_<J>(m, "JointResidualCriteria")
@@ -227,7 +232,10 @@ void bindEvaluation(py::module_& m) {
         py::arg("mechanism"), py::arg("geometric"), py::arg("poses"));
   m.def("squareCorners", &mech::squareCorners, py::arg("centre"), py::arg("side"));
   m.def("squareSideErrors", &mech::squareSideErrors, py::arg("reached_corners"), py::arg("side"));
+}
 
+// The Monte-Carlo study of the paper's §6.2 (random pose subsets, spread of the identified values).
+void bindMonteCarlo(py::module_& m) {
   using MO = mech::MonteCarloOptions;
   py::class_<MO>(m, "MonteCarloOptions")
       .def(py::init<>())
@@ -280,7 +288,9 @@ void bindIdentification(py::module_& m) {
   bindIdentifiability(m);
   bindModel(m);
   bindResult(m);
+  bindVariants(m);
   bindEvaluation(m);
+  bindMonteCarlo(m);
 }
 
 }  // namespace mire::python

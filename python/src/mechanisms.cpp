@@ -146,6 +146,7 @@ Eigen::MatrixXd fkmRows(const mech::Mechanism& mechanism, const Eigen::VectorXd&
   return poses;
 }
 
+// The Mechanism interface with its IKM/FKM results (doc/mechanisms.md).
 void bindMechanism(py::module_& m) {
   py::enum_<mech::MotionType>(m, "MotionType")
       .value("Schoenflies", mech::MotionType::Schoenflies)
@@ -195,7 +196,10 @@ void bindMechanism(py::module_& m) {
       .def("fkm", &fkmRows, py::arg("geometric"), py::arg("joints"), py::arg("initial_pose") = py::none(),
            "FKM of many joint vectors (N, jointCount) -> poses (N, poseDof), warm-started along the rows; NaN rows "
            "where it does not converge.");
+}
 
+// The H4 (its nominal geometry and model kinds) and the registry of mechanisms by name.
+void bindH4AndRegistry(py::module_& m) {
   py::enum_<mech::H4ModelKind>(m, "H4ModelKind")
       .value("Model12", mech::H4ModelKind::Model12)
       .value("Model31", mech::H4ModelKind::Model31)
@@ -341,6 +345,7 @@ void bindMechanisms(py::module_& m) {
   bindParameters(m);
   bindExternal(m);
   bindMechanism(m);
+  bindH4AndRegistry(m);
   bindObservations(m);
   bindIdentification(m);
 }

@@ -12,8 +12,9 @@ PYBIND11_MODULE(mire, m) {
   mp::bindTargets(metrology);  // before calibration: calibrateFromImages takes a Target
   mp::bindCalibration(calibration);
   mp::bindMeasurement(metrology);
-  auto mechanism = m.def_submodule("mechanism", "mechanisms, identification, evaluation (mire::mechanism)");
+  auto mechanism = m.def_submodule("mechanism", "mechanisms, identification, evaluation, plan/select (mire::mechanism)");
   mp::bindMechanisms(mechanism);
+  mp::bindExperiment(mechanism);
 #ifdef MIRE_VERSION
   m.attr("__version__") = MIRE_VERSION;
 #endif
