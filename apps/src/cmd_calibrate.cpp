@@ -17,7 +17,6 @@
 #include "mire/support/csv.hpp"
 #include "mire/support/output_transaction.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -112,8 +111,8 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
   return out.str();
 }
 
-int runCalibrate(const CalibrateArguments& args) {
-  // Everything that can be checked before the long work is checked first.
+// Everything that can be checked before the long work is checked first.
+void checkCalibratePaths(const CalibrateArguments& args) {
   if (args.images_dir.empty() == args.detections_path.empty())
     throw UsageError("give either --images or --detections");
   CommandPaths paths{{{args.target_path, "--target"}}, {}, {{args.output_path, "-o"}}, {}};
@@ -122,44 +121,36 @@ int runCalibrate(const CalibrateArguments& args) {
   if (!args.save_detections.empty()) paths.output_files.push_back({args.save_detections, "--save-detections"});
   if (!args.report_dir.empty()) paths.output_folders.push_back({args.report_dir, "--report"});
   checkCommandPaths(paths);
-  const int threads = workerThreads(args.threads, "--threads");
-  const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
-  metrology::Target target = [&] {
-    try {
-      return metrology::Target::fromFile(args.target_path);
-    } catch (const std::exception& error) {
-      throw std::runtime_error("target spec: " + std::string(error.what()));
-    }
-  }();
-  checkTargetSize(target, args.target_path);
+}
+
+metrology::Target readTarget(const std::string& path) {
+  try {
+    return metrology::Target::fromFile(path);
+  } catch (const std::exception& error) {
+    throw std::runtime_error("target spec: " + std::string(error.what()));
+  }
+}
+
+// The views: detected in the images (in parallel) or read from a detections file; the images
+// without the target are listed. At least 3 views, or an error naming the folder.
+CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target, int threads) {
   const CalibrationFolder folder = args.detections_path.empty()
                                        ? detectCalibrationFolder(target, args.images_dir, threads)
                                        : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
-  const std::vector<calibration::CalibrationView>& views = folder.views;
-  const int skipped = static_cast<int>(folder.skipped.size());
-  const int width = folder.width, height = folder.height;
-  if (views.size() < 3)
-    throw std::runtime_error("the target was found in " + std::to_string(views.size()) + " of " +
+  if (folder.views.size() < 3)
+    throw std::runtime_error("the target was found in " + std::to_string(folder.views.size()) + " of " +
                              std::to_string(folder.images) + " images in '" +
                              (args.detections_path.empty() ? args.images_dir : args.detections_path) +
                              "': calibration needs at least 3 (check target.yaml's cols/rows and type)");
+  return folder;
+}
 
-  calibration::CalibrationOptions options;
-  options.model = model;
-  options.fixed_parameters = args.fixed_parameters;
-  options.refine_target = args.refine_target;
-  options.num_threads = threads;
-  const calibration::CalibrationResult result =
-      calibration::calibrateCamera(target.points(), views, width, height, options);
-  const calibration::ProjectionUncertaintySummary uncertainty = calibration::summarizeProjectionUncertainty(result);
-  std::vector<double> distances;
-  for (const auto& view : result.views)
-    if (view.used) distances.push_back(view.translation.norm());
-  checkImpliedDistances(distances, args.target_path, "view");
-
-  // Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
+// Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
+void writeCalibrateOutputs(const CalibrateArguments& args, const metrology::Target& target,
+                           const CalibrationFolder& folder, const calibration::CalibrationResult& result,
+                           const calibration::ProjectionUncertaintySummary& uncertainty) {
   support::OutputTransaction outputs;
   support::writeFileAtomically(outputs.stageFile(args.output_path),
                                calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
@@ -172,18 +163,16 @@ int runCalibrate(const CalibrateArguments& args) {
   }
   if (!args.save_detections.empty())
     support::writeFileAtomically(outputs.stageFile(args.save_detections),
-                                 metrology::detectionsCsv(target, calibrationDetections(folder), width, height));
+                                 metrology::detectionsCsv(target, calibrationDetections(folder), folder.width,
+                                                          folder.height));
   outputs.commit();
+}
 
-  // Summary.
+// Each parameter ± 1 σ (px for the first four), then what the σ include.
+void printParameters(const calibration::CalibrationResult& result) {
   const auto& p = result.camera.params;
   const auto sigma = result.camera.sigmas();
   const auto names = result.camera.parameterNames();
-  std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images") << " without the target, "
-            << result.rejected_views << " views rejected), " << result.used_points << " points ("
-            << result.rejected_points << " rejected as outliers beyond 5 sigma)\n";
-  std::cout << "model " << calibration::distortionModelName(model) << (result.target_refined ? ", target refined" : "")
-            << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
   for (std::size_t i = 0; i < p.size(); ++i) {
     const bool pixel_unit = i < 4;
     const bool is_fixed = std::find(result.fixed_parameters.begin(), result.fixed_parameters.end(), names[i]) !=
@@ -192,15 +181,18 @@ int runCalibrate(const CalibrateArguments& args) {
               << (is_fixed ? " (fixed)" : " +- " + fixed(sigma.empty() ? 0.0 : sigma[i], pixel_unit ? 3 : 6))
               << (pixel_unit ? " px" : "") << "\n";
   }
-  {
-    std::string inflated;
-    for (std::size_t i = 0; i < result.sigma_inflation.size() && i < names.size(); ++i)
-      if (result.sigma_inflation[i] > 1.05) inflated += " " + names[i] + " x" + fixed(result.sigma_inflation[i], 2);
-    std::cout << (inflated.empty() ? std::string("sigma: pixel noise (no sign of systematic error across views)")
-                                   : "sigma include systematic error (residuals correlated within views, view-cluster "
-                                     "sandwich):" + inflated)
-              << "\n";
-  }
+  std::string inflated;
+  for (std::size_t i = 0; i < result.sigma_inflation.size() && i < names.size(); ++i)
+    if (result.sigma_inflation[i] > 1.05) inflated += " " + names[i] + " x" + fixed(result.sigma_inflation[i], 2);
+  std::cout << (inflated.empty() ? std::string("sigma: pixel noise (no sign of systematic error across views)")
+                                 : "sigma include systematic error (residuals correlated within views, view-cluster "
+                                   "sandwich):" + inflated)
+            << "\n";
+}
+
+// Residuals, projection uncertainty, target deformation, rejected views and warnings.
+void printQuality(const calibration::CalibrationResult& result,
+                  const calibration::ProjectionUncertaintySummary& uncertainty) {
   std::cout << "reprojection RMS " << fixed(result.camera.rms_px, 4) << " px (sigma " << fixed(result.sigma_px, 4)
             << " px); per view: ";
   for (const auto& view : result.views)
@@ -219,6 +211,39 @@ int runCalibrate(const CalibrateArguments& args) {
   for (const auto& view : result.views)
     if (!view.used) std::cout << "rejected view " << view.name << ": " << view.rejection_reason << "\n";
   for (const auto& warning : result.warnings) std::cout << "warning: " << warning << "\n";
+}
+
+// Stages: checks, the views, the calibration, the outputs, then the summary.
+int runCalibrate(const CalibrateArguments& args) {
+  checkCalibratePaths(args);
+  const int threads = workerThreads(args.threads, "--threads");
+  const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
+  const metrology::Target target = readTarget(args.target_path);
+  checkTargetSize(target, args.target_path);
+  const CalibrationFolder folder = readCalibrationViews(args, target, threads);
+
+  calibration::CalibrationOptions options;
+  options.model = model;
+  options.fixed_parameters = args.fixed_parameters;
+  options.refine_target = args.refine_target;
+  options.num_threads = threads;
+  const calibration::CalibrationResult result =
+      calibration::calibrateCamera(target.points(), folder.views, folder.width, folder.height, options);
+  const calibration::ProjectionUncertaintySummary uncertainty = calibration::summarizeProjectionUncertainty(result);
+  std::vector<double> distances;
+  for (const auto& view : result.views)
+    if (view.used) distances.push_back(view.translation.norm());
+  checkImpliedDistances(distances, args.target_path, "view");
+  writeCalibrateOutputs(args, target, folder, result, uncertainty);
+
+  const int skipped = static_cast<int>(folder.skipped.size());
+  std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images") << " without the target, "
+            << result.rejected_views << " views rejected), " << result.used_points << " points ("
+            << result.rejected_points << " rejected as outliers beyond 5 sigma)\n";
+  std::cout << "model " << calibration::distortionModelName(model) << (result.target_refined ? ", target refined" : "")
+            << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
+  printParameters(result);
+  printQuality(result, uncertainty);
   std::cout << "wrote " << args.output_path << (args.report_dir.empty() ? "" : " and the report in " + args.report_dir)
             << "\n";
   return kOk;

@@ -6,6 +6,7 @@
 #include "identify_checks.hpp"
 #include "identify_report.hpp"
 #include "output_paths.hpp"
+#include "plan_inputs.hpp"
 #include "validate.hpp"
 
 #include "mire/datasets/data_dir.hpp"
@@ -74,29 +75,6 @@ mech::GaussianPrior parsePrior(const std::string& text) {
   return prior;
 }
 
-// Nominal geometry from a model-12 parameter file (BRIEF §4 keys; identified files accepted:
-// their external values and sigma_ keys are ignored).
-mech::H4Nominal readNominal(const fs::path& path) {
-  const mech::ParameterFile file = mech::readParameterFile(path);
-  mech::ParameterSet geometric = mech::h4Model12Parameters(mech::H4Nominal{});
-  std::vector<std::string> ignored{"amplification"};
-  for (auto form : {mech::ExternalForm::AxisAligned, mech::ExternalForm::Full, mech::ExternalForm::CameraFrame})
-    for (const auto& name : mech::ExternalParameterization(form).parameters().names()) ignored.push_back(name);
-  mech::applyParameterFile(file, geometric, ignored);
-  mech::H4Nominal nominal;
-  nominal.R = geometric.value("R");
-  nominal.L = geometric.value("L");
-  nominal.l = geometric.value("l");
-  nominal.h = geometric.value("h");
-  nominal.d = geometric.value("d");
-  for (int i = 0; i < 4; ++i) {
-    nominal.alpha[static_cast<std::size_t>(i)] = geometric.value("alpha" + std::to_string(i + 1));
-    nominal.q0[static_cast<std::size_t>(i)] = geometric.value("q0" + std::to_string(i + 1));
-  }
-  if (const auto* entry = file.find("amplification")) nominal.amplification = file.number(*entry);
-  return nominal;
-}
-
 std::vector<mech::PoseResidual> residualsOf(const mech::IdentificationModel& model,
                                             const std::vector<mech::PoseObservation>& poses) {
   std::vector<mech::PoseResidual> out;
@@ -143,22 +121,30 @@ void checkPaths(const IdentifyArguments& args) {
   checkCommandPaths(paths);
 }
 
-int runIdentify(const IdentifyArguments& args, const std::string& command_line) {
-  // ---- model choice ----
-  checkPaths(args);
+// The model the user chose: its name, whether it is one of the H4's, the H4 model kind and
+// the variant letter (0: none).
+struct ModelChoice {
+  std::string model;
+  bool h4 = false;
+  mech::H4ModelKind kind = mech::H4ModelKind::Model12;
   char letter = 0;
+};
+
+ModelChoice chooseModel(const IdentifyArguments& args) {
+  ModelChoice choice;
+  char& letter = choice.letter;
   if (!args.variant.empty()) {
     letter = static_cast<char>(std::toupper(static_cast<unsigned char>(args.variant[0])));
     if (args.variant.size() != 1 || letter < 'A' || letter > 'H')
       throw UsageError("--variant '" + args.variant + "': expected one letter A..H");
   }
   // Without --model, the variant's model (A–D: h4-12, E–H: h4-31c); default h4-12.
-  const std::string model = !args.model.empty() ? args.model
-                            : (letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera) ? "h4-31c"
-                                                                                                           : "h4-12";
-  mech::H4ModelKind kind = mech::H4ModelKind::Model12;
-  const bool h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
-  if (!h4) {
+  choice.model = !args.model.empty() ? args.model
+                 : (letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera) ? "h4-31c"
+                                                                                                : "h4-12";
+  const std::string& model = choice.model;
+  choice.h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
+  if (!choice.h4) {
     try {
       mech::makeRegisteredModel(model);
     } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
@@ -166,97 +152,134 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     }
     if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + model);
   } else if (model == "h4-12") {
-    kind = mech::H4ModelKind::Model12;
+    choice.kind = mech::H4ModelKind::Model12;
     if (!letter) letter = 'D';
   } else if (model == "h4-31c") {
-    kind = mech::H4ModelKind::Model31Camera;
+    choice.kind = mech::H4ModelKind::Model31Camera;
     if (!letter) letter = 'H';
   } else if (model == "h4-31") {
-    kind = mech::H4ModelKind::Model31;
+    choice.kind = mech::H4ModelKind::Model31;
     if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
   }
-  if (letter && mech::h4Variant(letter).model != kind)
+  if (letter && mech::h4Variant(letter).model != choice.kind)
     throw UsageError(std::string("--variant ") + letter + " does not belong to --model " + model +
-                                " (A-D: h4-12, E-H: h4-31c)");
+                     " (A-D: h4-12, E-H: h4-31c)");
+  return choice;
+}
 
-  // ---- inputs ----
-  if (!h4 && !args.nominal.empty())
-    throw UsageError("--nominal applies to the H4 models; " + model + " starts from its built-in nominal");
-  const mech::H4Nominal nominal = h4 ? readNominal(args.nominal.empty() ? defaultNominalPath() : args.nominal)
-                                     : mech::H4Nominal{};
-  const mech::RegisteredModel registered = mech::makeRegisteredModel(model, nominal);
-  const std::vector<std::string> joint_columns = registered.mechanism->jointColumnNames();
+// Everything identify reads: the nominal geometry, the model, the observations (with the
+// shared calibration term and the straight lines when given) and the solver options.
+struct IdentifyInputs {
+  mech::H4Nominal nominal;
+  mech::RegisteredModel registered;
+  mech::ObservationSet observations;
   std::optional<fs::path> covariance_path;
-  if (!args.covariances.empty()) covariance_path = fs::path(args.covariances);
-  else if (fs::exists(mech::defaultCovariancePath(args.poses))) covariance_path = mech::defaultCovariancePath(args.poses);
-  mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance_path, joint_columns);
-  auto& poses = observations.poses;
+  std::optional<mech::SharedPoseTerm> shared;
+  std::vector<mech::LineRecord> lines;
+  mech::IdentificationOptions options;
+};
+
+// The calibration error shared by every pose (doc/uncertainty.md): its propagation G Σ_k Gᵀ
+// is added to the parameter covariance. The weights stay the full pose covariances: weighting
+// by the independent part alone moved the demo's R, l and alpha_i 5-10x further from the truth.
+std::optional<mech::SharedPoseTerm> readSharedTerm(const IdentifyArguments& args, bool have_covariances) {
+  const fs::path shared_path = args.shared.empty() ? mech::sharedTermPath(args.poses) : fs::path(args.shared);
+  if (args.independent_poses || (args.shared.empty() && !fs::exists(shared_path))) return std::nullopt;
+  if (!have_covariances && !args.unweighted)
+    throw UsageError(shared_path.string() + " needs the full pose covariances (" +
+                     mech::defaultCovariancePath(args.poses).string() +
+                     " or --pose-covariances), or --independent-poses");
+  return mech::readSharedTermCsv(shared_path);
+}
+
+IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const ModelChoice& choice) {
+  if (!choice.h4 && !args.nominal.empty())
+    throw UsageError("--nominal applies to the H4 models; " + choice.model + " starts from its built-in nominal");
+  IdentifyInputs inputs;
+  inputs.nominal = choice.h4 ? readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal)
+                             : mech::H4Nominal{};
+  inputs.registered = mech::makeRegisteredModel(choice.model, inputs.nominal);
+  const std::vector<std::string> joint_columns = inputs.registered.mechanism->jointColumnNames();
+  if (!args.covariances.empty()) inputs.covariance_path = fs::path(args.covariances);
+  else if (fs::exists(mech::defaultCovariancePath(args.poses)))
+    inputs.covariance_path = mech::defaultCovariancePath(args.poses);
+  inputs.observations = mech::readObservations(args.poses, args.joints, inputs.covariance_path, joint_columns);
+  auto& poses = inputs.observations.poses;
   checkIdentifyPoses(poses, args.poses, args.unweighted);
   if (args.unweighted)
     for (auto& p : poses) p.covariance.reset();
-  // The calibration error shared by every pose (doc/uncertainty.md): its propagation G Σ_k Gᵀ
-  // is added to the parameter covariance. The weights stay the full pose covariances: weighting
-  // by the independent part alone moved the demo's R, l and alpha_i 5-10x further from the truth.
-  std::optional<mech::SharedPoseTerm> shared;
-  const fs::path shared_path = args.shared.empty() ? mech::sharedTermPath(args.poses) : fs::path(args.shared);
-  if (!args.independent_poses && (!args.shared.empty() || fs::exists(shared_path))) {
-    if (!covariance_path && !args.unweighted)
-      throw UsageError(shared_path.string() + " needs the full pose covariances (" +
-                                  mech::defaultCovariancePath(args.poses).string() +
-                                  " or --pose-covariances), or --independent-poses");
-    shared = mech::readSharedTermCsv(shared_path);
-  }
-  std::vector<mech::LineRecord> lines;
-  if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines, joint_columns);
+  inputs.shared = readSharedTerm(args, inputs.covariance_path.has_value());
+  if (!args.lines.empty()) inputs.lines = mech::readLinesCsv(args.lines, joint_columns);
+  inputs.options.fix = args.fix;
+  for (const auto& text : args.priors) inputs.options.priors.push_back(parsePrior(text));
+  if (args.robust) inputs.options.loss = mech::RobustLoss::Huber;
+  return inputs;
+}
 
-  mech::IdentificationOptions options;
-  options.fix = args.fix;
-  for (const auto& text : args.priors) options.priors.push_back(parsePrior(text));
-  if (args.robust) options.loss = mech::RobustLoss::Huber;
-
-  // ---- initial model ----
-  mech::IdentificationModel initial;
+// The model identify starts from, its label, and (registry models) the gauge it fixed.
+struct InitialModel {
+  mech::IdentificationModel model;
   std::string label;
   std::optional<mech::GaugeAnalysis> gauge;
-  if (!h4) {
+};
+
+InitialModel initialModel(const ModelChoice& choice, const IdentifyInputs& inputs) {
+  const auto& poses = inputs.observations.poses;
+  const auto& options = inputs.options;
+  InitialModel initial;
+  if (!choice.h4) {
     // Mounting from the data (motion type), user's --fix, then the gauge by pivoted QR.
-    initial = mech::makeInitialModel(registered.mechanism, registered.nominal, poses, registered.external_form);
-    for (const auto& name : options.fix) initial.parameters.at(name);  // names an unknown one
-    initial.parameters.fix(options.fix);
-    gauge = mech::fixGauge(initial, poses);
-    label = model;
-  } else if (kind == mech::H4ModelKind::Model31) {
-    std::shared_ptr<const mech::Mechanism> mechanism = mech::makeH4Mechanism(kind, nominal);
-    mech::ParameterSet geometric = mech::model31FromModel12(mech::h4Model12Parameters(nominal));
-    initial = mech::makeInitialModel(mechanism, geometric, poses, mech::ExternalForm::AxisAligned);
-    label = "h4-31 (base frame)";
+    initial.model = mech::makeInitialModel(inputs.registered.mechanism, inputs.registered.nominal, poses,
+                                           inputs.registered.external_form);
+    for (const auto& name : options.fix) initial.model.parameters.at(name);  // names an unknown one
+    initial.model.parameters.fix(options.fix);
+    initial.gauge = mech::fixGauge(initial.model, poses);
+    initial.label = choice.model;
+  } else if (choice.kind == mech::H4ModelKind::Model31) {
+    std::shared_ptr<const mech::Mechanism> mechanism = mech::makeH4Mechanism(choice.kind, inputs.nominal);
+    mech::ParameterSet geometric = mech::model31FromModel12(mech::h4Model12Parameters(inputs.nominal));
+    initial.model = mech::makeInitialModel(mechanism, geometric, poses, mech::ExternalForm::AxisAligned);
+    initial.label = "h4-31 (base frame)";
   } else {
-    initial = mech::makeH4VariantModel(letter, nominal, poses, options);
-    label = model + ", variant " + std::string(1, letter);
+    initial.model = mech::makeH4VariantModel(choice.letter, inputs.nominal, poses, options);
+    initial.label = choice.model + ", variant " + std::string(1, choice.letter);
   }
   // Every name given on the command line must exist (h4a's identify also checks; this names the option).
   for (const auto& name : options.fix)
-    if (!initial.parameters.contains(name)) initial.parameters.at(name);  // throws naming it and the known ones
+    if (!initial.model.parameters.contains(name)) initial.model.parameters.at(name);  // throws naming it and the known ones
+  return initial;
+}
 
-  const auto before = residualsOf(initial, poses);
-  mech::IdentificationResult result = mech::identify(initial, poses, options);
-  if (shared) {
-    // The whole estimator (initialisation included) refitted on poses moved by the shared term,
-    // with the gauge the main fit chose.
-    mech::IdentificationOptions quiet = options;
+// The shared-term refits' starting model on the shifted poses: built as the initial one, with
+// the gauge the main fit chose.
+mech::IdentificationModel refitStart(const ModelChoice& choice, const IdentifyInputs& inputs,
+                                     const InitialModel& initial, const std::vector<mech::PoseObservation>& shifted) {
+  if (!choice.h4) {
+    mech::IdentificationModel start = mech::makeInitialModel(inputs.registered.mechanism, inputs.registered.nominal,
+                                                             shifted, inputs.registered.external_form);
+    start.parameters.fix(inputs.options.fix);
+    if (initial.gauge) start.parameters.fix(initial.gauge->gauge);
+    return start;
+  }
+  if (choice.kind == mech::H4ModelKind::Model31)
+    return mech::makeInitialModel(initial.model.mechanism,
+                                  mech::model31FromModel12(mech::h4Model12Parameters(inputs.nominal)), shifted,
+                                  mech::ExternalForm::AxisAligned);
+  return mech::makeH4VariantModel(choice.letter, inputs.nominal, shifted, inputs.options);
+}
+
+// The fit, with the shared calibration term's covariance when given: the whole estimator
+// (initialisation included) refitted on poses moved by the shared term, with the gauge the
+// main fit chose.
+mech::IdentificationResult identifyModel(const ModelChoice& choice, const IdentifyInputs& inputs,
+                                         const InitialModel& initial) {
+  const auto& poses = inputs.observations.poses;
+  mech::IdentificationResult result = mech::identify(initial.model, poses, inputs.options);
+  if (inputs.shared) {
+    mech::IdentificationOptions quiet = inputs.options;
     quiet.compute_identifiability = false;
-    mech::addSharedTermCovariance(result, poses, *shared, [&](const std::vector<mech::PoseObservation>& shifted) {
-      mech::IdentificationModel start;
-      if (!h4) {
-        start = mech::makeInitialModel(registered.mechanism, registered.nominal, shifted, registered.external_form);
-        start.parameters.fix(options.fix);
-        if (gauge) start.parameters.fix(gauge->gauge);
-      } else if (kind == mech::H4ModelKind::Model31) {
-        start = mech::makeInitialModel(initial.mechanism, mech::model31FromModel12(mech::h4Model12Parameters(nominal)),
-                                       shifted, mech::ExternalForm::AxisAligned);
-      } else {
-        start = mech::makeH4VariantModel(letter, nominal, shifted, options);
-      }
+    mech::addSharedTermCovariance(result, poses, *inputs.shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+      const mech::IdentificationModel start = refitStart(choice, inputs, initial, shifted);
       mech::IdentificationResult refit = mech::identify(start, shifted, quiet);
       mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
       return refit;
@@ -264,42 +287,57 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   }
   mech::alignTranslatingTarget(*result.model.mechanism, result.model.external, result.model.parameters, poses);
   if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
+  return result;
+}
 
-  // ---- criteria ----
+// The paper's straightness criterion V3 before and after (< 0: no lines given) and the
+// optional Monte-Carlo study over random pose subsets.
+struct Criteria {
   std::vector<std::vector<Eigen::VectorXd>> line_joints;
-  for (const auto& line : lines) line_joints.push_back(line.joints);
   double v3_before = -1.0, v3_after = -1.0;
-  if (!line_joints.empty()) {
-    const auto& mechanism = *result.model.mechanism;
-    const auto b = mech::straightnessCriterion(mechanism, initial.geometricValues(), line_joints);
-    const auto a = mech::straightnessCriterion(mechanism, result.model.geometricValues(), line_joints);
-    if (!a.ok) throw std::runtime_error(args.lines + ": " + a.message + " (identified model)");
-    v3_before = b.ok ? b.v3_m : std::nan("");
-    v3_after = a.v3_m;
-  }
-
   std::optional<mech::MonteCarloStudy> study;
+};
+
+Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& inputs, const InitialModel& initial,
+                          const mech::IdentificationResult& result) {
+  const auto& poses = inputs.observations.poses;
+  Criteria criteria;
+  for (const auto& line : inputs.lines) criteria.line_joints.push_back(line.joints);
+  if (!criteria.line_joints.empty()) {
+    const auto& mechanism = *result.model.mechanism;
+    const auto b = mech::straightnessCriterion(mechanism, initial.model.geometricValues(), criteria.line_joints);
+    const auto a = mech::straightnessCriterion(mechanism, result.model.geometricValues(), criteria.line_joints);
+    if (!a.ok) throw std::runtime_error(args.lines + ": " + a.message + " (identified model)");
+    criteria.v3_before = b.ok ? b.v3_m : std::nan("");
+    criteria.v3_after = a.v3_m;
+  }
   if (!args.mc.empty()) {
+    const mech::IdentificationModel& start = initial.model;
     mech::MonteCarloOptions mc;
-    mc.subset_sizes = parseSubsetSizes(args.mc, initial.mechanism->jointCount(), initial.parameters.freeCount(), poses.size());
+    mc.subset_sizes = parseSubsetSizes(args.mc, start.mechanism->jointCount(), start.parameters.freeCount(), poses.size());
     mc.repeats = args.mc_repeats;
     mc.seed = args.mc_seed;
     mc.threads = args.threads;
-    mc.identification = options;
+    mc.identification = inputs.options;
     support::Progress progress("Monte-Carlo identifications", mc.subset_sizes.size() * static_cast<std::size_t>(mc.repeats));
     mc.on_run_done = [&progress] { progress.advance(); };
-    study = mech::runMonteCarloStudy(initial, poses, line_joints, mc);
+    criteria.study = mech::runMonteCarloStudy(start, poses, criteria.line_joints, mc);
     progress.finish();
   }
+  return criteria;
+}
 
-  // ---- human summary (mm, deg) ----
-  std::ostringstream out;
+// The fit's quality: poses, residual RMS before and after, conditioning, χ², σ method,
+// outliers and gauge.
+void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, double rms_before,
+                     const mech::IdentificationResult& result, std::ostream& out) {
   const bool weighted = result.weighted;
-  out << "poses: " << poses.size() << (weighted ? " (weighted by their measured covariances)" : " (unweighted)")
-      << "; model " << label << "; " << result.free_names.size() << " free parameters\n";
-  if (!observations.unused_joint_ids.empty())
-    out << "joints without a measured pose (ignored): " << observations.unused_joint_ids.size() << "\n";
-  const double rms_before = rmsOf(before), rms_after = result.rms_joint_residual;
+  out << "poses: " << inputs.observations.poses.size()
+      << (weighted ? " (weighted by their measured covariances)" : " (unweighted)") << "; model " << initial.label
+      << "; " << result.free_names.size() << " free parameters\n";
+  if (!inputs.observations.unused_joint_ids.empty())
+    out << "joints without a measured pose (ignored): " << inputs.observations.unused_joint_ids.size() << "\n";
+  const double rms_after = result.rms_joint_residual;
   char line[256];
   std::snprintf(line, sizeof line, "joint residual RMS: before %.4f deg (%.3e rad), after %.4f deg (%.3e rad)\n",
                 rms_before * kRadToDeg, rms_before, rms_after * kRadToDeg, rms_after);
@@ -316,98 +354,148 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   out << line;
   std::snprintf(line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(),
                 result.covariance_scale2,
-                shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
+                inputs.shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
   out << line;
   if (!result.outliers.empty()) {
     out << "outlier poses:";
     for (const auto& id : result.outliers) out << ' ' << id;
     out << "\n";
   }
-  if (gauge) out << gauge->text();
+  if (initial.gauge) out << initial.gauge->text();
+}
+
+// One row per parameter: initial, identified, σ and change, in display units.
+void writeParameterTable(const InitialModel& initial, const mech::IdentificationResult& result, std::ostream& out) {
+  char line[256];
   out << "parameter      unit    initial        identified     sigma          change\n";
   for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
     const auto& p = result.model.parameters[i];
-    const double start = initial.parameters[i].value;
+    const double start = initial.model.parameters[i].value;
     std::snprintf(line, sizeof line, "%-14s %-5s %s %s %s %s%s\n", p.name.c_str(), mech::displayUnitName(p.unit).c_str(),
                   human(p, start).c_str(), human(p, p.value).c_str(),
                   p.fixed ? "       (fixed)" : human(p, result.sigma[static_cast<Eigen::Index>(i)]).c_str(),
                   human(p, p.value - start).c_str(), "");
     out << line;
   }
-  if (v3_after >= 0.0) {
-    std::snprintf(line, sizeof line, "straightness V3 (%zu lines): before %.4f mm, after %.4f mm\n", lines.size(),
-                  v3_before * 1e3, v3_after * 1e3);
+}
+
+// The Monte-Carlo study: the criteria per subset size, then each free parameter's spread.
+void writeStudySummary(const IdentifyArguments& args, const Criteria& criteria,
+                       const mech::IdentificationResult& result, std::ostream& out) {
+  const mech::MonteCarloStudy& study = *criteria.study;
+  char line[256];
+  std::snprintf(line, sizeof line, "Monte-Carlo study: %d repeats per size, %.2f s\n", args.mc_repeats, study.seconds);
+  out << line;
+  for (const auto& s : study.summaries) {
+    std::snprintf(line, sizeof line, "  %3d poses: %d ok, %d failed; V1 %+.4f ± %.4f deg, V2 %.4f ± %.4f deg",
+                  s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean * kRadToDeg, s.v1_sigma * kRadToDeg,
+                  s.v2_mean * kRadToDeg, s.v2_sigma * kRadToDeg);
+    out << line;
+    if (criteria.line_joints.empty()) {
+      out << ", V3 n/a (no --lines)\n";  // never "nan ± nan"
+    } else {
+      std::snprintf(line, sizeof line, ", V3 %.4f ± %.4f mm\n", s.v3_mean * 1e3, s.v3_sigma * 1e3);
+      out << line;
+    }
+  }
+  out << "  parameter spread (sigma over the runs):\n  parameter      unit";
+  for (const auto& s : study.summaries) {
+    std::snprintf(line, sizeof line, " %10d poses", s.subset_size);
     out << line;
   }
-  if (study) {
-    std::snprintf(line, sizeof line, "Monte-Carlo study: %d repeats per size, %.2f s\n", args.mc_repeats, study->seconds);
+  out << "\n";
+  for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
+    const auto& p = result.model.parameters[i];
+    if (p.fixed) continue;
+    std::snprintf(line, sizeof line, "  %-14s %-4s", p.name.c_str(), mech::displayUnitName(p.unit).c_str());
     out << line;
-    for (const auto& s : study->summaries) {
-      std::snprintf(line, sizeof line, "  %3d poses: %d ok, %d failed; V1 %+.4f ± %.4f deg, V2 %.4f ± %.4f deg",
-                    s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean * kRadToDeg, s.v1_sigma * kRadToDeg,
-                    s.v2_mean * kRadToDeg, s.v2_sigma * kRadToDeg);
-      out << line;
-      if (line_joints.empty()) {
-        out << ", V3 n/a (no --lines)\n";  // never "nan ± nan"
-      } else {
-        std::snprintf(line, sizeof line, ", V3 %.4f ± %.4f mm\n", s.v3_mean * 1e3, s.v3_sigma * 1e3);
-        out << line;
-      }
-    }
-    out << "  parameter spread (sigma over the runs):\n  parameter      unit";
-    for (const auto& s : study->summaries) {
-      std::snprintf(line, sizeof line, " %10d poses", s.subset_size);
+    for (const auto& s : study.summaries) {
+      std::snprintf(line, sizeof line, " %16.5f", mech::toDisplay(p.unit, s.sigma[static_cast<Eigen::Index>(i)]));
       out << line;
     }
     out << "\n";
-    for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
-      const auto& p = result.model.parameters[i];
-      if (p.fixed) continue;
-      std::snprintf(line, sizeof line, "  %-14s %-4s", p.name.c_str(), mech::displayUnitName(p.unit).c_str());
-      out << line;
-      for (const auto& s : study->summaries) {
-        std::snprintf(line, sizeof line, " %16.5f", mech::toDisplay(p.unit, s.sigma[static_cast<Eigen::Index>(i)]));
-        out << line;
-      }
-      out << "\n";
-    }
   }
+}
 
-  // ---- outputs (only now: every computation succeeded) ----
+// What the stages computed, for the summary and the outputs.
+struct IdentifyRun {
+  ModelChoice choice;
+  IdentifyInputs inputs;
+  InitialModel initial;
+  std::vector<mech::PoseResidual> before;  // q̄ − f per pose, initial model
+  mech::IdentificationResult result;
+  Criteria criteria;
+};
+
+// The human summary (mm, deg) printed and repeated in the report.
+std::string summaryText(const IdentifyArguments& args, const IdentifyRun& run) {
+  const Criteria& criteria = run.criteria;
+  std::ostringstream out;
+  writeFitSummary(run.inputs, run.initial, rmsOf(run.before), run.result, out);
+  writeParameterTable(run.initial, run.result, out);
+  if (criteria.v3_after >= 0.0) {
+    char line[256];
+    std::snprintf(line, sizeof line, "straightness V3 (%zu lines): before %.4f mm, after %.4f mm\n",
+                  run.inputs.lines.size(), criteria.v3_before * 1e3, criteria.v3_after * 1e3);
+    out << line;
+  }
+  if (criteria.study) writeStudySummary(args, criteria, run.result, out);
+  return out.str();
+}
+
+// All or nothing (doc/robustness.md): the parameters, their covariance side file, then the
+// report; written only now that every computation succeeded.
+void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& command_line, const IdentifyRun& run,
+                          const std::string& summary) {
+  const mech::IdentificationResult& result = run.result;
+  const InitialModel& initial = run.initial;
   std::vector<std::pair<std::string, std::string>> metadata{
-      {"model", model},
-      {"variant", letter ? std::string(1, letter) : std::string("-")},
+      {"model", run.choice.model},
+      {"variant", run.choice.letter ? std::string(1, run.choice.letter) : std::string("-")},
       {"external_form", mech::externalFormName(result.model.external.form())},
-      {"poses", std::to_string(poses.size())},
-      {"rms_joint_residual_rad", std::to_string(rms_after)},
+      {"poses", std::to_string(run.inputs.observations.poses.size())},
+      {"rms_joint_residual_rad", std::to_string(result.rms_joint_residual)},
       {"condition_number", std::to_string(result.identifiability.condition_number)},
       {"created_by", "mire identify"}};
   IdentifyReportData data;
   if (!args.report.empty()) {
     data.command_line = command_line;
-    data.model_label = label;
-    data.residuals_before = before;
+    data.model_label = initial.label;
+    data.residuals_before = run.before;
     data.residuals_after = result.poses;
     data.result = result;
-    data.initial = initial.parameters;
-    data.v3_before_m = v3_before;
-    data.v3_after_m = v3_after;
-    data.study = study ? &*study : nullptr;
-    data.summary_text = out.str();
+    data.initial = initial.model.parameters;
+    data.v3_before_m = run.criteria.v3_before;
+    data.v3_after_m = run.criteria.v3_after;
+    data.study = run.criteria.study ? &*run.criteria.study : nullptr;
+    data.summary_text = summary;
   }
-  // All or nothing (doc/robustness.md): the parameters, their covariance side file, then the report.
-  const mech::PredictionModel prediction = mech::predictionModelFrom(model, result);
+  const mech::PredictionModel prediction = mech::predictionModelFrom(run.choice.model, result);
   const fs::path covariance_output = mech::defaultParameterCovariancePath(args.output);
   support::OutputTransaction outputs;
   mech::writePredictionCovarianceCsv(outputs.stageFile(covariance_output), prediction);
   mech::writeParameterFile(outputs.stageFile(args.output), result.model.parameters, result.sigma, metadata,
-                           "Identified by mire identify (" + label + ") from " + args.poses + " and " + args.joints +
-                               "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");
+                           "Identified by mire identify (" + initial.label + ") from " + args.poses + " and " +
+                               args.joints + "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");
   if (!args.report.empty()) writeIdentifyReport(outputs.stageFolder(args.report), data);
   outputs.commit();
-  std::cout << out.str() << "wrote " << args.output << ", " << covariance_output.string()
+  std::cout << summary << "wrote " << args.output << ", " << covariance_output.string()
             << " (full parameter covariance)" << (args.report.empty() ? "" : " and the report in " + args.report)
             << "\n";
+}
+
+// Stages: paths and model choice, inputs, initial model, the fit, the criteria, the summary,
+// then the outputs.
+int runIdentify(const IdentifyArguments& args, const std::string& command_line) {
+  checkPaths(args);
+  IdentifyRun run;
+  run.choice = chooseModel(args);
+  run.inputs = readIdentifyInputs(args, run.choice);
+  run.initial = initialModel(run.choice, run.inputs);
+  run.before = residualsOf(run.initial.model, run.inputs.observations.poses);
+  run.result = identifyModel(run.choice, run.inputs, run.initial);
+  run.criteria = evaluateCriteria(args, run.inputs, run.initial, run.result);
+  writeIdentifyOutputs(args, command_line, run, summaryText(args, run));
   return kOk;
 }
 

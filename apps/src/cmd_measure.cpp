@@ -15,6 +15,7 @@
 #include "mire/metrology/shared_term_csv.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -44,12 +45,7 @@ struct MeasureSettings {
   std::string split_moving = "fail";  // static-pose integrity: fail | keep-largest
 };
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
+using support::median;
 
 void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
   std::vector<std::vector<double>> total(6), noise(6);

@@ -17,6 +17,7 @@
 #include "mire/metrology/shared_term_csv.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/progress.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -42,11 +43,7 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
+using support::upperMedian;
 
 // Stage 2: detection on every image (parallel), then the bundle adjustment.
 calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const metrology::Target& target,
@@ -113,8 +110,8 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
   summary.total = static_cast<int>(measurements.size());
   const double n = static_cast<double>(measured.size());
   for (int k = 0; k < 3; ++k) {
-    summary.median_sigma_mm[k] = 1e3 * median(sigma[k]);
-    summary.median_sigma_deg[k] = 180.0 / kPi * median(sigma[k + 3]);
+    summary.median_sigma_mm[k] = 1e3 * upperMedian(sigma[k]);
+    summary.median_sigma_deg[k] = 180.0 / kPi * upperMedian(sigma[k + 3]);
     summary.rms_error_mm[k] = 1e3 * std::sqrt(squared_error[k] / n);
     summary.rms_error_deg[k] = 180.0 / kPi * std::sqrt(squared_error[k + 3] / n);
   }
@@ -195,74 +192,74 @@ void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& cam
   results.outlier_count = result.outliers.size();
 }
 
-// Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
-void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campaign, const fs::path& output,
-                   DemoResults& results) {
-  const fs::path poses_csv = output / "poses.csv";
-  const auto observations = mechanism::readObservations(poses_csv, campaign.joints_file(),
-                                                        metrology::covarianceSidePath(poses_csv));
-  const auto& poses = observations.poses;
-  const auto lines = lineJoints(campaign.lines_file());
-  const mechanism::H4Nominal nominal;
-  const mechanism::IdentificationOptions identification;
+// What every step of stage 4 shares: the observations, the recorded lines, Table 3's split
+// (one random set of 71 poses identifies, the other poses validate), the nominal and options.
+struct IdentificationData {
+  std::vector<mechanism::PoseObservation> poses;
+  std::vector<std::vector<Eigen::VectorXd>> lines;
+  std::vector<mechanism::PoseObservation> subset, validation;
+  std::size_t train = 0;
+  mechanism::H4Nominal nominal;
+  mechanism::IdentificationOptions identification;
+};
 
-  // Before identification: nominal geometry, external parameters estimated from the data.
-  const auto initial = mechanism::makeH4VariantModel('D', nominal, poses, identification);
-  const auto before = mechanism::jointResidualCriteria(initial, poses);
-  results.nominal_v1_rad = before.v1_rad;
-  results.nominal_v2_rad = before.v2_rad;
-  results.nominal_v3_m = mechanism::straightnessCriterion(*initial.mechanism, initial.geometricValues(), lines).v3_m;
-  results.true_v3_m = trueStraightness(campaign, lines);
-
-  // Table 3: every variant on one random set of 71 poses, the other poses validate.
-  std::vector<mechanism::PoseObservation> shuffled = poses;
+IdentificationData identificationData(const DemoOptions& options, const datasets::H4Campaign& campaign,
+                                      const fs::path& poses_csv) {
+  IdentificationData data;
+  data.poses = mechanism::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv))
+                   .poses;
+  data.lines = lineJoints(campaign.lines_file());
+  std::vector<mechanism::PoseObservation> shuffled = data.poses;
   std::mt19937_64 rng(options.seed);
   std::shuffle(shuffled.begin(), shuffled.end(), rng);
-  const std::size_t train = std::min<std::size_t>(71, poses.size() - 1);
-  const std::vector<mechanism::PoseObservation> subset(shuffled.begin(), shuffled.begin() + train);
-  const std::vector<mechanism::PoseObservation> validation(shuffled.begin() + train, shuffled.end());
-  results.variant_sets = options.quick ? 4 : 25;
-  const std::string letters = "ABCDEFGH";
-  support::Progress progress("identification: variants A-H", letters.size());
-  for (const char letter : letters) {
-    DemoVariant row;
-    row.letter = letter;
-    try {
-      const auto identified = mechanism::identifyH4Variant(letter, nominal, subset, identification);
-      row.free_parameters = static_cast<int>(identified.free_names.size());
-      row.cond = identified.identifiability.condition_number;
-      const auto criteria = mechanism::jointResidualCriteria(identified.model, validation);
-      row.v1_rad = criteria.v1_rad;
-      row.v2_rad = criteria.v2_rad;
-      row.v3_m = mechanism::straightnessCriterion(*identified.model.mechanism, identified.model.geometricValues(), lines).v3_m;
-      // Fig. 11: mean V3 over repeated random sets of 71 poses.
-      mechanism::MonteCarloOptions study;
-      study.subset_sizes = {static_cast<int>(train)};
-      study.repeats = results.variant_sets;
-      study.seed = options.seed + static_cast<std::uint64_t>(letter);
-      study.identification = identification;
-      const auto model = mechanism::makeH4VariantModel(letter, nominal, poses, identification);
-      row.v3_mean_m = mechanism::runMonteCarloStudy(model, poses, lines, study).summaries.front().v3_mean;
-    } catch (const std::exception& e) {
-      row.error = e.what();
-      std::cerr << "mire demo: variant " << letter << ": " << e.what() << "\n";
-    }
-    results.variants.push_back(row);
-    progress.advance();
-  }
-  progress.finish();
+  data.train = std::min<std::size_t>(71, data.poses.size() - 1);
+  data.subset.assign(shuffled.begin(), shuffled.begin() + static_cast<std::ptrdiff_t>(data.train));
+  data.validation.assign(shuffled.begin() + static_cast<std::ptrdiff_t>(data.train), shuffled.end());
+  return data;
+}
 
-  // Pose-count study (paper §6.2): 6, 15, 71 poses, repeated.
+// One row of Table 3: the variant identified on the subset, validated on the other poses,
+// and Fig. 11's mean V3 over repeated random sets of 71 poses.
+DemoVariant identifyVariant(char letter, const DemoOptions& options, const IdentificationData& data, int sets) {
+  DemoVariant row;
+  row.letter = letter;
+  try {
+    const auto identified = mechanism::identifyH4Variant(letter, data.nominal, data.subset, data.identification);
+    row.free_parameters = static_cast<int>(identified.free_names.size());
+    row.cond = identified.identifiability.condition_number;
+    const auto criteria = mechanism::jointResidualCriteria(identified.model, data.validation);
+    row.v1_rad = criteria.v1_rad;
+    row.v2_rad = criteria.v2_rad;
+    row.v3_m = mechanism::straightnessCriterion(*identified.model.mechanism, identified.model.geometricValues(),
+                                                data.lines)
+                   .v3_m;
+    mechanism::MonteCarloOptions study;
+    study.subset_sizes = {static_cast<int>(data.train)};
+    study.repeats = sets;
+    study.seed = options.seed + static_cast<std::uint64_t>(letter);
+    study.identification = data.identification;
+    const auto model = mechanism::makeH4VariantModel(letter, data.nominal, data.poses, data.identification);
+    row.v3_mean_m = mechanism::runMonteCarloStudy(model, data.poses, data.lines, study).summaries.front().v3_mean;
+  } catch (const std::exception& e) {
+    row.error = e.what();
+    std::cerr << "mire demo: variant " << letter << ": " << e.what() << "\n";
+  }
+  return row;
+}
+
+// Pose-count study (paper §6.2): 6, 15, 71 poses, repeated.
+void poseCountStudy(const DemoOptions& options, const IdentificationData& data,
+                    const mechanism::IdentificationModel& initial, DemoResults& results) {
   results.pose_count_repeats = options.quick ? 20 : 100;
   mechanism::MonteCarloOptions study;
-  study.subset_sizes = {6, 15, static_cast<int>(train)};
+  study.subset_sizes = {6, 15, static_cast<int>(data.train)};
   study.repeats = results.pose_count_repeats;
   study.seed = options.seed;
-  study.identification = identification;
+  study.identification = data.identification;
   support::Progress study_progress("identification: pose-count study",
                                    study.subset_sizes.size() * static_cast<std::size_t>(study.repeats));
   study.on_run_done = [&study_progress] { study_progress.advance(); };
-  const auto counts = mechanism::runMonteCarloStudy(initial, poses, lines, study);
+  const auto counts = mechanism::runMonteCarloStudy(initial, data.poses, data.lines, study);
   study_progress.finish();
   const Eigen::VectorXd& sigma_six = counts.summaries.front().sigma;
   for (const auto& summary : counts.summaries) {
@@ -277,13 +274,40 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
     std::vector<double> ratios;
     for (Eigen::Index k = 0; k < summary.sigma.size(); ++k)
       if (sigma_six[k] > 0.0) ratios.push_back(summary.sigma[k] / sigma_six[k]);
-    row.median_parameter_sigma_ratio = median(ratios);
+    row.median_parameter_sigma_ratio = upperMedian(ratios);
     results.pose_counts.push_back(row);
   }
+}
+
+// Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
+void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campaign, const fs::path& output,
+                   DemoResults& results) {
+  const fs::path poses_csv = output / "poses.csv";
+  const IdentificationData data = identificationData(options, campaign, poses_csv);
+  const auto& poses = data.poses;
+
+  // Before identification: nominal geometry, external parameters estimated from the data.
+  const auto initial = mechanism::makeH4VariantModel('D', data.nominal, poses, data.identification);
+  const auto before = mechanism::jointResidualCriteria(initial, poses);
+  results.nominal_v1_rad = before.v1_rad;
+  results.nominal_v2_rad = before.v2_rad;
+  results.nominal_v3_m = mechanism::straightnessCriterion(*initial.mechanism, initial.geometricValues(), data.lines).v3_m;
+  results.true_v3_m = trueStraightness(campaign, data.lines);
+
+  // Table 3: every variant on one random set of 71 poses, the other poses validate.
+  results.variant_sets = options.quick ? 4 : 25;
+  const std::string letters = "ABCDEFGH";
+  support::Progress progress("identification: variants A-H", letters.size());
+  for (const char letter : letters) {
+    results.variants.push_back(identifyVariant(letter, options, data, results.variant_sets));
+    progress.advance();
+  }
+  progress.finish();
+  poseCountStudy(options, data, initial, results);
 
   // Square test (paper §6.4): the controller runs model 12 with nominal, then identified (D,
   // all poses) parameters; the TRUE robot draws the square.
-  const auto identified_d = identifyWithSharedTerm(poses, poses_csv, identification);
+  const auto identified_d = identifyWithSharedTerm(poses, poses_csv, data.identification);
   scoreIdentified(options, campaign, identified_d, results);
   mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
                                 {{"model", "h4-12"}, {"variant", "D"}}, "H4 model 12, variant D, identified by mire demo");

@@ -41,17 +41,23 @@ std::string percent(double after, double before) {
   return before > 0.0 ? format("%+.0f %%", 100.0 * (after - before) / before) : "n/a";
 }
 
-}  // namespace
+// The figures' data, gathered while the tables are written.
+struct DemoCharts {
+  std::vector<std::string> letters;  // one per variant
+  Series mire_v3{"mire: mean V3 (mm)", {}, seriesColour(0)};
+  Series paper_v3{"paper: V3 (mm)", {}, seriesColour(1)};
+  std::vector<double> sizes;  // pose counts of the study
+  Series v2_series{"V2 (mrad)", {}, seriesColour(0)};
+  Series v3_series{"V3 (mm)", {}, seriesColour(1)};
+};
 
-std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& r) {
-  std::ostringstream md;
+void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::ostream& md) {
   double total_seconds = 0.0;
   const StageTiming* slowest = nullptr;
   for (const auto& t : r.timings) {
     total_seconds += t.seconds;
     if (slowest == nullptr || t.seconds > slowest->seconds) slowest = &t;
   }
-
   md << "# mire demo: the H4 experiment of Renaud et al. (2004), in simulation\n\n"
      << "A simulated H4 (nominal geometry of BRIEF §4 with manufacturing errors of the paper's magnitude, 1σ 5 mm on "
         "lengths, 2° on pivot angles, 5° on encoder offsets, and defects model 12 cannot represent: per-leg lengths, non-coplanar pivots, tilted axes, imperfect parallelograms) carries a "
@@ -63,8 +69,10 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   for (const auto& t : r.timings) md << "| " << t.name << " | " << fixed(t.seconds, 1) << " |\n";
   md << "| **total** | **" << fixed(total_seconds, 1) << "** |\n\n";
   if (slowest != nullptr) md << "Dominated by: " << slowest->name << ".\n\n";
+}
 
-  // 1. Calibration.
+// 1. Calibration.
+void writeCalibrationSection(const DemoResults& r, std::ostream& md) {
   const auto& c = r.calibration;
   md << "## 1. Camera calibration (`camera.yaml`)\n\n" << c.views_used << " of " << c.views_total
      << " views used, RMS " << fixed(c.rms_px, 3) << " px; projection uncertainty "
@@ -75,8 +83,10 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
     md << "| " << c.names[i] << " | " << format("%.6g", c.estimate[i]) << " | " << format("%.2g", sigma) << " | "
        << format("%.6g", c.truth[i]) << " | " << fixed((c.estimate[i] - c.truth[i]) / sigma, 2) << " |\n";
   }
+}
 
-  // 2. Measurement.
+// 2. Measurement.
+void writeMeasurementSection(const DemoResults& r, std::ostream& md) {
   const auto& m = r.measurement;
   md << "\n## 2. Pose measurement (`poses.csv`), paper §5: about 0.2 mm and 0.03° per component\n\n"
      << m.measured << " of " << m.total << " poses measured. Predicted σ (median over poses, pixel noise and "
@@ -90,8 +100,10 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   for (int k = 0; k < 3; ++k) md << " " << fixed(m.rms_error_deg[k], 4) << " |";
   md << "\n| paper | 0.2 | 0.2 | 0.2 | 0.03 | 0.03 | 0.03 |\n\nRMS of error/σ over all components: "
      << fixed(m.normalized_error_std, 2) << " (1 means the σ are honest).\n";
+}
 
-  // 3. Identification.
+// 3. Identification: criteria before, then Tables 1 and 3 per variant (and Fig. 11's data).
+void writeVariantSection(const DemoResults& r, std::ostream& md, DemoCharts* charts) {
   md << "\n## 3. Identification\n\nBefore identification (nominal geometry, external parameters estimated from "
         "the data): V1 = " << sci(r.nominal_v1_rad) << " rad, V2 = " << sci(r.nominal_v2_rad)
      << " rad, V3 = " << fixed(1e3 * r.nominal_v3_m, 3) << " mm. The true robot's own straightness along the "
@@ -104,15 +116,12 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
         "257 for model 12 and 421 / 1900 for model 31 without / with d, on 100 random poses).\n\n"
      << "| variant | parameters | cond | V1 (rad) | V2 (rad) | V3 (mm) | mean V3 over " << r.variant_sets
      << " sets (mm) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
-  std::vector<std::string> letters;
-  Series mire_v3{"mire: mean V3 (mm)", {}, seriesColour(0)};
-  Series paper_v3{"paper: V3 (mm)", {}, seriesColour(1)};
   for (std::size_t i = 0; i < r.variants.size(); ++i) {
     const auto& v = r.variants[i];
     const auto& p = kPaperTable3[i % 8];
-    letters.emplace_back(1, v.letter);
-    mire_v3.values.push_back(v.error.empty() ? 1e3 * v.v3_mean_m : NAN);
-    paper_v3.values.push_back(1e3 * p.v3);
+    charts->letters.emplace_back(1, v.letter);
+    charts->mire_v3.values.push_back(v.error.empty() ? 1e3 * v.v3_mean_m : NAN);
+    charts->paper_v3.values.push_back(1e3 * p.v3);
     if (!v.error.empty()) {
       md << "| " << v.letter << " | failed: " << v.error << " | | | | | |\n";
       continue;
@@ -123,26 +132,28 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
        << "] | " << fixed(1e3 * v.v3_mean_m, 3) << " |\n";
   }
   md << "\n![V3 per variant](fig11_v3_per_variant.png)\n";
+}
 
+// The pose-count study of §6.2 (and its figure's data).
+void writePoseCountSection(const DemoResults& r, std::ostream& md, DemoCharts* charts) {
   md << "\n### Pose-count study (paper §6.2): model 12 (variant D), " << r.pose_count_repeats
      << " random subsets per size, the other poses validate\n\n"
      << "| poses | runs ok | V1 mean (rad) | V2 mean ± σ (rad) | V2 vs nominal | V3 mean ± σ (mm) | V3 vs nominal | "
         "parameter σ / σ(6 poses) (median) |\n| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
-  std::vector<double> sizes;
-  Series v2_series{"V2 (mrad)", {}, seriesColour(0)};
-  Series v3_series{"V3 (mm)", {}, seriesColour(1)};
   for (const auto& row : r.pose_counts) {
     md << "| " << row.size << " | " << row.runs_ok << " | " << sci(row.v1_mean) << " | " << sci(row.v2_mean) << " ± "
        << sci(row.v2_sigma) << " | " << percent(row.v2_mean, r.nominal_v2_rad) << " | " << fixed(1e3 * row.v3_mean, 3)
        << " ± " << fixed(1e3 * row.v3_sigma, 3) << " | " << percent(row.v3_mean, r.nominal_v3_m) << " | "
        << fixed(row.median_parameter_sigma_ratio, 2) << " |\n";
-    sizes.push_back(row.size);
-    v2_series.values.push_back(1e3 * row.v2_mean);
-    v3_series.values.push_back(1e3 * row.v3_mean);
+    charts->sizes.push_back(row.size);
+    charts->v2_series.values.push_back(1e3 * row.v2_mean);
+    charts->v3_series.values.push_back(1e3 * row.v3_mean);
   }
   md << "\nPaper, 15 poses: V2 −98 %, V3 −68 % (1.8 mm → 0.56 mm); parameter σ divided by about 3 from 6 to 15 "
         "poses, then about −30 % to 71.\n\n![pose-count study](pose_count_study.png)\n";
+}
 
+void writeIdentifiedSection(const DemoResults& r, std::ostream& md) {
   md << "\n### Identified parameters against the simulator's truth (variant D, all poses)\n\n"
      << "χ²/dof of the weighted fit " << fixed(r.chi2_per_dof, 2) << ", outlier poses: " << r.outlier_count
      << "; printed σ: " << r.sigma_method << " (doc/uncertainty.md). Truth: the true robot's model-12 part "
@@ -151,7 +162,9 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   for (const auto& p : r.identified)
     md << "| " << p.name << " | " << p.unit << " | " << format("%.5f", p.estimate) << " | " << format("%.2g", p.sigma)
        << " | " << format("%.5f", p.truth) << " | " << fixed((p.estimate - p.truth) / p.sigma, 2) << " |\n";
+}
 
+void writeSquareSection(const DemoResults& r, std::ostream& md) {
   md << "\n### Table 4: square test (100 mm square at constant z, side error in mm)\n\n"
      << "The controller runs model 12 with the nominal, then the identified (variant D, all poses) parameters; "
         "the simulated true robot draws the square.\n\n| | side 1 | side 2 | side 3 | side 4 |\n"
@@ -165,13 +178,14 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   for (const double e : kPaperSquareAfter) md << " " << fixed(e, 1) << " |";
   md << "\n\n![square test](square_test.png)\n\nFiles: `camera.yaml`, `poses.csv`, `poses_covariance.csv`, "
         "`identified_D.yaml`; the simulated campaign under `campaign/` (its truth under `campaign/truth/`).\n";
+}
 
-  const auto& out = options.output;
-  writePng(out / "fig11_v3_per_variant.png",
-           barChart("Fig. 11: straightness V3 per identified model", "V3 (mm)", letters, {mire_v3, paper_v3}));
+void writeDemoFigures(const std::filesystem::path& out, const DemoResults& r, const DemoCharts& charts) {
+  writePng(out / "fig11_v3_per_variant.png", barChart("Fig. 11: straightness V3 per identified model", "V3 (mm)",
+                                                      charts.letters, {charts.mire_v3, charts.paper_v3}));
   writePng(out / "pose_count_study.png",
            lineChart("Pose-count study (model 12, variant D)", "poses used for identification", "mean",
-                     sizes, {v2_series, v3_series}));
+                     charts.sizes, {charts.v2_series, charts.v3_series}));
   Series before{"nominal parameters", {}, seriesColour(3)};
   Series after{"identified parameters", {}, seriesColour(2)};
   for (int k = 0; k < 4; ++k) {
@@ -180,7 +194,23 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   }
   writePng(out / "square_test.png", barChart("Square test: |side error| of a 100 mm square", "|error| (mm)",
                                              {"side 1", "side 2", "side 3", "side 4"}, {before, after}));
-  support::writeFileAtomically(out / "report.md", md.str());
+}
+
+}  // namespace
+
+// The report section by section, then the figures, then report.md.
+std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& r) {
+  std::ostringstream md;
+  DemoCharts charts;
+  writeIntroduction(options, r, md);
+  writeCalibrationSection(r, md);
+  writeMeasurementSection(r, md);
+  writeVariantSection(r, md, &charts);
+  writePoseCountSection(r, md, &charts);
+  writeIdentifiedSection(r, md);
+  writeSquareSection(r, md);
+  writeDemoFigures(options.output, r, charts);
+  support::writeFileAtomically(options.output / "report.md", md.str());
   return {"report.md", "fig11_v3_per_variant.png", "pose_count_study.png", "square_test.png", "camera.yaml",
           "poses.csv", "poses_covariance.csv", "identified_D.yaml"};
 }

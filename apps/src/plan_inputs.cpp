@@ -40,6 +40,13 @@ mech::H4Nominal h4NominalFrom(const mech::ParameterSet& g, const mech::Parameter
   return n;
 }
 
+// Model-12 values of an H4 parameter file; mounting keys (an identified file's) are ignored.
+mech::H4Nominal h4NominalFromFile(const mech::ParameterFile& file) {
+  mech::ParameterSet g = mech::h4Model12Parameters(mech::H4Nominal{});
+  mech::applyParameterFile(file, g, mountingKeys());
+  return h4NominalFrom(g, file);
+}
+
 mech::Interval interval(const support::YamlNode& map, const std::string& key, double scale) {
   const support::YamlNode node = map.at(key);
   const std::vector<double> v = node.asDoubles({-1e3, 1e3});
@@ -50,15 +57,15 @@ mech::Interval interval(const support::YamlNode& map, const std::string& key, do
 
 }  // namespace
 
+mech::H4Nominal readH4Nominal(const std::filesystem::path& path) {
+  return h4NominalFromFile(mech::readParameterFile(path));
+}
+
 mech::DesignModel readDesignModel(const std::string& name, const std::filesystem::path& nominal_yaml) {
   mech::makeRegisteredModel(name);  // "unknown model 'x' (known: ...)"
   if (nominal_yaml.empty()) return mech::makeDesignModel(name);
   const mech::ParameterFile file = mech::readParameterFile(nominal_yaml);
-  if (isH4(name)) {
-    mech::ParameterSet g = mech::h4Model12Parameters(mech::H4Nominal{});
-    mech::applyParameterFile(file, g, mountingKeys());
-    return mech::makeDesignModel(name, h4NominalFrom(g, file));
-  }
+  if (isH4(name)) return mech::makeDesignModel(name, h4NominalFromFile(file));
   mech::DesignModel model = mech::makeDesignModel(name);
   mech::applyParameterFile(file, model.registered.nominal, mountingKeys());
   return model;

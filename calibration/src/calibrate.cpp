@@ -1,5 +1,6 @@
 // Camera calibration by bundle adjustment (see calibrate.hpp for the pipeline).
 #include "mire/calibration/calibrate.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
@@ -206,10 +207,7 @@ double robustSigma(const std::vector<CalibrationView>& views, const State& state
   for (std::size_t v = 0; v < views.size(); ++v)
     for (std::size_t k = 0; k < views[v].ids.size(); ++k)
       if (state.view_active[v] && state.inlier[v][k] && residuals[v][k].allFinite()) norms.push_back(residuals[v][k].norm());
-  if (norms.empty()) return 0.0;
-  const auto middle = norms.begin() + static_cast<std::ptrdiff_t>(norms.size() / 2);
-  std::nth_element(norms.begin(), middle, norms.end());
-  return *middle / std::sqrt(2.0 * std::log(2.0));
+  return support::upperMedian(std::move(norms)) / std::sqrt(2.0 * std::log(2.0));
 }
 
 // Dense Jacobian of the final (plain least-squares) problem in tangent coordinates, with the
@@ -418,13 +416,6 @@ Eigen::VectorXd viewClusterInflation(const Linearisation& linear, const Eigen::M
   return inflation;
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
 // Coverage and geometry checks: what the views do not constrain.
 void addGeometryWarnings(const std::vector<CalibrationView>& views, const State& state, int width, int height,
                          CalibrationResult* result) {
@@ -460,11 +451,10 @@ void addGeometryWarnings(const std::vector<CalibrationView>& views, const State&
                                "tilt the target by 30–45° in some views");
 }
 
-}  // namespace
-
-CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_points,
-                                  const std::vector<CalibrationView>& views, int width, int height,
-                                  const CalibrationOptions& options) {
+// Input checks that need no view: the image size, the point count and, without a guess, a
+// planar target (the initialisation's homographies need z = 0).
+void checkCalibrationInputs(const std::vector<Eigen::Vector3d>& target_points, int width, int height,
+                            const CalibrationOptions& options) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
   if (target_points.size() < 4) throw std::invalid_argument("the target needs at least 4 points");
   double extent = 0.0;
@@ -473,43 +463,44 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
     for (const auto& p : target_points)
       if (std::abs(p.z()) > 1e-9 * std::max(extent, 1e-12))
         throw std::invalid_argument("the initialisation needs a planar target (z = 0); give initial_params otherwise");
-  const int distortion_count = distortionCoefficientCount(options.model);
-  const int parameter_count = kIntrinsicCount + distortion_count;
+}
 
+// Indices into the model's parameters of options.fixed_parameters, sorted, without repeats.
+std::vector<int> fixedParameterIndices(const CalibrationOptions& options, int parameter_count) {
   Camera names_camera;
   names_camera.lens = lensOf(options.model);
   names_camera.params.assign(static_cast<std::size_t>(parameter_count), 0.0);
   const std::vector<std::string> names = names_camera.parameterNames();
-  Setup setup;
-  setup.views = &views;
-  setup.refine_target = options.refine_target;
-  setup.num_threads = std::max(1, options.num_threads);
+  std::vector<int> indices;
   for (const auto& name : options.fixed_parameters) {
     const auto found = std::find(names.begin(), names.end(), name);
     if (found == names.end())
       throw std::invalid_argument("cannot fix '" + name + "': model " + distortionModelName(options.model) +
                                   " has no such parameter");
-    setup.fixed_indices.push_back(static_cast<int>(found - names.begin()));
+    indices.push_back(static_cast<int>(found - names.begin()));
   }
-  std::sort(setup.fixed_indices.begin(), setup.fixed_indices.end());
-  setup.fixed_indices.erase(std::unique(setup.fixed_indices.begin(), setup.fixed_indices.end()), setup.fixed_indices.end());
+  std::sort(indices.begin(), indices.end());
+  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  return indices;
+}
 
-  CalibrationResult result;
-  result.model = options.model;
-  result.fixed_parameters = options.fixed_parameters;
-  result.views.resize(views.size());
+int activeViewCount(const State& state) {
+  return static_cast<int>(std::count(state.view_active.begin(), state.view_active.end(), true));
+}
 
-  // Validate and screen views.
+// Validates every view (ids in range, one pixel per id), copies it into its result, and
+// activates the views with enough points; the others get their rejection reason.
+State screenViews(const std::vector<Eigen::Vector3d>& target_points, const std::vector<CalibrationView>& views,
+                  const CalibrationOptions& options, CalibrationResult* result) {
   State state;
   state.lens = lensOf(options.model);
   state.points = target_points;
   state.view_active.assign(views.size(), false);
   state.inlier.resize(views.size());
   state.poses.assign(views.size(), Pose::Zero());
-  std::vector<int> observation_count(target_points.size(), 0);
   for (std::size_t v = 0; v < views.size(); ++v) {
     const auto& view = views[v];
-    auto& out = result.views[v];
+    auto& out = result->views[v];
     out.name = view.name;
     out.ids = view.ids;
     out.pixels = view.pixels;
@@ -527,116 +518,143 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
     }
     state.view_active[v] = true;
   }
-  {
-    const std::vector<bool> usable = state.view_active;
-    if (std::count(usable.begin(), usable.end(), true) < 3)
-      throw std::runtime_error("only " + std::to_string(std::count(usable.begin(), usable.end(), true)) +
-                               " usable views: calibration needs at least 3");
-    state.params = initialIntrinsics(target_points, views, usable, width, height, distortion_count, options);
-  }
-  // Without a guess, a fixed principal point sits at the image centre (OpenCV's convention).
+  return state;
+}
+
+// Initial intrinsics from the usable views; without a guess, a fixed principal point sits at
+// the image centre (OpenCV's convention).
+void initialiseIntrinsics(const std::vector<Eigen::Vector3d>& target_points, const std::vector<CalibrationView>& views,
+                          int width, int height, const CalibrationOptions& options,
+                          const std::vector<int>& fixed_indices, State* state) {
+  const std::vector<bool> usable = state->view_active;
+  if (std::count(usable.begin(), usable.end(), true) < 3)
+    throw std::runtime_error("only " + std::to_string(std::count(usable.begin(), usable.end(), true)) +
+                             " usable views: calibration needs at least 3");
+  state->params = initialIntrinsics(target_points, views, usable, width, height,
+                                    distortionCoefficientCount(options.model), options);
   if (!options.initial_params)
-    for (const int index : setup.fixed_indices) {
-      if (index == 2) state.params[2] = 0.5 * (width - 1);
-      if (index == 3) state.params[3] = 0.5 * (height - 1);
+    for (const int index : fixed_indices) {
+      if (index == 2) state->params[2] = 0.5 * (width - 1);
+      if (index == 3) state->params[3] = 0.5 * (height - 1);
     }
-  // Initial poses: OpenCV's PnP (IPPE for planar targets) on the rays of the initial camera,
-  // so every lens model starts the same way.
+}
+
+// Initial poses: OpenCV's PnP (IPPE for planar targets) on the rays of the initial camera,
+// so every lens model starts the same way. A view without a pose is deactivated.
+void initialisePoses(const std::vector<Eigen::Vector3d>& target_points, const std::vector<CalibrationView>& views,
+                     int width, int height, const CalibrationOptions& options, State* state,
+                     CalibrationResult* result) {
   Camera initial_camera;
   initial_camera.width = width;
   initial_camera.height = height;
-  initial_camera.lens = state.lens;
-  initial_camera.params = state.params;
+  initial_camera.lens = state->lens;
+  initial_camera.params = state->params;
   for (std::size_t v = 0; v < views.size(); ++v) {
-    if (!state.view_active[v]) continue;
-    const std::optional<Pose> pose = initialPose(initial_camera, target_points, views[v], options.initial_params.has_value());
+    if (!state->view_active[v]) continue;
+    const std::optional<Pose> pose =
+        initialPose(initial_camera, target_points, views[v], options.initial_params.has_value());
     if (!pose) {
-      state.view_active[v] = false;
-      result.views[v].rejection_reason = "initial pose (PnP) failed";
+      state->view_active[v] = false;
+      result->views[v].rejection_reason = "initial pose (PnP) failed";
       continue;
     }
-    state.poses[v] = *pose;
+    state->poses[v] = *pose;
   }
-  auto activeCount = [&] { return static_cast<int>(std::count(state.view_active.begin(), state.view_active.end(), true)); };
-  if (activeCount() < 3)
-    throw std::runtime_error("only " + std::to_string(activeCount()) + " views have an initial pose: need at least 3");
+  if (activeViewCount(*state) < 3)
+    throw std::runtime_error("only " + std::to_string(activeViewCount(*state)) +
+                             " views have an initial pose: need at least 3");
+}
 
-  // Target refinement gauge (see calibrate.hpp): first point; the farthest from it; the
-  // farthest from that line.
+// Target refinement gauge (see calibrate.hpp): first point seen in 3 views; the farthest
+// from it; the farthest from that line. Also marks the points seen often enough to refine.
+void chooseTargetGauge(const std::vector<Eigen::Vector3d>& target_points, const std::vector<CalibrationView>& views,
+                       const State& state, Setup* setup) {
+  std::vector<int> observation_count(target_points.size(), 0);
   for (std::size_t v = 0; v < views.size(); ++v)
     if (state.view_active[v])
       for (const int id : views[v].ids) ++observation_count[id];
-  setup.point_refinable.assign(target_points.size(), false);
-  for (std::size_t i = 0; i < target_points.size(); ++i) setup.point_refinable[i] = observation_count[i] >= 3;
-  if (options.refine_target) {
-    int first = -1;
-    for (std::size_t i = 0; i < target_points.size() && first < 0; ++i)
-      if (observation_count[i] >= 3) first = static_cast<int>(i);
-    if (first < 0) throw std::runtime_error("target refinement: no point is seen in 3 views");
-    int far = first;
-    for (std::size_t i = 0; i < target_points.size(); ++i)
-      if (observation_count[i] >= 3 &&
-          (target_points[i] - target_points[first]).norm() > (target_points[far] - target_points[first]).norm())
-        far = static_cast<int>(i);
-    const Eigen::Vector3d axis = (target_points[far] - target_points[first]).normalized();
-    int side = first;
-    double best = 0.0;
-    for (std::size_t i = 0; i < target_points.size(); ++i) {
-      if (observation_count[i] < 3) continue;
-      const Eigen::Vector3d d = target_points[i] - target_points[first];
-      const double distance = (d - d.dot(axis) * axis).norm();
-      if (distance > best) {
-        best = distance;
-        side = static_cast<int>(i);
-      }
+  setup->point_refinable.assign(target_points.size(), false);
+  for (std::size_t i = 0; i < target_points.size(); ++i) setup->point_refinable[i] = observation_count[i] >= 3;
+  if (!setup->refine_target) return;
+  int first = -1;
+  for (std::size_t i = 0; i < target_points.size() && first < 0; ++i)
+    if (observation_count[i] >= 3) first = static_cast<int>(i);
+  if (first < 0) throw std::runtime_error("target refinement: no point is seen in 3 views");
+  int far = first;
+  for (std::size_t i = 0; i < target_points.size(); ++i)
+    if (observation_count[i] >= 3 &&
+        (target_points[i] - target_points[first]).norm() > (target_points[far] - target_points[first]).norm())
+      far = static_cast<int>(i);
+  const Eigen::Vector3d axis = (target_points[far] - target_points[first]).normalized();
+  int side = first;
+  double best = 0.0;
+  for (std::size_t i = 0; i < target_points.size(); ++i) {
+    if (observation_count[i] < 3) continue;
+    const Eigen::Vector3d d = target_points[i] - target_points[first];
+    const double distance = (d - d.dot(axis) * axis).norm();
+    if (distance > best) {
+      best = distance;
+      side = static_cast<int>(i);
     }
-    if (far == first || side == first) throw std::runtime_error("target refinement: the seen points are collinear");
-    setup.gauge = {{first, far, side}};
   }
+  if (far == first || side == first) throw std::runtime_error("target refinement: the seen points are collinear");
+  setup->gauge = {{first, far, side}};
+}
 
-  // Pass 1: plain least squares.
-  solvePass(setup, &state, RobustLoss::None, 0.0);
-
-  // Pass 2 + rejection.
-  if (options.robust_loss != RobustLoss::None) {
-    const double sigma = std::max(robustSigma(views, state), options.min_sigma_px);
-    result.robust_scale_px = options.robust_scale_sigmas * sigma;
-    solvePass(setup, &state, options.robust_loss, result.robust_scale_px);
-    const double sigma_after = std::max(robustSigma(views, state), options.min_sigma_px);
-    const double threshold = options.outlier_threshold_sigmas * sigma_after;
-    const auto residuals = residualsOf(views, state);
-    for (std::size_t v = 0; v < views.size(); ++v) {
-      if (!state.view_active[v]) continue;
-      int kept = 0;
-      for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
-        const bool inlier = residuals[v][k].allFinite() && residuals[v][k].norm() <= threshold;
-        state.inlier[v][k] = inlier;
-        kept += inlier ? 1 : 0;
-      }
-      const int total = static_cast<int>(views[v].ids.size());
-      if (kept < options.min_points_per_view || kept < options.min_inlier_fraction * total) {
-        state.view_active[v] = false;
-        result.views[v].rejection_reason = "only " + std::to_string(kept) + " of " + std::to_string(total) +
-                                           " points within " + std::to_string(threshold) + " px";
-      }
+// Pass 2 (robust loss) and rejection: observations beyond the threshold are outliers, views
+// left with too few inliers are dropped; then the final ordinary least-squares pass on the
+// inliers (always run, so the estimate is the least-squares one whose covariance follows).
+void robustPassAndRejection(const Setup& setup, const CalibrationOptions& options, State* state,
+                            CalibrationResult* result) {
+  const auto& views = *setup.views;
+  const double sigma = std::max(robustSigma(views, *state), options.min_sigma_px);
+  result->robust_scale_px = options.robust_scale_sigmas * sigma;
+  solvePass(setup, state, options.robust_loss, result->robust_scale_px);
+  const double sigma_after = std::max(robustSigma(views, *state), options.min_sigma_px);
+  const double threshold = options.outlier_threshold_sigmas * sigma_after;
+  const auto residuals = residualsOf(views, *state);
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (!state->view_active[v]) continue;
+    int kept = 0;
+    for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
+      const bool inlier = residuals[v][k].allFinite() && residuals[v][k].norm() <= threshold;
+      state->inlier[v][k] = inlier;
+      kept += inlier ? 1 : 0;
     }
-    if (activeCount() < 3)
-      throw std::runtime_error("only " + std::to_string(activeCount()) + " views survive outlier rejection: need at least 3");
-    // Final pass: ordinary least squares on the inliers (always run, so the estimate is the
-    // least-squares one whose covariance is computed below).
-    solvePass(setup, &state, RobustLoss::None, 0.0);
+    const int total = static_cast<int>(views[v].ids.size());
+    if (kept < options.min_points_per_view || kept < options.min_inlier_fraction * total) {
+      state->view_active[v] = false;
+      result->views[v].rejection_reason = "only " + std::to_string(kept) + " of " + std::to_string(total) +
+                                          " points within " + std::to_string(threshold) + " px";
+    }
   }
+  if (activeViewCount(*state) < 3)
+    throw std::runtime_error("only " + std::to_string(activeViewCount(*state)) +
+                             " views survive outlier rejection: need at least 3");
+  solvePass(setup, state, RobustLoss::None, 0.0);
+}
 
-  // Results per view.
-  const auto residuals = residualsOf(views, state);
+// Sums over the inliers of the used views, for σ and the reports.
+struct ResidualSummary {
   double ssr = 0.0;
   int inlier_count = 0;
-  std::vector<double> distances;
+  std::vector<double> distances;  // camera to target centre, per used view
+};
+
+// Fills each view's result (pose, tilt, residuals, inlier flags, rms) and counts the rejections.
+ResidualSummary collectViewResults(const std::vector<Eigen::Vector3d>& target_points,
+                                   const std::vector<CalibrationView>& views, const State& state,
+                                   CalibrationResult* result) {
+  const auto residuals = residualsOf(views, state);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : target_points) centre += p;
+  centre /= static_cast<double>(target_points.size());
+  ResidualSummary summary;
   for (std::size_t v = 0; v < views.size(); ++v) {
-    auto& out = result.views[v];
+    auto& out = result->views[v];
     out.used = state.view_active[v];
     if (!out.used) {
-      ++result.rejected_views;
+      ++result->rejected_views;
       continue;
     }
     out.rotation = state.poses[v].head<3>();
@@ -651,99 +669,144 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
       out.residuals[k] = residuals[v][k];
       out.inlier[k] = state.inlier[v][k];
       if (!out.inlier[k]) {
-        ++result.rejected_points;
+        ++result->rejected_points;
         continue;
       }
       view_ssr += residuals[v][k].squaredNorm();
       ++view_count;
     }
     out.rms_px = std::sqrt(view_ssr / std::max(1, view_count));
-    ssr += view_ssr;
-    inlier_count += view_count;
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (const auto& p : target_points) centre += p;
-    centre /= static_cast<double>(target_points.size());
+    summary.ssr += view_ssr;
+    summary.inlier_count += view_count;
     Eigen::Vector3d camera_centre;
     ceres::AngleAxisRotatePoint(out.rotation.data(), centre.data(), camera_centre.data());
-    distances.push_back((camera_centre + out.translation).norm());
+    summary.distances.push_back((camera_centre + out.translation).norm());
   }
-  result.used_views = activeCount();
-  result.used_points = inlier_count;
+  return summary;
+}
 
-  // Covariance (see calibrate.hpp): Σ = σ² (JᵀJ)⁻¹, σ² = SSR / (2N − n_free).
-  Linearisation linear = linearise(setup, &state);
-  result.free_parameter_count = static_cast<int>(linear.jacobian.cols());
-  const int dof = 2 * inlier_count - result.free_parameter_count;
-  if (dof <= 0) throw std::runtime_error("more unknowns (" + std::to_string(result.free_parameter_count) +
-                                         ") than measurements (" + std::to_string(2 * inlier_count) + ")");
-  result.sigma_px = std::sqrt(ssr / dof);
-  const Eigen::MatrixXd normal_inverse = inverseNormalMatrix(linear.jacobian, &result.warnings);
-  const double sigma2 = result.sigma_px * result.sigma_px;
+// Tangent → ambient: column c of the tangent intrinsics is ambient index free_intrinsics[c],
+// then 6 per active view; fixed parameters get zero rows/columns.
+Eigen::MatrixXd ambientStateCovariance(const Linearisation& linear, const Eigen::MatrixXd& tangent_covariance,
+                                       int parameter_count) {
+  const int view_count = static_cast<int>(linear.active_views.size());
+  const int state_size = parameter_count + 6 * view_count;
+  std::vector<int> ambient_of_tangent;
+  for (const int index : linear.free_intrinsics) ambient_of_tangent.push_back(index);
+  for (int i = 0; i < 6 * view_count; ++i) ambient_of_tangent.push_back(parameter_count + i);
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(state_size, state_size);
+  const int tangent_state = static_cast<int>(ambient_of_tangent.size());
+  for (int r = 0; r < tangent_state; ++r)
+    for (int c = 0; c < tangent_state; ++c) covariance(ambient_of_tangent[r], ambient_of_tangent[c]) = tangent_covariance(r, c);
+  return covariance;
+}
+
+// Covariance (see calibrate.hpp): Σ = σ² (JᵀJ)⁻¹, σ² = SSR / (2N − n_free), each σ inflated
+// by the view-cluster factor when asked.
+void estimateCovariance(const Setup& setup, const ResidualSummary& summary, int parameter_count,
+                        const CalibrationOptions& options, State* state, CalibrationResult* result) {
+  const Linearisation linear = linearise(setup, state);
+  result->free_parameter_count = static_cast<int>(linear.jacobian.cols());
+  const int dof = 2 * summary.inlier_count - result->free_parameter_count;
+  if (dof <= 0) throw std::runtime_error("more unknowns (" + std::to_string(result->free_parameter_count) +
+                                         ") than measurements (" + std::to_string(2 * summary.inlier_count) + ")");
+  result->sigma_px = std::sqrt(summary.ssr / dof);
+  const Eigen::MatrixXd normal_inverse = inverseNormalMatrix(linear.jacobian, &result->warnings);
+  const double sigma2 = result->sigma_px * result->sigma_px;
   Eigen::MatrixXd tangent_covariance = sigma2 * normal_inverse;
-  result.covariance_pixel_noise = Eigen::MatrixXd::Zero(parameter_count, parameter_count);
+  result->covariance_pixel_noise = Eigen::MatrixXd::Zero(parameter_count, parameter_count);
   for (std::size_t r = 0; r < linear.free_intrinsics.size(); ++r)
     for (std::size_t c = 0; c < linear.free_intrinsics.size(); ++c)
-      result.covariance_pixel_noise(linear.free_intrinsics[r], linear.free_intrinsics[c]) =
+      result->covariance_pixel_noise(linear.free_intrinsics[r], linear.free_intrinsics[c]) =
           tangent_covariance(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
-  result.sigma_inflation.assign(static_cast<std::size_t>(parameter_count), 1.0);
+  result->sigma_inflation.assign(static_cast<std::size_t>(parameter_count), 1.0);
   if (options.view_cluster_covariance && linear.active_views.size() >= 2) {
     const Eigen::VectorXd inflation = viewClusterInflation(linear, normal_inverse, sigma2);
     tangent_covariance = inflation.asDiagonal() * tangent_covariance * inflation.asDiagonal();
     for (std::size_t c = 0; c < linear.free_intrinsics.size(); ++c)
-      result.sigma_inflation[static_cast<std::size_t>(linear.free_intrinsics[c])] = inflation(static_cast<Eigen::Index>(c));
+      result->sigma_inflation[static_cast<std::size_t>(linear.free_intrinsics[c])] =
+          inflation(static_cast<Eigen::Index>(c));
   }
-  const int view_count = static_cast<int>(linear.active_views.size());
-  const int state_size = parameter_count + 6 * view_count;
-  // Tangent → ambient: column c of the tangent intrinsics is ambient index free_intrinsics[c];
-  // fixed parameters get zero rows/columns.
-  std::vector<int> ambient_of_tangent;
-  for (const int index : linear.free_intrinsics) ambient_of_tangent.push_back(index);
-  for (int i = 0; i < 6 * view_count; ++i) ambient_of_tangent.push_back(parameter_count + i);
-  result.state_covariance = Eigen::MatrixXd::Zero(state_size, state_size);
-  const int tangent_state = static_cast<int>(ambient_of_tangent.size());
-  for (int r = 0; r < tangent_state; ++r)
-    for (int c = 0; c < tangent_state; ++c)
-      result.state_covariance(ambient_of_tangent[r], ambient_of_tangent[c]) = tangent_covariance(r, c);
-  result.state_view_index = linear.active_views;
+  result->state_covariance = ambientStateCovariance(linear, tangent_covariance, parameter_count);
+  result->state_view_index = linear.active_views;
+}
+
+// Shape of the refined target: its points' spread about their best-fit plane and their
+// displacement from the nominal points.
+void describeRefinedTarget(const std::vector<Eigen::Vector3d>& target_points, const State& state, const Setup& setup,
+                           CalibrationResult* result) {
+  std::vector<Eigen::Vector3d> refined;
+  double displacement = 0.0;
+  for (std::size_t i = 0; i < state.points.size(); ++i) {
+    if (!setup.point_refinable[i]) continue;
+    refined.push_back(state.points[i]);
+    displacement += (state.points[i] - target_points[i]).squaredNorm();
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : refined) centroid += p;
+  centroid /= static_cast<double>(refined.size());
+  Eigen::MatrixXd centred(3, refined.size());
+  for (std::size_t i = 0; i < refined.size(); ++i) centred.col(static_cast<Eigen::Index>(i)) = refined[i] - centroid;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinU);
+  const Eigen::Vector3d normal = svd.matrixU().col(2);
+  double sum = 0.0, worst = 0.0;
+  for (const auto& p : refined) {
+    const double off = normal.dot(p - centroid);
+    sum += off * off;
+    worst = std::max(worst, std::abs(off));
+  }
+  result->target_out_of_plane_rms_m = std::sqrt(sum / refined.size());
+  result->target_out_of_plane_max_m = worst;
+  result->target_displacement_rms_m = std::sqrt(displacement / refined.size());
+}
+
+}  // namespace
+
+// The solve in stages: check and screen the input, initialise (closed-form intrinsics, PnP
+// poses, target gauge), adjust (least squares, then robust pass and rejection), then the
+// per-view results, the covariance and the refined target's shape.
+CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_points,
+                                  const std::vector<CalibrationView>& views, int width, int height,
+                                  const CalibrationOptions& options) {
+  checkCalibrationInputs(target_points, width, height, options);
+  const int parameter_count = kIntrinsicCount + distortionCoefficientCount(options.model);
+  Setup setup;
+  setup.views = &views;
+  setup.refine_target = options.refine_target;
+  setup.num_threads = std::max(1, options.num_threads);
+  setup.fixed_indices = fixedParameterIndices(options, parameter_count);
+
+  CalibrationResult result;
+  result.model = options.model;
+  result.fixed_parameters = options.fixed_parameters;
+  result.views.resize(views.size());
+  State state = screenViews(target_points, views, options, &result);
+  initialiseIntrinsics(target_points, views, width, height, options, setup.fixed_indices, &state);
+  initialisePoses(target_points, views, width, height, options, &state, &result);
+  chooseTargetGauge(target_points, views, state, &setup);
+
+  solvePass(setup, &state, RobustLoss::None, 0.0);  // pass 1: plain least squares
+  if (options.robust_loss != RobustLoss::None) robustPassAndRejection(setup, options, &state, &result);
+
+  const ResidualSummary summary = collectViewResults(target_points, views, state, &result);
+  result.used_views = activeViewCount(state);
+  result.used_points = summary.inlier_count;
+  estimateCovariance(setup, summary, parameter_count, options, &state, &result);
 
   result.camera.width = width;
   result.camera.height = height;
   result.camera.lens = state.lens;
   result.camera.params = state.params;
-  result.camera.rms_px = std::sqrt(ssr / std::max(1, inlier_count));
+  result.camera.rms_px = std::sqrt(summary.ssr / std::max(1, summary.inlier_count));
   result.camera.covariance = result.state_covariance.topLeftCorner(parameter_count, parameter_count);
 
-  // Target.
   result.target_points = state.points;
   result.target_refined = options.refine_target;
   result.gauge_points = setup.gauge;
-  if (options.refine_target) {
-    std::vector<Eigen::Vector3d> refined;
-    double displacement = 0.0;
-    for (std::size_t i = 0; i < state.points.size(); ++i) {
-      if (!setup.point_refinable[i]) continue;
-      refined.push_back(state.points[i]);
-      displacement += (state.points[i] - target_points[i]).squaredNorm();
-    }
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const auto& p : refined) centroid += p;
-    centroid /= static_cast<double>(refined.size());
-    Eigen::MatrixXd centred(3, refined.size());
-    for (std::size_t i = 0; i < refined.size(); ++i) centred.col(static_cast<Eigen::Index>(i)) = refined[i] - centroid;
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinU);
-    const Eigen::Vector3d normal = svd.matrixU().col(2);
-    double sum = 0.0, worst = 0.0;
-    for (const auto& p : refined) {
-      const double off = normal.dot(p - centroid);
-      sum += off * off;
-      worst = std::max(worst, std::abs(off));
-    }
-    result.target_out_of_plane_rms_m = std::sqrt(sum / refined.size());
-    result.target_out_of_plane_max_m = worst;
-    result.target_displacement_rms_m = std::sqrt(displacement / refined.size());
-  }
+  if (options.refine_target) describeRefinedTarget(target_points, state, setup, &result);
 
-  result.uncertainty_distance_m = options.uncertainty_distance_m > 0.0 ? options.uncertainty_distance_m : median(distances);
+  result.uncertainty_distance_m =
+      options.uncertainty_distance_m > 0.0 ? options.uncertainty_distance_m : support::upperMedian(summary.distances);
   requireFinite(result);
   addGeometryWarnings(views, state, width, height, &result);
   return result;

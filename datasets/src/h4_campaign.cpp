@@ -85,27 +85,10 @@ void moveToTruth(const fs::path& from, const fs::path& truth_dir, const std::str
   fs::rename(from, truth_dir / name);
 }
 
-}  // namespace
-
-H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& directory,
-                              const ProgressCallback& progress) {
-  const H4CampaignSpec defaults = H4CampaignSpec::reference();
-  const fs::path camera_file = spec.camera_file.empty() ? defaults.camera_file : spec.camera_file;
-  const fs::path target_file = spec.target_file.empty() ? defaults.target_file : spec.target_file;
-  const calibration::Camera camera = calibration::readCamera(camera_file);
-  const metrology::Target target = metrology::Target::fromFile(target_file);
-
-  const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.seed);
-  H4Campaign campaign{H4TrueRobot(geometry, defaultBaseTCamera(), markerTEffectorFor(target)),
-                      camera, protocolPoses(spec.grid), {}, straightLineMotions(spec.grid, spec.line_points),
-                      directory};
-  for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(poseId(i));
-
-  fs::create_directories(directory);
-  const fs::path truth_dir = directory / "truth";
-  support::writeFileAtomically(campaign.target_file(), target.yamlString());
-
-  // Images: calibration views, then the 81 poses, one progress count over both.
+// The simulator's input: the campaign's camera, target and rendering, its calibration views,
+// and one pose per protocol pose (camera_T_target from the true robot).
+SimulationSpec campaignSimulation(const H4CampaignSpec& spec, const calibration::Camera& camera,
+                                  const metrology::Target& target, const H4Campaign& campaign) {
   SimulationSpec simulation;
   simulation.camera = camera;
   simulation.target = target;
@@ -124,6 +107,14 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
     pose.effector = campaign.poses[i];
     simulation.poses.push_back(pose);
   }
+  return simulation;
+}
+
+// Images: calibration views, then the poses, one progress count over both; the simulator's
+// truth files go to truth_dir.
+void renderCampaignImages(const H4CampaignSpec& spec, const SimulationSpec& simulation, const H4Campaign& campaign,
+                          const fs::path& truth_dir, const ProgressCallback& progress) {
+  const fs::path& directory = campaign.directory;
   const std::size_t calibration_images =
       static_cast<std::size_t>(spec.calibration_views) * static_cast<std::size_t>(simulation.images_per_view);
   const std::size_t total = calibration_images + campaign.poses.size() * static_cast<std::size_t>(spec.images_per_pose);
@@ -149,8 +140,11 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
   moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
   fs::remove_all(measurement_dir);
+}
 
-  // Encoder readings: at the poses, and along the two straight lines of criterion V3.
+// Encoder readings: at the poses, and along the two straight lines of criterion V3 (one
+// random stream, poses first).
+void writeEncoderReadings(const H4CampaignSpec& spec, const H4Campaign& campaign) {
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
   std::vector<Eigen::VectorXd> joints;
   for (std::size_t i = 0; i < campaign.poses.size(); ++i) {
@@ -168,7 +162,30 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
     lines.push_back(std::move(record));
   }
   mechanism::writeLinesCsv(campaign.lines_file(), lines);
+}
 
+}  // namespace
+
+// Stages: the true robot and its protocol, the images, the encoder readings, the truth.
+H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& directory,
+                              const ProgressCallback& progress) {
+  const H4CampaignSpec defaults = H4CampaignSpec::reference();
+  const fs::path camera_file = spec.camera_file.empty() ? defaults.camera_file : spec.camera_file;
+  const fs::path target_file = spec.target_file.empty() ? defaults.target_file : spec.target_file;
+  const calibration::Camera camera = calibration::readCamera(camera_file);
+  const metrology::Target target = metrology::Target::fromFile(target_file);
+
+  const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.seed);
+  H4Campaign campaign{H4TrueRobot(geometry, defaultBaseTCamera(), markerTEffectorFor(target)),
+                      camera, protocolPoses(spec.grid), {}, straightLineMotions(spec.grid, spec.line_points),
+                      directory};
+  for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(poseId(i));
+
+  fs::create_directories(directory);
+  const fs::path truth_dir = directory / "truth";
+  support::writeFileAtomically(campaign.target_file(), target.yamlString());
+  renderCampaignImages(spec, campaignSimulation(spec, camera, target, campaign), campaign, truth_dir, progress);
+  writeEncoderReadings(spec, campaign);
   support::writeFileAtomically(truth_dir / "robot.yaml",
                                geometryYaml(geometry) + isometryYaml("bTc", campaign.robot.baseTCamera()) +
                                    isometryYaml("mTe", campaign.robot.markerTEffector()));

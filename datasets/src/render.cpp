@@ -91,6 +91,90 @@ cv::Mat vignettingGain(const calibration::Camera& camera, const RayGrid& rays, c
   return gain;
 }
 
+// The target's level seen along a ray (x, y, 1), or kOffPaper when the ray misses it. The ray
+// meets the plane z_M = 0 at (X, Y) with s·(x, y, 1) = [r1 r2 t]·(X, Y, 1):
+// (X, Y, 1)/s = [r1 r2 t]^-1 (x, y, 1), in front of the camera when 1/s > 0.
+class PlaneSampler {
+ public:
+  PlaneSampler(const Eigen::Isometry3d& camera_T_target, const TargetAlbedo& albedo) : albedo_(albedo) {
+    Eigen::Matrix3d plane_to_ray;
+    plane_to_ray << camera_T_target.linear().col(0), camera_T_target.linear().col(1), camera_T_target.translation();
+    ray_to_plane_ = plane_to_ray.inverse();
+  }
+  float operator()(const Eigen::Vector2d& ray) const {
+    if (!ray.allFinite()) return kOffPaper;
+    const Eigen::Vector3d q = ray_to_plane_ * Eigen::Vector3d(ray.x(), ray.y(), 1.0);
+    if (!(q.z() > 0.0)) return kOffPaper;
+    return albedo_(q.x() / q.z(), q.y() / q.z());
+  }
+
+ private:
+  Eigen::Matrix3d ray_to_plane_;
+  const TargetAlbedo& albedo_;
+};
+
+// Pass 1: one exact sample at every pixel corner ((height + 1) × (width + 1)).
+cv::Mat cornerLevels(const RayGrid& rays, const PlaneSampler& sample, int width, int height) {
+  cv::Mat corner_level(height + 1, width + 1, CV_32F);
+  cv::parallel_for_(cv::Range(0, height + 1), [&](const cv::Range& range) {
+    for (int j = range.start; j < range.end; ++j) {
+      float* row = corner_level.ptr<float>(j);
+      for (int i = 0; i <= width; ++i) row[i] = sample(rays.corner(i, j));
+    }
+  });
+  return corner_level;
+}
+
+// Pixels whose corners disagree hold an edge; their 8 neighbours too may hold a small piece
+// of a feature (e.g. a square's corner) that misses every corner, so dilate. Non-adaptive
+// rendering supersamples every pixel.
+cv::Mat pixelsToSupersample(const cv::Mat& corner_level, bool adaptive) {
+  const int height = corner_level.rows - 1, width = corner_level.cols - 1;
+  cv::Mat edge(height, width, CV_8U);
+  for (int j = 0; j < height; ++j) {
+    const float* top = corner_level.ptr<float>(j);
+    const float* bottom = corner_level.ptr<float>(j + 1);
+    auto* out = edge.ptr<std::uint8_t>(j);
+    for (int i = 0; i < width; ++i)
+      out[i] = (top[i] != top[i + 1] || top[i] != bottom[i] || top[i] != bottom[i + 1]) ? 255 : 0;
+  }
+  cv::Mat supersample = edge;
+  if (adaptive)
+    cv::dilate(edge, supersample, cv::Mat());
+  else
+    supersample.setTo(255);
+  return supersample;
+}
+
+// Mean level of pixel (i, j) over n x n sub-samples, one jittered in each cell of an n x n
+// grid over the pixel (stratified sampling), rays interpolated bilinearly between the corners
+// and refined by two Newton steps with the pixel's Jacobian (exact to < 1e-9 px). Why
+// jitter: with a fixed grid, a straight edge's coverage is quantised the same way in every
+// pixel along it (axis-aligned: steps of 1/n), a coherent error of up to 1/(2n) px in the
+// edge's position that no corner or ellipse fit averages out (measured 0.12 px RMS on
+// corners); per-pixel jitter makes it incoherent noise. Off the paper: the background.
+float supersampledLevel(const RayGrid& rays, const PlaneSampler& sample, int i, int j, int n, float background) {
+  const Eigen::Vector2d& c00 = rays.corner(i, j);
+  const Eigen::Vector2d& c10 = rays.corner(i + 1, j);
+  const Eigen::Vector2d& c01 = rays.corner(i, j + 1);
+  const Eigen::Vector2d& c11 = rays.corner(i + 1, j + 1);
+  // One inverse Jacobian per pixel, at its centre (RayGrid::refine).
+  const Eigen::Matrix2d inverse_jacobian = rays.inverseJacobian(0.25 * (c00 + c10 + c01 + c11));
+  double sum = 0.0;
+  std::uint64_t state = pixelHash(i, j);
+  for (int sv = 0; sv < n; ++sv) {
+    for (int su = 0; su < n; ++su) {
+      const double a = (su + unitJitter(&state)) / n;
+      const double b = (sv + unitJitter(&state)) / n;
+      const Eigen::Vector2d left = (1.0 - b) * c00 + b * c01;
+      const Eigen::Vector2d right = (1.0 - b) * c10 + b * c11;
+      const float level = sample(rays.refine((1.0 - a) * left + a * right, i - 0.5 + a, j - 0.5 + b, inverse_jacobian));
+      sum += level < 0.0f ? background : level;
+    }
+  }
+  return static_cast<float>(sum / (n * n));
+}
+
 }  // namespace
 
 std::size_t FeatureTruth::visibleCount() const {
@@ -140,53 +224,14 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 
+// Stages: exact levels at the pixel corners, the pixels that hold an edge, then every pixel
+// (pass 2: uniform pixels take their corners' level, the others are supersampled), blur,
+// vignetting and quantisation.
 Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target) const {
   const int width = camera_.width, height = camera_.height;
-  // A ray (x, y, 1) meets the plane z_M = 0 at (X, Y) with s·(x, y, 1) = [r1 r2 t]·(X, Y, 1):
-  // (X, Y, 1)/s = [r1 r2 t]^-1 (x, y, 1), in front of the camera when 1/s > 0.
-  Eigen::Matrix3d plane_to_ray;
-  plane_to_ray << camera_T_target.linear().col(0), camera_T_target.linear().col(1), camera_T_target.translation();
-  const Eigen::Matrix3d ray_to_plane = plane_to_ray.inverse();
-  const TargetAlbedo& albedo = *albedo_;
-  const auto sample = [&](const Eigen::Vector2d& ray) -> float {
-    if (!ray.allFinite()) return kOffPaper;
-    const Eigen::Vector3d q = ray_to_plane * Eigen::Vector3d(ray.x(), ray.y(), 1.0);
-    if (!(q.z() > 0.0)) return kOffPaper;
-    return albedo(q.x() / q.z(), q.y() / q.z());
-  };
-
-  // Pass 1: one exact sample at every pixel corner.
-  cv::Mat corner_level(height + 1, width + 1, CV_32F);
-  cv::parallel_for_(cv::Range(0, height + 1), [&](const cv::Range& range) {
-    for (int j = range.start; j < range.end; ++j) {
-      float* row = corner_level.ptr<float>(j);
-      for (int i = 0; i <= width; ++i) row[i] = sample(rays_->corner(i, j));
-    }
-  });
-
-  // Pixels whose corners disagree hold an edge; their 8 neighbours too may hold a small
-  // piece of a feature (e.g. a square's corner) that misses every corner, so dilate.
-  cv::Mat edge(height, width, CV_8U);
-  for (int j = 0; j < height; ++j) {
-    const float* top = corner_level.ptr<float>(j);
-    const float* bottom = corner_level.ptr<float>(j + 1);
-    auto* out = edge.ptr<std::uint8_t>(j);
-    for (int i = 0; i < width; ++i)
-      out[i] = (top[i] != top[i + 1] || top[i] != bottom[i] || top[i] != bottom[i + 1]) ? 255 : 0;
-  }
-  cv::Mat supersample = edge;
-  if (options_.adaptive)
-    cv::dilate(edge, supersample, cv::Mat());
-  else
-    supersample.setTo(255);
-
-  // Pass 2: uniform pixels take their corners' level; the others average n x n sub-samples,
-  // one jittered in each cell of an n x n grid over the pixel (stratified sampling), rays
-  // interpolated bilinearly between the corners and refined by two Newton steps with the
-  // pixel's Jacobian (exact to < 1e-9 px). Why jitter: with a fixed grid, a straight edge's
-  // coverage is quantised the same way in every pixel along it (axis-aligned: steps of 1/n),
-  // a coherent error of up to 1/(2n) px in the edge's position that no corner or ellipse fit averages out (measured
-  // 0.12 px RMS on corners); per-pixel jitter makes it incoherent noise.
+  const PlaneSampler sample(camera_T_target, *albedo_);
+  const cv::Mat corner_level = cornerLevels(*rays_, sample, width, height);
+  const cv::Mat supersample = pixelsToSupersample(corner_level, options_.adaptive);
   Rendering result;
   result.radiance.create(height, width, CV_32F);
   const int n = options_.supersampling;
@@ -203,26 +248,7 @@ Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target) const {
           continue;
         }
         ++counts[static_cast<std::size_t>(j)];
-        const Eigen::Vector2d& c00 = rays_->corner(i, j);
-        const Eigen::Vector2d& c10 = rays_->corner(i + 1, j);
-        const Eigen::Vector2d& c01 = rays_->corner(i, j + 1);
-        const Eigen::Vector2d& c11 = rays_->corner(i + 1, j + 1);
-        // One inverse Jacobian per pixel, at its centre (RayGrid::refine).
-        const Eigen::Matrix2d inverse_jacobian = rays_->inverseJacobian(0.25 * (c00 + c10 + c01 + c11));
-        double sum = 0.0;
-        std::uint64_t state = pixelHash(i, j);
-        for (int sv = 0; sv < n; ++sv) {
-          for (int su = 0; su < n; ++su) {
-            const double a = (su + unitJitter(&state)) / n;
-            const double b = (sv + unitJitter(&state)) / n;
-            const Eigen::Vector2d left = (1.0 - b) * c00 + b * c01;
-            const Eigen::Vector2d right = (1.0 - b) * c10 + b * c11;
-            const float level =
-                sample(rays_->refine((1.0 - a) * left + a * right, i - 0.5 + a, j - 0.5 + b, inverse_jacobian));
-            sum += level < 0.0f ? background[i] : level;
-          }
-        }
-        out[i] = static_cast<float>(sum / (n * n));
+        out[i] = supersampledLevel(*rays_, sample, i, j, n, background[i]);
       }
     }
   });

@@ -52,34 +52,9 @@ TargetAlbedo::TargetAlbedo(const metrology::Target& target, float dark_level, fl
       bucket_size_ = spec_.diameter_m;
       break;
     }
-    case TargetType::AprilTag: {
-      const metrology::detail::TagFamilyPtr family = metrology::detail::createTagFamily(spec_.family);
-      if (!family) throw std::invalid_argument("unknown AprilTag family '" + spec_.family + "'");
-      // tag_size_m is the edge of the width_at_border square (where the detector puts the
-      // corners); the bitmap (total_width cells) is centred on it.
-      tag_cell_ = spec_.tag_size_m / family->width_at_border;
-      const int border_start = (family->total_width - family->width_at_border) / 2;
-      const int count = static_cast<int>(target.tagLayout().size());
-      for (int k = 0; k < count; ++k) {
-        const std::unique_ptr<image_u8_t, ImageDeleter> image(
-            apriltag_to_image(family.get(), static_cast<uint32_t>(target.tagLayout()[static_cast<std::size_t>(k)].id)));
-        Bitmap bitmap;
-        bitmap.size = image->width;
-        bitmap.dark.resize(static_cast<std::size_t>(bitmap.size) * bitmap.size);
-        for (int row = 0; row < bitmap.size; ++row)
-          for (int col = 0; col < bitmap.size; ++col)
-            bitmap.dark[static_cast<std::size_t>(row) * bitmap.size + col] = image->buf[row * image->stride + col] < 128;
-        bitmaps_.push_back(std::move(bitmap));
-        const Eigen::Vector3d& top_left = points[static_cast<std::size_t>(4 * k)];
-        tags_.push_back({top_left.x() - border_start * tag_cell_, top_left.y() - border_start * tag_cell_, k});
-      }
-      const double outside = border_start * tag_cell_;
-      min_x -= outside, min_y -= outside;
-      max_x += outside, max_y += outside;
-      margin = 2.0 * tag_cell_;
-      bucket_size_ = family->total_width * tag_cell_;
+    case TargetType::AprilTag:
+      margin = addAprilTags(target, &min_x, &min_y, &max_x, &max_y);
       break;
-    }
     case TargetType::Charuco:
     case TargetType::ArucoGrid:
       margin = addArucoMarkers(target, &min_x, &min_y, &max_x, &max_y);
@@ -88,27 +63,60 @@ TargetAlbedo::TargetAlbedo(const metrology::Target& target, float dark_level, fl
   paper_min_x_ = min_x - margin, paper_max_x_ = max_x + margin;
   paper_min_y_ = min_y - margin, paper_max_y_ = max_y + margin;
 
-  if (!discs_.empty() || !tags_.empty()) {
-    bucket_cols_ = static_cast<int>(std::ceil((paper_max_x_ - paper_min_x_) / bucket_size_)) + 1;
-    bucket_rows_ = static_cast<int>(std::ceil((paper_max_y_ - paper_min_y_) / bucket_size_)) + 1;
-    buckets_.resize(static_cast<std::size_t>(bucket_cols_) * bucket_rows_);
-    const auto insert = [&](int item, double x0, double y0, double x1, double y1) {
-      const int c0 = std::max(0, static_cast<int>((x0 - paper_min_x_) / bucket_size_));
-      const int c1 = std::min(bucket_cols_ - 1, static_cast<int>((x1 - paper_min_x_) / bucket_size_));
-      const int r0 = std::max(0, static_cast<int>((y0 - paper_min_y_) / bucket_size_));
-      const int r1 = std::min(bucket_rows_ - 1, static_cast<int>((y1 - paper_min_y_) / bucket_size_));
-      for (int r = r0; r <= r1; ++r)
-        for (int c = c0; c <= c1; ++c) buckets_[static_cast<std::size_t>(r) * bucket_cols_ + c].push_back(item);
-    };
-    for (std::size_t i = 0; i < discs_.size(); ++i) {
-      const double radius = std::sqrt(discs_[i].radius2);
-      insert(static_cast<int>(i), discs_[i].cx - radius, discs_[i].cy - radius, discs_[i].cx + radius,
-             discs_[i].cy + radius);
-    }
-    for (std::size_t i = 0; i < tags_.size(); ++i) {
-      const double extent = bitmaps_[static_cast<std::size_t>(tags_[i].bitmap)].size * tag_cell_;
-      insert(static_cast<int>(i), tags_[i].x0, tags_[i].y0, tags_[i].x0 + extent, tags_[i].y0 + extent);
-    }
+  if (!discs_.empty() || !tags_.empty()) fillBuckets();
+}
+
+double TargetAlbedo::addAprilTags(const metrology::Target& target, double* min_x, double* min_y, double* max_x,
+                                  double* max_y) {
+  const auto& points = target.points();
+  const metrology::detail::TagFamilyPtr family = metrology::detail::createTagFamily(spec_.family);
+  if (!family) throw std::invalid_argument("unknown AprilTag family '" + spec_.family + "'");
+  // tag_size_m is the edge of the width_at_border square (where the detector puts the
+  // corners); the bitmap (total_width cells) is centred on it.
+  tag_cell_ = spec_.tag_size_m / family->width_at_border;
+  const int border_start = (family->total_width - family->width_at_border) / 2;
+  const int count = static_cast<int>(target.tagLayout().size());
+  for (int k = 0; k < count; ++k) {
+    const std::unique_ptr<image_u8_t, ImageDeleter> image(
+        apriltag_to_image(family.get(), static_cast<uint32_t>(target.tagLayout()[static_cast<std::size_t>(k)].id)));
+    Bitmap bitmap;
+    bitmap.size = image->width;
+    bitmap.dark.resize(static_cast<std::size_t>(bitmap.size) * bitmap.size);
+    for (int row = 0; row < bitmap.size; ++row)
+      for (int col = 0; col < bitmap.size; ++col)
+        bitmap.dark[static_cast<std::size_t>(row) * bitmap.size + col] = image->buf[row * image->stride + col] < 128;
+    bitmaps_.push_back(std::move(bitmap));
+    const Eigen::Vector3d& top_left = points[static_cast<std::size_t>(4 * k)];
+    tags_.push_back({top_left.x() - border_start * tag_cell_, top_left.y() - border_start * tag_cell_, k});
+  }
+  const double outside = border_start * tag_cell_;
+  *min_x -= outside, *min_y -= outside;
+  *max_x += outside, *max_y += outside;
+  bucket_size_ = family->total_width * tag_cell_;
+  return 2.0 * tag_cell_;
+}
+
+// Each disc or tag goes into every bucket its bounding box touches.
+void TargetAlbedo::fillBuckets() {
+  bucket_cols_ = static_cast<int>(std::ceil((paper_max_x_ - paper_min_x_) / bucket_size_)) + 1;
+  bucket_rows_ = static_cast<int>(std::ceil((paper_max_y_ - paper_min_y_) / bucket_size_)) + 1;
+  buckets_.resize(static_cast<std::size_t>(bucket_cols_) * bucket_rows_);
+  const auto insert = [&](int item, double x0, double y0, double x1, double y1) {
+    const int c0 = std::max(0, static_cast<int>((x0 - paper_min_x_) / bucket_size_));
+    const int c1 = std::min(bucket_cols_ - 1, static_cast<int>((x1 - paper_min_x_) / bucket_size_));
+    const int r0 = std::max(0, static_cast<int>((y0 - paper_min_y_) / bucket_size_));
+    const int r1 = std::min(bucket_rows_ - 1, static_cast<int>((y1 - paper_min_y_) / bucket_size_));
+    for (int r = r0; r <= r1; ++r)
+      for (int c = c0; c <= c1; ++c) buckets_[static_cast<std::size_t>(r) * bucket_cols_ + c].push_back(item);
+  };
+  for (std::size_t i = 0; i < discs_.size(); ++i) {
+    const double radius = std::sqrt(discs_[i].radius2);
+    insert(static_cast<int>(i), discs_[i].cx - radius, discs_[i].cy - radius, discs_[i].cx + radius,
+           discs_[i].cy + radius);
+  }
+  for (std::size_t i = 0; i < tags_.size(); ++i) {
+    const double extent = bitmaps_[static_cast<std::size_t>(tags_[i].bitmap)].size * tag_cell_;
+    insert(static_cast<int>(i), tags_[i].x0, tags_[i].y0, tags_[i].x0 + extent, tags_[i].y0 + extent);
   }
 }
 

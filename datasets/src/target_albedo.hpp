@@ -31,6 +31,10 @@ class TargetAlbedo {
   float items(double x, double y) const;  // discs, tags or markers, through the bucket grid
   // ArUco markers of a charuco / aruco_grid target; sets the paper's extent, returns its margin.
   double addArucoMarkers(const metrology::Target& target, double* min_x, double* min_y, double* max_x, double* max_y);
+  // AprilTags of an apriltag target; widens the extent by the tags' outer ring, returns the margin.
+  double addAprilTags(const metrology::Target& target, double* min_x, double* min_y, double* max_x, double* max_y);
+  // The bucket grid over the paper, once discs or tags and the paper's extent are known.
+  void fillBuckets();
 
   struct Disc {
     double cx, cy, radius2;

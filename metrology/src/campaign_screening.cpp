@@ -1,4 +1,5 @@
 #include "mire/metrology/campaign_screening.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,14 +9,7 @@
 namespace mire::metrology {
 namespace {
 
-constexpr double kMadToSigma = 1.4826;
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
+using support::median;
 
 struct Quantity {
   const char* code;
@@ -52,9 +46,7 @@ void screenQuantity(const Quantity& quantity, const ScreeningOptions& options, s
   std::vector<double> logs;
   for (const MeasuredPose& pose : *poses) logs.push_back(std::log(std::max(quantity.value(pose), 1e-300)));
   const double centre = median(logs);
-  std::vector<double> deviations;
-  for (const double v : logs) deviations.push_back(std::abs(v - centre));
-  const double scale = kMadToSigma * median(deviations);
+  const double scale = support::madSigma(logs);
   const double limit = std::max(options.k * scale, std::log(options.min_ratio));
   for (std::size_t i = 0; i < poses->size(); ++i) {
     const double z = (logs[i] - centre) * (quantity.low_is_bad ? -1.0 : 1.0);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace mire::metrology {
@@ -54,8 +55,112 @@ double meanLevel(const cv::Mat& gray, const cv::Matx33d& h, double cx, double cy
   return sum / count;
 }
 
+// One ordering of the grid finder's points: its symmetry, the homography frame M → image it
+// implies, and what decides between orderings.
+struct GridCandidate {
+  GridSymmetry symmetry;
+  cv::Matx33d homography;
+  double rms_px = 0.0;
+  double x_axis_rightness = 0.0;  // cosine between the image of x_M and the image's +u
+  int dark_origin = 0;            // +1 dark, -1 light, 0 unknown (chessboard only)
+};
+
+// The ordering of `symmetry` as a candidate, or nothing when no homography fits it or it
+// mirrors the board.
+std::optional<GridCandidate> evaluateOrdering(const Target& target, const cv::Mat& gray,
+                                              const std::vector<cv::Point2f>& model,
+                                              const std::vector<cv::Point2f>& opencv_grid,
+                                              const GridSymmetry& symmetry) {
+  const TargetSpec& spec = target.spec();
+  const int cols = spec.cols;
+  const int rows = spec.rows;
+  const cv::Point2d centre_m(0.5 * (model.front().x + model.back().x), 0.5 * (model.front().y + model.back().y));
+  GridCandidate candidate;
+  candidate.symmetry = symmetry;
+  std::vector<cv::Point2f> pixels(model.size());
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) pixels[r * cols + c] = opencv_grid[opencvIndex(candidate.symmetry, cols, rows, c, r)];
+  const cv::Mat h = cv::findHomography(model, pixels, 0);
+  if (h.empty()) return std::nullopt;
+  candidate.homography = cv::Matx33d(h);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    const cv::Point2d p = applyHomography(candidate.homography, model[i].x, model[i].y);
+    sum += (p.x - pixels[i].x) * (p.x - pixels[i].x) + (p.y - pixels[i].y) * (p.y - pixels[i].y);
+  }
+  candidate.rms_px = std::sqrt(sum / model.size());
+  // Handedness: z_M = x_M × y_M points away from the camera when the board is seen
+  // from the front, i.e. the homography keeps the image's orientation (det J > 0).
+  const double step = target.featureSpacing();
+  const cv::Point2d o = applyHomography(candidate.homography, centre_m.x, centre_m.y);
+  const cv::Point2d ex = applyHomography(candidate.homography, centre_m.x + step, centre_m.y) - o;
+  const cv::Point2d ey = applyHomography(candidate.homography, centre_m.x, centre_m.y + step) - o;
+  if (ex.x * ey.y - ex.y * ey.x <= 0.0) return std::nullopt;
+  candidate.x_axis_rightness = ex.x / std::hypot(ex.x, ex.y);
+  if (spec.type == TargetType::Chessboard) {
+    const double s = spec.square_size_m;
+    const double outside = meanLevel(gray, candidate.homography, -0.5 * s, -0.5 * s, 0.5 * s);
+    const double beside = meanLevel(gray, candidate.homography, 0.5 * s, -0.5 * s, 0.5 * s);
+    if (std::isfinite(outside) && std::isfinite(beside)) candidate.dark_origin = outside < beside ? 1 : -1;
+  }
+  return candidate;
+}
+
+// Every grid symmetry (transposes only for a square grid) that gives a candidate.
+std::vector<GridCandidate> gridCandidates(const Target& target, const cv::Mat& gray,
+                                          const std::vector<cv::Point2f>& opencv_grid) {
+  std::vector<cv::Point2f> model;  // frame M (x, y) of each feature
+  for (const Eigen::Vector3d& point : target.points()) model.emplace_back(static_cast<float>(point.x()), static_cast<float>(point.y()));
+  const bool square = target.spec().cols == target.spec().rows;
+  std::vector<GridCandidate> candidates;
+  for (int t = 0; t < 2; ++t) {
+    if (t == 1 && !square) break;  // a transposed grid only fits a square one
+    for (int f = 0; f < 4; ++f) {
+      const std::optional<GridCandidate> candidate =
+          evaluateOrdering(target, gray, model, opencv_grid, {t == 1, (f & 1) != 0, (f & 2) != 0});
+      if (candidate) candidates.push_back(*candidate);
+    }
+  }
+  return candidates;
+}
+
+// Smallest distance (px) between neighbours along a row of the grid finder's points.
+double smallestSpacingPx(const std::vector<cv::Point2f>& opencv_grid, int cols, int rows) {
+  double spacing = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c + 1 < cols; ++c)
+      spacing = std::min(spacing, cv::norm(opencv_grid[r * cols + c + 1] - opencv_grid[r * cols + c]));
+  return spacing;
+}
+
+// Keep the orderings that fit the layout (all of them fit a symmetric layout equally; an
+// asymmetric one rejects the wrong ones by a residual of the order of the spacing), then
+// the chessboard colour rule (BRIEF §10): the square just outside the origin is dark.
+std::vector<GridCandidate> fittingCandidates(const std::vector<GridCandidate>& candidates,
+                                             const std::vector<cv::Point2f>& opencv_grid, int cols, int rows) {
+  double best_rms = std::numeric_limits<double>::infinity();
+  for (const GridCandidate& candidate : candidates) best_rms = std::min(best_rms, candidate.rms_px);
+  const double spacing_px = smallestSpacingPx(opencv_grid, cols, rows);
+  std::vector<GridCandidate> fitting;
+  for (const GridCandidate& candidate : candidates)
+    if (candidate.rms_px <= best_rms + 0.1 * spacing_px) fitting.push_back(candidate);
+  const bool any_dark =
+      std::any_of(fitting.begin(), fitting.end(), [](const GridCandidate& c) { return c.dark_origin > 0; });
+  const bool any_unknown =
+      std::any_of(fitting.begin(), fitting.end(), [](const GridCandidate& c) { return c.dark_origin == 0; });
+  if (any_dark || any_unknown) {
+    const int wanted = any_dark ? 1 : 0;
+    fitting.erase(std::remove_if(fitting.begin(), fitting.end(),
+                                 [&](const GridCandidate& c) { return c.dark_origin != wanted; }),
+                  fitting.end());
+  }
+  return fitting;
+}
+
 }  // namespace
 
+// Stages: every ordering of the grid finder's points as a candidate, the ones that fit the
+// layout and the colour rule, then the one whose x_M points most to the image's right.
 Detection orderGrid(const Target& target, const cv::Mat& gray, const std::vector<cv::Point2f>& opencv_grid) {
   const TargetSpec& spec = target.spec();
   const int cols = spec.cols;
@@ -66,87 +171,21 @@ Detection orderGrid(const Target& target, const cv::Mat& gray, const std::vector
                     std::to_string(cols * rows);
     return result;
   }
-
-  std::vector<cv::Point2f> model;  // frame M (x, y) of each feature
-  for (const Eigen::Vector3d& point : target.points()) model.emplace_back(static_cast<float>(point.x()), static_cast<float>(point.y()));
-  const cv::Point2d centre_m(0.5 * (model.front().x + model.back().x), 0.5 * (model.front().y + model.back().y));
-
-  struct Candidate {
-    GridSymmetry symmetry;
-    cv::Matx33d homography;
-    double rms_px = 0.0;
-    double x_axis_rightness = 0.0;  // cosine between the image of x_M and the image's +u
-    int dark_origin = 0;            // +1 dark, -1 light, 0 unknown (chessboard only)
-  };
-  std::vector<Candidate> candidates;
-  for (int t = 0; t < 2; ++t) {
-    if (t == 1 && cols != rows) break;  // a transposed grid only fits a square one
-    for (int f = 0; f < 4; ++f) {
-      Candidate candidate;
-      candidate.symmetry = {t == 1, (f & 1) != 0, (f & 2) != 0};
-      std::vector<cv::Point2f> pixels(model.size());
-      for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c) pixels[r * cols + c] = opencv_grid[opencvIndex(candidate.symmetry, cols, rows, c, r)];
-      const cv::Mat h = cv::findHomography(model, pixels, 0);
-      if (h.empty()) continue;
-      candidate.homography = cv::Matx33d(h);
-      double sum = 0.0;
-      for (std::size_t i = 0; i < model.size(); ++i) {
-        const cv::Point2d p = applyHomography(candidate.homography, model[i].x, model[i].y);
-        sum += (p.x - pixels[i].x) * (p.x - pixels[i].x) + (p.y - pixels[i].y) * (p.y - pixels[i].y);
-      }
-      candidate.rms_px = std::sqrt(sum / model.size());
-      // Handedness: z_M = x_M × y_M points away from the camera when the board is seen
-      // from the front, i.e. the homography keeps the image's orientation (det J > 0).
-      const double step = target.featureSpacing();
-      const cv::Point2d o = applyHomography(candidate.homography, centre_m.x, centre_m.y);
-      const cv::Point2d ex = applyHomography(candidate.homography, centre_m.x + step, centre_m.y) - o;
-      const cv::Point2d ey = applyHomography(candidate.homography, centre_m.x, centre_m.y + step) - o;
-      if (ex.x * ey.y - ex.y * ey.x <= 0.0) continue;
-      candidate.x_axis_rightness = ex.x / std::hypot(ex.x, ex.y);
-      if (spec.type == TargetType::Chessboard) {
-        const double s = spec.square_size_m;
-        const double outside = meanLevel(gray, candidate.homography, -0.5 * s, -0.5 * s, 0.5 * s);
-        const double beside = meanLevel(gray, candidate.homography, 0.5 * s, -0.5 * s, 0.5 * s);
-        if (std::isfinite(outside) && std::isfinite(beside)) candidate.dark_origin = outside < beside ? 1 : -1;
-      }
-      candidates.push_back(candidate);
-    }
-  }
+  const std::vector<GridCandidate> candidates = gridCandidates(target, gray, opencv_grid);
   if (candidates.empty()) {
     result.reason = "grid found but no ordering of it fits the target";
     return result;
   }
-  // Keep the orderings that fit the layout (all of them fit a symmetric layout equally; an
-  // asymmetric one rejects the wrong ones by a residual of the order of the spacing).
-  double best_rms = std::numeric_limits<double>::infinity();
-  for (const Candidate& candidate : candidates) best_rms = std::min(best_rms, candidate.rms_px);
-  const double spacing_px = [&] {
-    double spacing = std::numeric_limits<double>::infinity();
-    for (int r = 0; r < rows; ++r)
-      for (int c = 0; c + 1 < cols; ++c)
-        spacing = std::min(spacing, cv::norm(opencv_grid[r * cols + c + 1] - opencv_grid[r * cols + c]));
-    return spacing;
-  }();
-  std::vector<Candidate> fitting;
-  for (const Candidate& candidate : candidates)
-    if (candidate.rms_px <= best_rms + 0.1 * spacing_px) fitting.push_back(candidate);
-  // Chessboard colour rule (BRIEF §10): the square just outside the origin is dark.
-  const bool any_dark = std::any_of(fitting.begin(), fitting.end(), [](const Candidate& c) { return c.dark_origin > 0; });
-  const bool any_unknown = std::any_of(fitting.begin(), fitting.end(), [](const Candidate& c) { return c.dark_origin == 0; });
-  if (any_dark || any_unknown) {
-    const int wanted = any_dark ? 1 : 0;
-    fitting.erase(std::remove_if(fitting.begin(), fitting.end(), [&](const Candidate& c) { return c.dark_origin != wanted; }),
-                  fitting.end());
-  }
+  const std::vector<GridCandidate> fitting = fittingCandidates(candidates, opencv_grid, cols, rows);
   if (fitting.empty()) {  // non-finite residuals (e.g. an absurd square size): nothing fits
     result.reason = "grid found but no ordering of it fits the target (check target.yaml's sizes)";
     return result;
   }
   // Ambiguous boards: x_M points as much as possible towards the image's right.
-  const Candidate& chosen = *std::max_element(fitting.begin(), fitting.end(), [](const Candidate& a, const Candidate& b) {
-    return a.x_axis_rightness < b.x_axis_rightness;
-  });
+  const GridCandidate& chosen =
+      *std::max_element(fitting.begin(), fitting.end(), [](const GridCandidate& a, const GridCandidate& b) {
+        return a.x_axis_rightness < b.x_axis_rightness;
+      });
 
   result.found = true;
   for (int r = 0; r < rows; ++r) {

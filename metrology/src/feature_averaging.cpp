@@ -1,4 +1,5 @@
 #include "mire/metrology/feature_averaging.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <Eigen/LU>
 
@@ -10,28 +11,10 @@
 namespace mire::metrology {
 namespace {
 
-// Scale from the median absolute deviation to σ for a normal distribution.
-constexpr double kMadToSigma = 1.4826;
 // Spreads below this (px) are treated as noiseless data, not as infinitely precise.
 constexpr double kSpreadFloorPx = 1e-6;
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  if (values.size() % 2 == 1) return *middle;
-  const double upper = *middle;
-  const double lower = *std::max_element(values.begin(), middle);
-  return 0.5 * (lower + upper);
-}
-
-double robustSigma(const std::vector<double>& values) {
-  const double centre = median(values);
-  std::vector<double> deviations;
-  deviations.reserve(values.size());
-  for (const double v : values) deviations.push_back(std::abs(v - centre));
-  return kMadToSigma * median(deviations);
-}
+using support::median;
 
 // One feature's observations: (image index in `found`, pixel).
 struct Track {
@@ -85,115 +68,115 @@ double empiricalPriorDof(const std::vector<double>& scales, const std::vector<in
   return std::clamp(4.0 + 2.0 * mean * mean / spread, kMinPriorDof, kMaxPriorDof);
 }
 
-}  // namespace
-
-double chiSquare2Quantile(double probability) {
-  if (!(probability > 0.0 && probability < 1.0)) throw std::invalid_argument("probability must be in (0, 1)");
-  return -2.0 * std::log(1.0 - probability);
-}
-
-AveragedFeatures averageDetections(const std::vector<Detection>& detections, const AveragingOptions& options) {
-  AveragedFeatures result;
-  result.images_total = static_cast<int>(detections.size());
-  const double threshold = chiSquare2Quantile(options.rejection_confidence);
-
-  // Images where the target was found, and each feature's track across them.
-  std::vector<int> found;  // indices into `detections`
+// Images where the target was found, and each feature's track across them.
+struct FeatureTracks {
+  std::vector<int> found;  // indices into the detections
   std::map<int, Track> tracks;
+};
+
+FeatureTracks collectTracks(const std::vector<Detection>& detections) {
+  FeatureTracks result;
   for (std::size_t j = 0; j < detections.size(); ++j) {
     const Detection& detection = detections[j];
     if (!detection.found) continue;
-    const int slot = static_cast<int>(found.size());
-    found.push_back(static_cast<int>(j));
+    const int slot = static_cast<int>(result.found.size());
+    result.found.push_back(static_cast<int>(j));
     for (std::size_t i = 0; i < detection.ids.size(); ++i) {
-      Track& track = tracks[detection.ids[i]];
+      Track& track = result.tracks[detection.ids[i]];
       track.images.push_back(slot);
       track.pixels.push_back(detection.pixels[i]);
     }
   }
-  const std::size_t image_count = found.size();
-  std::vector<bool> kept(image_count, true);
-  if (image_count == 0) return result;
+  return result;
+}
 
-  // Residuals of every observation about its feature's median, over the kept images.
-  const auto residuals = [&](std::vector<std::vector<Eigen::Vector2d>>* per_image) {
-    per_image->assign(image_count, {});
-    for (const auto& [id, track] : tracks) {
-      if (track.images.size() < 2) continue;
-      const Eigen::Vector2d centre = trackMedian(track, kept);
-      for (std::size_t k = 0; k < track.images.size(); ++k)
-        (*per_image)[static_cast<std::size_t>(track.images[k])].push_back(track.pixels[k] - centre);
-    }
-  };
-  // Per-axis σ of one observation: the RMS of the residuals within 5 robust σ (MAD). The RMS,
-  // not the MAD, because features of unequal sharpness make a scale mixture whose MAD
-  // underestimates its RMS; the clipping keeps gross outliers out.
-  const auto pooledRobustSigma = [&](const std::vector<std::vector<Eigen::Vector2d>>& per_image) {
-    std::vector<double> xs, ys;
-    for (std::size_t j = 0; j < image_count; ++j)
-      if (kept[j])
-        for (const auto& r : per_image[j]) {
-          xs.push_back(r.x());
-          ys.push_back(r.y());
-        }
-    const auto clippedRms = [](const std::vector<double>& values) {
-      const double limit = 5.0 * std::max(robustSigma(values), kSpreadFloorPx);
-      double sum = 0.0;
-      std::size_t count = 0;
-      for (const double v : values)
-        if (std::abs(v) <= limit) {
-          sum += v * v;
-          ++count;
-        }
-      return std::max(count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0, kSpreadFloorPx);
-    };
-    return Eigen::Vector2d(clippedRms(xs), clippedRms(ys));
-  };
-
-  if (image_count >= 3 && options.reject_images) {
-    // Image-level test: a whole image displaced (vibration, a wrong refinement).
-    std::vector<std::vector<Eigen::Vector2d>> per_image;
-    residuals(&per_image);
-    const Eigen::Vector2d observation_sigma = pooledRobustSigma(per_image);
-    std::vector<Eigen::Vector2d> displacement(image_count, Eigen::Vector2d::Zero());
-    std::vector<double> dx, dy;
-    std::size_t typical_features = 0;
-    for (std::size_t j = 0; j < image_count; ++j) {
-      if (per_image[j].empty()) continue;
-      for (const auto& r : per_image[j]) displacement[j] += r;
-      displacement[j] /= static_cast<double>(per_image[j].size());
-      dx.push_back(displacement[j].x());
-      dy.push_back(displacement[j].y());
-      typical_features = std::max(typical_features, per_image[j].size());
-    }
-    const Eigen::Vector2d centre(median(dx), median(dy));
-    // Floor: the spread of a mean of independent per-feature noise.
-    const double floor_scale = 1.0 / std::sqrt(static_cast<double>(std::max<std::size_t>(typical_features, 1)));
-    const Eigen::Vector2d spread(std::max(robustSigma(dx), observation_sigma.x() * floor_scale),
-                                 std::max(robustSigma(dy), observation_sigma.y() * floor_scale));
-    for (std::size_t j = 0; j < image_count; ++j) {
-      if (per_image[j].empty()) continue;
-      const Eigen::Vector2d z = (displacement[j] - centre).cwiseQuotient(spread);
-      if (z.squaredNorm() > threshold) kept[j] = false;
-    }
+// Residuals of every observation about its feature's median over the kept images, per image.
+std::vector<std::vector<Eigen::Vector2d>> residualsPerImage(const std::map<int, Track>& tracks,
+                                                            const std::vector<bool>& kept) {
+  std::vector<std::vector<Eigen::Vector2d>> per_image(kept.size());
+  for (const auto& [id, track] : tracks) {
+    if (track.images.size() < 2) continue;
+    const Eigen::Vector2d centre = trackMedian(track, kept);
+    for (std::size_t k = 0; k < track.images.size(); ++k)
+      per_image[static_cast<std::size_t>(track.images[k])].push_back(track.pixels[k] - centre);
   }
-  for (std::size_t j = 0; j < image_count; ++j)
-    if (!kept[j]) result.rejected_images.push_back(found[j]);
-  const int kept_count = static_cast<int>(std::count(kept.begin(), kept.end(), true));
-  result.images_used = kept_count;
+  return per_image;
+}
 
-  // Observation-level test, then the mean and scatter of each feature.
+// RMS of the values within 5 robust σ (MAD), floored at kSpreadFloorPx.
+double clippedRms(const std::vector<double>& values) {
+  const double limit = 5.0 * std::max(support::madSigma(values), kSpreadFloorPx);
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const double v : values)
+    if (std::abs(v) <= limit) {
+      sum += v * v;
+      ++count;
+    }
+  return std::max(count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0, kSpreadFloorPx);
+}
+
+// Per-axis σ of one observation: the RMS of the residuals within 5 robust σ (MAD). The RMS,
+// not the MAD, because features of unequal sharpness make a scale mixture whose MAD
+// underestimates its RMS; the clipping keeps gross outliers out.
+Eigen::Vector2d pooledRobustSigma(const std::vector<std::vector<Eigen::Vector2d>>& per_image,
+                                  const std::vector<bool>& kept) {
+  std::vector<double> xs, ys;
+  for (std::size_t j = 0; j < per_image.size(); ++j)
+    if (kept[j])
+      for (const auto& r : per_image[j]) {
+        xs.push_back(r.x());
+        ys.push_back(r.y());
+      }
+  return Eigen::Vector2d(clippedRms(xs), clippedRms(ys));
+}
+
+// Image-level test: a whole image displaced (vibration, a wrong refinement) has a mean
+// residual far from the other images'; such images are no longer kept.
+void rejectDisplacedImages(const std::map<int, Track>& tracks, double threshold, std::vector<bool>* kept) {
+  const std::size_t image_count = kept->size();
+  const std::vector<std::vector<Eigen::Vector2d>> per_image = residualsPerImage(tracks, *kept);
+  const Eigen::Vector2d observation_sigma = pooledRobustSigma(per_image, *kept);
+  std::vector<Eigen::Vector2d> displacement(image_count, Eigen::Vector2d::Zero());
+  std::vector<double> dx, dy;
+  std::size_t typical_features = 0;
+  for (std::size_t j = 0; j < image_count; ++j) {
+    if (per_image[j].empty()) continue;
+    for (const auto& r : per_image[j]) displacement[j] += r;
+    displacement[j] /= static_cast<double>(per_image[j].size());
+    dx.push_back(displacement[j].x());
+    dy.push_back(displacement[j].y());
+    typical_features = std::max(typical_features, per_image[j].size());
+  }
+  const Eigen::Vector2d centre(median(dx), median(dy));
+  // Floor: the spread of a mean of independent per-feature noise.
+  const double floor_scale = 1.0 / std::sqrt(static_cast<double>(std::max<std::size_t>(typical_features, 1)));
+  const Eigen::Vector2d spread(std::max(support::madSigma(dx), observation_sigma.x() * floor_scale),
+                               std::max(support::madSigma(dy), observation_sigma.y() * floor_scale));
+  for (std::size_t j = 0; j < image_count; ++j) {
+    if (per_image[j].empty()) continue;
+    const Eigen::Vector2d z = (displacement[j] - centre).cwiseQuotient(spread);
+    if (z.squaredNorm() > threshold) (*kept)[j] = false;
+  }
+}
+
+// Sums of the per-feature scatter, for the pooled covariance.
+struct Scatter {
+  std::vector<Eigen::Matrix2d> sample_covariance;  // per averaged feature
+  Eigen::Matrix2d sum = Eigen::Matrix2d::Zero();
+  int dof = 0;
+};
+
+// Observation-level test (with 3 kept images or more), then the mean and scatter of each
+// feature seen in enough kept images; the means go into `result`.
+Scatter averageTracks(const std::map<int, Track>& tracks, const std::vector<bool>& kept, double threshold,
+                      const AveragingOptions& options, AveragedFeatures* result) {
+  const int kept_count = result->images_used;
   Eigen::Vector2d observation_sigma(kSpreadFloorPx, kSpreadFloorPx);
-  if (kept_count >= 3) {
-    std::vector<std::vector<Eigen::Vector2d>> per_image;
-    residuals(&per_image);
-    observation_sigma = pooledRobustSigma(per_image);
-  }
+  if (kept_count >= 3) observation_sigma = pooledRobustSigma(residualsPerImage(tracks, kept), kept);
   const int min_observations =
       std::max(1, static_cast<int>(std::ceil(options.min_feature_fraction * kept_count - 1e-9)));
-  std::vector<Eigen::Matrix2d> sample_covariance;
-  Eigen::Matrix2d scatter_sum = Eigen::Matrix2d::Zero();
-  int dof = 0;
+  Scatter scatter_total;
   for (const auto& [id, track] : tracks) {
     const Eigen::Vector2d centre = trackMedian(track, kept);
     std::vector<Eigen::Vector2d> values;
@@ -202,7 +185,7 @@ AveragedFeatures averageDetections(const std::vector<Detection>& detections, con
       if (kept_count >= 3) {
         const Eigen::Vector2d z = (track.pixels[k] - centre).cwiseQuotient(observation_sigma);
         if (z.squaredNorm() > threshold) {
-          ++result.rejected_observations;
+          ++result->rejected_observations;
           continue;
         }
       }
@@ -215,40 +198,72 @@ AveragedFeatures averageDetections(const std::vector<Detection>& detections, con
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     for (const auto& v : values) scatter += (v - mean) * (v - mean).transpose();
     const int n = static_cast<int>(values.size());
-    scatter_sum += scatter;
-    dof += n - 1;
-    result.ids.push_back(id);
-    result.pixels.push_back(mean);
-    result.observations.push_back(n);
-    sample_covariance.push_back(n > 1 ? Eigen::Matrix2d(scatter / (n - 1)) : Eigen::Matrix2d::Zero());
+    scatter_total.sum += scatter;
+    scatter_total.dof += n - 1;
+    result->ids.push_back(id);
+    result->pixels.push_back(mean);
+    result->observations.push_back(n);
+    scatter_total.sample_covariance.push_back(n > 1 ? Eigen::Matrix2d(scatter / (n - 1)) : Eigen::Matrix2d::Zero());
   }
-  result.pooled_dof = dof;
-  if (dof > 0) result.pooled_covariance = scatter_sum / dof;
-  result.covariance.resize(result.ids.size(), Eigen::Matrix2d::Zero());
-  if (dof == 0) return result;  // a single image: no scatter; the pose fit falls back on its residuals
+  return scatter_total;
+}
+
+// Each averaged feature's covariance: its own scatter shrunk towards the pooled covariance
+// (empirical Bayes, prior strength ν0), divided by its observation count.
+void featureCovariances(const Scatter& scatter, const AveragingOptions& options, AveragedFeatures* result) {
+  result->pooled_dof = scatter.dof;
+  if (scatter.dof > 0) result->pooled_covariance = scatter.sum / scatter.dof;
+  result->covariance.resize(result->ids.size(), Eigen::Matrix2d::Zero());
+  if (scatter.dof == 0) return;  // a single image: no scatter; the pose fit falls back on its residuals
   // No scatter at all (copies of one frame): no noise is known from the images; the pose fit
   // estimates it from its residuals as for one image (pose_estimation.hpp).
-  if (result.pooled_covariance.isZero(0.0)) {
-    result.zero_scatter = true;
-    result.pooled_dof = 0;
-    return result;
+  if (result->pooled_covariance.isZero(0.0)) {
+    result->zero_scatter = true;
+    result->pooled_dof = 0;
+    return;
   }
   // A singular pooled covariance (scatter along one axis only) is noiseless data on the other:
   // no shrinkage needed.
-  if (!(result.pooled_covariance.determinant() > 0.0)) {
-    for (std::size_t i = 0; i < result.ids.size(); ++i) result.covariance[i] = result.pooled_covariance / result.observations[i];
-    return result;
+  if (!(result->pooled_covariance.determinant() > 0.0)) {
+    for (std::size_t i = 0; i < result->ids.size(); ++i)
+      result->covariance[i] = result->pooled_covariance / result->observations[i];
+    return;
   }
-  const std::vector<double> scales = relativeScales(sample_covariance, result.pooled_covariance);
+  const std::vector<double> scales = relativeScales(scatter.sample_covariance, result->pooled_covariance);
   const double prior = options.pooled_prior_dof > 0.0 ? options.pooled_prior_dof
-                                                      : empiricalPriorDof(scales, result.observations);
-  result.prior_dof = prior;
-  for (std::size_t i = 0; i < result.ids.size(); ++i) {
-    const double n = result.observations[i];
+                                                      : empiricalPriorDof(scales, result->observations);
+  result->prior_dof = prior;
+  for (std::size_t i = 0; i < result->ids.size(); ++i) {
+    const double n = result->observations[i];
     const double dof = 2.0 * (n - 1.0);
     const double scale = (prior + dof * scales[i]) / (prior + dof);
-    result.covariance[i] = scale * result.pooled_covariance / n;
+    result->covariance[i] = scale * result->pooled_covariance / n;
   }
+}
+
+}  // namespace
+
+double chiSquare2Quantile(double probability) {
+  if (!(probability > 0.0 && probability < 1.0)) throw std::invalid_argument("probability must be in (0, 1)");
+  return -2.0 * std::log(1.0 - probability);
+}
+
+// Stages: the feature tracks, the image-level rejection, the observation-level rejection and
+// per-feature means, then the covariances.
+AveragedFeatures averageDetections(const std::vector<Detection>& detections, const AveragingOptions& options) {
+  AveragedFeatures result;
+  result.images_total = static_cast<int>(detections.size());
+  const double threshold = chiSquare2Quantile(options.rejection_confidence);
+  const FeatureTracks tracks = collectTracks(detections);
+  const std::size_t image_count = tracks.found.size();
+  std::vector<bool> kept(image_count, true);
+  if (image_count == 0) return result;
+  if (image_count >= 3 && options.reject_images) rejectDisplacedImages(tracks.tracks, threshold, &kept);
+  for (std::size_t j = 0; j < image_count; ++j)
+    if (!kept[j]) result.rejected_images.push_back(tracks.found[j]);
+  result.images_used = static_cast<int>(std::count(kept.begin(), kept.end(), true));
+  const Scatter scatter = averageTracks(tracks.tracks, kept, threshold, options, &result);
+  featureCovariances(scatter, options, &result);
   return result;
 }
 

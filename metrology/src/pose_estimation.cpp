@@ -140,6 +140,134 @@ double rotationDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) 
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
 }
 
+// One refined IPPE solution: angle-axis, translation (cTm) and its final cost.
+struct Candidate {
+  double pose[6];
+  double cost;
+};
+
+// IPPE on exactly undistorted rays (normalised coordinates, K = I, no distortion): the
+// candidate rotation and translation vectors, or the reason there are none.
+std::string ippeSolutions(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                          const AveragedFeatures& features, std::vector<cv::Mat>* rvecs, std::vector<cv::Mat>* tvecs) {
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> rays;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    const auto& point = points[static_cast<std::size_t>(features.ids[i])];
+    Eigen::Vector2d normalized;
+    if (!camera.unproject(features.pixels[i], &normalized)) continue;
+    object.emplace_back(point.x(), point.y(), point.z());
+    rays.emplace_back(normalized.x(), normalized.y());
+  }
+  if (object.size() < 4) return "fewer than 4 features could be undistorted";
+  try {
+    cv::solvePnPGeneric(object, rays, cv::Mat::eye(3, 3, CV_64F), cv::noArray(), *rvecs, *tvecs, false,
+                        cv::SOLVEPNP_IPPE);
+  } catch (const cv::Exception& e) {
+    return std::string("IPPE initialisation failed: ") + e.what();
+  }
+  if (rvecs->empty()) return "IPPE initialisation found no pose (degenerate feature layout?)";
+  return {};
+}
+
+// Ceres refinement of each IPPE solution in front of the camera through the full distortion
+// model; the finite ones, cheapest first.
+std::vector<Candidate> refinedCandidates(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                                         const AveragedFeatures& features,
+                                         const std::vector<Eigen::Matrix2d>& whitening,
+                                         const std::vector<cv::Mat>& rvecs, const std::vector<cv::Mat>& tvecs,
+                                         const PoseOptions& options) {
+  std::vector<Candidate> candidates;
+  for (std::size_t s = 0; s < rvecs.size(); ++s) {
+    Candidate candidate{};
+    for (int i = 0; i < 3; ++i) {
+      candidate.pose[i] = rvecs[s].at<double>(i);
+      candidate.pose[3 + i] = tvecs[s].at<double>(i);
+    }
+    if (!(candidate.pose[5] > 0.0)) continue;  // target behind the camera
+    candidate.cost = refine(camera, points, features, whitening, candidate.pose, options.max_iterations);
+    if (std::isfinite(candidate.cost)) candidates.push_back(candidate);
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  return candidates;
+}
+
+// The cheapest candidate is the pose; a distinct second one is the planar-pose ambiguity's
+// alternative, flagged when its cost is within options.ambiguity_ratio.
+void chooseCandidate(const std::vector<Candidate>& candidates, const PoseOptions& options, PoseEstimate* estimate) {
+  const Candidate& best = candidates.front();
+  estimate->cTm = isometryFromParameters(best.pose);
+  estimate->rotation_vector = Eigen::Vector3d(best.pose[0], best.pose[1], best.pose[2]);
+  estimate->translation = Eigen::Vector3d(best.pose[3], best.pose[4], best.pose[5]);
+  estimate->ambiguity_cost_ratio = std::numeric_limits<double>::infinity();
+  if (candidates.size() < 2) return;
+  const Candidate& second = candidates[1];
+  const Eigen::Isometry3d other = isometryFromParameters(second.pose);
+  // Both IPPE solutions may refine to the same minimum: then there is no ambiguity.
+  const bool distinct = rotationDistance(other, estimate->cTm) > 1e-6 ||
+                        (other.translation() - estimate->translation).norm() > 1e-9;
+  if (distinct) {
+    estimate->alternative_cTm = other;
+    estimate->ambiguity_cost_ratio =
+        best.cost > 0.0 ? second.cost / best.cost : std::numeric_limits<double>::infinity();
+    estimate->ambiguous = estimate->ambiguity_cost_ratio < options.ambiguity_ratio;
+  }
+}
+
+// RMS reprojection residual in pixels of the chosen pose.
+double rmsResidualPx(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                     const AveragedFeatures& features, const Eigen::Isometry3d& cTm) {
+  double squared_px = 0.0;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    Eigen::Vector2d pixel;
+    if (camera.project(cTm * points[static_cast<std::size_t>(features.ids[i])], &pixel))
+      squared_px += (pixel - features.pixels[i]).squaredNorm();
+  }
+  return std::sqrt(squared_px / static_cast<int>(features.size()));
+}
+
+// Precision. Fisher information of the whitened residuals; the intrinsics part through the
+// implicit function theorem at the optimum: A = −(J_pᵀ J_p)⁻¹ J_pᵀ J_k. False (with the
+// reason set) when the information matrix is singular.
+bool estimatePrecision(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                       const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening,
+                       const Candidate& best, const PoseOptions& options, PoseEstimate* estimate) {
+  const int dof = 2 * static_cast<int>(features.size()) - 6;
+  Eigen::MatrixXd jp, jk;
+  jacobians(camera, points, features, whitening, best.pose, &jp, &jk);
+  jp = toTranslationFirst(jp);
+  const Matrix6d information = jp.transpose() * jp;
+  const Eigen::FullPivLU<Matrix6d> lu(information);
+  if (!lu.isInvertible()) {
+    estimate->reason = "the pose is not observable from these features (singular information matrix)";
+    return false;
+  }
+  Matrix6d noise = lu.inverse();
+  if (!features.hasScatter()) {
+    // No multi-image scatter: the residuals estimate an isotropic pixel noise (unit weights),
+    // σ² = Σ r² / (2N − 6), floored. reduced_chi2 is then computed with that covariance, the
+    // one actually used, as for many images: 1 by construction unless floored.
+    estimate->scatter_from_residuals = true;
+    const double floor = options.covariance_floor_px * options.covariance_floor_px;
+    const double variance = dof > 0 ? std::max(2.0 * best.cost / dof, floor) : floor;
+    noise *= variance;
+    estimate->reduced_chi2 = dof > 0 ? 2.0 * best.cost / (dof * variance) : 0.0;
+  }
+  estimate->covariance_pixel_noise = 0.5 * (noise + noise.transpose());
+  const bool inflate = options.inflate_by_residuals && !estimate->scatter_from_residuals;
+  estimate->covariance_noise =
+      estimate->covariance_pixel_noise * (inflate ? std::max(1.0, estimate->reduced_chi2) : 1.0);
+  if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
+    const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
+    const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();
+    estimate->covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
+    estimate->intrinsics_sensitivity = sensitivity;
+  }
+  estimate->covariance = estimate->covariance_noise + estimate->covariance_intrinsics;
+  return true;
+}
+
 }  // namespace
 
 Eigen::Matrix<double, 6, 1> PoseEstimate::sigmas(const Matrix6d& covariance) {
@@ -158,6 +286,8 @@ void reprojectionJacobians(const calibration::Camera& camera, const std::vector<
   *jacobian_pose = toTranslationFirst(jp);
 }
 
+// Stages: IPPE initialisation, Ceres refinement of each solution, the choice between them,
+// residual statistics, then the precision.
 PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                           const AveragedFeatures& features, const PoseOptions& options) {
   PoseEstimate estimate;
@@ -167,119 +297,22 @@ PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<E
     estimate.reason = "only " + std::to_string(n) + " features (a pose needs at least 4)";
     return estimate;
   }
-
-  // 1. IPPE on exactly undistorted rays (normalised coordinates, K = I, no distortion).
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> rays;
-  for (std::size_t i = 0; i < features.size(); ++i) {
-    const auto& point = points[static_cast<std::size_t>(features.ids[i])];
-    Eigen::Vector2d normalized;
-    if (!camera.unproject(features.pixels[i], &normalized)) continue;
-    object.emplace_back(point.x(), point.y(), point.z());
-    rays.emplace_back(normalized.x(), normalized.y());
-  }
-  if (object.size() < 4) {
-    estimate.reason = "fewer than 4 features could be undistorted";
-    return estimate;
-  }
   std::vector<cv::Mat> rvecs, tvecs;
-  try {
-    cv::solvePnPGeneric(object, rays, cv::Mat::eye(3, 3, CV_64F), cv::noArray(), rvecs, tvecs, false,
-                        cv::SOLVEPNP_IPPE);
-  } catch (const cv::Exception& e) {
-    estimate.reason = std::string("IPPE initialisation failed: ") + e.what();
-    return estimate;
-  }
-  if (rvecs.empty()) {
-    estimate.reason = "IPPE initialisation found no pose (degenerate feature layout?)";
-    return estimate;
-  }
-
-  // 2. Ceres refinement of each IPPE solution through the full distortion model.
+  estimate.reason = ippeSolutions(camera, points, features, &rvecs, &tvecs);
+  if (!estimate.reason.empty()) return estimate;
   const auto whitening = whiteningMatrices(features, options);
-  struct Candidate {
-    double pose[6];
-    double cost;
-  };
-  std::vector<Candidate> candidates;
-  for (std::size_t s = 0; s < rvecs.size(); ++s) {
-    Candidate candidate{};
-    for (int i = 0; i < 3; ++i) {
-      candidate.pose[i] = rvecs[s].at<double>(i);
-      candidate.pose[3 + i] = tvecs[s].at<double>(i);
-    }
-    if (!(candidate.pose[5] > 0.0)) continue;  // target behind the camera
-    candidate.cost = refine(camera, points, features, whitening, candidate.pose, options.max_iterations);
-    if (std::isfinite(candidate.cost)) candidates.push_back(candidate);
-  }
+  const std::vector<Candidate> candidates =
+      refinedCandidates(camera, points, features, whitening, rvecs, tvecs, options);
   if (candidates.empty()) {
     estimate.reason = "the pose refinement failed from every IPPE solution";
     return estimate;
   }
-  std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  chooseCandidate(candidates, options, &estimate);
   const Candidate& best = candidates.front();
-  estimate.cTm = isometryFromParameters(best.pose);
-  estimate.rotation_vector = Eigen::Vector3d(best.pose[0], best.pose[1], best.pose[2]);
-  estimate.translation = Eigen::Vector3d(best.pose[3], best.pose[4], best.pose[5]);
-  estimate.ambiguity_cost_ratio = std::numeric_limits<double>::infinity();
-  if (candidates.size() > 1) {
-    const Candidate& second = candidates[1];
-    const Eigen::Isometry3d other = isometryFromParameters(second.pose);
-    // Both IPPE solutions may refine to the same minimum: then there is no ambiguity.
-    const bool distinct = rotationDistance(other, estimate.cTm) > 1e-6 ||
-                          (other.translation() - estimate.translation).norm() > 1e-9;
-    if (distinct) {
-      estimate.alternative_cTm = other;
-      estimate.ambiguity_cost_ratio = best.cost > 0.0 ? second.cost / best.cost : std::numeric_limits<double>::infinity();
-      estimate.ambiguous = estimate.ambiguity_cost_ratio < options.ambiguity_ratio;
-    }
-  }
-
-  // Residuals in pixels.
-  double squared_px = 0.0;
-  for (std::size_t i = 0; i < features.size(); ++i) {
-    Eigen::Vector2d pixel;
-    if (camera.project(estimate.cTm * points[static_cast<std::size_t>(features.ids[i])], &pixel))
-      squared_px += (pixel - features.pixels[i]).squaredNorm();
-  }
-  estimate.rms_px = std::sqrt(squared_px / n);
+  estimate.rms_px = rmsResidualPx(camera, points, features, estimate.cTm);
   const int dof = 2 * n - 6;
   estimate.reduced_chi2 = dof > 0 ? 2.0 * best.cost / dof : 0.0;
-
-  // 3. Precision. Fisher information of the whitened residuals; the intrinsics part through
-  // the implicit function theorem at the optimum: A = −(J_pᵀ J_p)⁻¹ J_pᵀ J_k.
-  Eigen::MatrixXd jp, jk;
-  jacobians(camera, points, features, whitening, best.pose, &jp, &jk);
-  jp = toTranslationFirst(jp);
-  const Matrix6d information = jp.transpose() * jp;
-  const Eigen::FullPivLU<Matrix6d> lu(information);
-  if (!lu.isInvertible()) {
-    estimate.reason = "the pose is not observable from these features (singular information matrix)";
-    return estimate;
-  }
-  Matrix6d noise = lu.inverse();
-  if (!features.hasScatter()) {
-    // No multi-image scatter: the residuals estimate an isotropic pixel noise (unit weights),
-    // σ² = Σ r² / (2N − 6), floored. reduced_chi2 is then computed with that covariance, the
-    // one actually used, as for many images: 1 by construction unless floored.
-    estimate.scatter_from_residuals = true;
-    const double floor = options.covariance_floor_px * options.covariance_floor_px;
-    const double variance = dof > 0 ? std::max(2.0 * best.cost / dof, floor) : floor;
-    noise *= variance;
-    estimate.reduced_chi2 = dof > 0 ? 2.0 * best.cost / (dof * variance) : 0.0;
-  }
-  estimate.covariance_pixel_noise = 0.5 * (noise + noise.transpose());
-  const bool inflate = options.inflate_by_residuals && !estimate.scatter_from_residuals;
-  estimate.covariance_noise = estimate.covariance_pixel_noise * (inflate ? std::max(1.0, estimate.reduced_chi2) : 1.0);
-  if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
-    const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
-    const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();
-    estimate.covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
-    estimate.intrinsics_sensitivity = sensitivity;
-  }
-  estimate.covariance = estimate.covariance_noise + estimate.covariance_intrinsics;
-  estimate.valid = true;
+  estimate.valid = estimatePrecision(camera, points, features, whitening, best, options, &estimate);
   return estimate;
 }
 

@@ -1,6 +1,7 @@
 #include "mire/metrology/pose_integrity.hpp"
 
 #include "mire/metrology/pose_estimation.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <Eigen/LU>
 
@@ -15,7 +16,7 @@
 namespace mire::metrology {
 namespace {
 
-constexpr double kMadToSigma = 1.4826;
+using support::kMadToSigma;
 // Noise below this (px) is treated as noiseless data, not as infinitely precise.
 constexpr double kNoiseFloorPx = 1e-4;
 
@@ -44,12 +45,7 @@ bool sameFeatures(const Detection& a, const Detection& b, double tolerance) {
   return true;
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t middle = values.size() / 2;
-  return values.size() % 2 == 1 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
-}
+using support::median;
 
 AveragedFeatures singleImage(const Detection& detection) {
   AveragedFeatures features;

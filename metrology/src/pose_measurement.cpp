@@ -64,8 +64,86 @@ bool averageIntegrity(const calibration::Camera& camera, const Target& target, c
   return true;
 }
 
+// Sizes first: mixed sizes mean mixed cameras or settings, and the calibration holds for one.
+// The error, or empty when every image is 8-bit grey at the camera's size.
+std::string checkImageSizes(const calibration::Camera& camera, const std::vector<cv::Mat>& images,
+                            const std::vector<std::string>& names) {
+  const cv::Size first_size = images.front().size();
+  for (std::size_t j = 0; j < images.size(); ++j) {
+    if (images[j].type() != CV_8UC1) return imageName(names, j) + ": not an 8-bit grey image";
+    if (images[j].size() != first_size)
+      return "mixed image sizes: " + imageName(names, j) + " is " + sizeText(images[j].size()) + " but " +
+             imageName(names, 0) + " is " + sizeText(first_size);
+  }
+  if (first_size != cv::Size(camera.width, camera.height))
+    return imageName(names, 0) + " is " + sizeText(first_size) + " but the camera was calibrated at " +
+           sizeText(cv::Size(camera.width, camera.height));
+  return {};
+}
+
+// Every image's detection: full detection until the target is found once (the reference),
+// then cheap refinement from it; a copied frame (copy_of) gets its original's detection.
+// False (result->error set) when no image shows the target.
+bool detectAll(const Target& target, const std::vector<cv::Mat>& images, const std::vector<std::string>& names,
+               const std::vector<int>& copy_of, const MeasurementOptions& options, std::vector<Detection>* detections,
+               PoseMeasurement* result) {
+  std::size_t reference = images.size();
+  for (std::size_t j = 0; j < images.size() && reference == images.size(); ++j) {
+    (*detections)[j] = copy_of[j] >= 0 ? (*detections)[static_cast<std::size_t>(copy_of[j])]
+                                       : detectTarget(target, images[j], options.detection);
+    if ((*detections)[j].found) reference = j;
+    else result->warnings.push_back(imageName(names, j) + ": target not found (" + (*detections)[j].reason + ")");
+  }
+  if (reference == images.size()) {
+    result->error = "target not found in any of the " + std::to_string(images.size()) + " images";
+    if (!detections->empty() && !detections->front().reason.empty())
+      result->error += " (" + detections->front().reason + ")";
+    return false;
+  }
+  for (std::size_t j = reference + 1; j < images.size(); ++j) {
+    Detection& detection = (*detections)[j];
+    if (copy_of[j] >= 0) {
+      detection = (*detections)[static_cast<std::size_t>(copy_of[j])];
+      continue;
+    }
+    detection = refineDetection(target, images[j], (*detections)[reference], options.detection);
+    // A refinement that lost much of the target (the camera or the target moved): search again.
+    if (!detection.found || detection.size() * 2 < (*detections)[reference].size())
+      detection = detectTarget(target, images[j], options.detection);
+    if (!detection.found)
+      result->warnings.push_back(imageName(names, j) + ": target not found (" + detection.reason + ")");
+  }
+  // The reference image through the same refinement as the others: a full detection's
+  // sub-pixel step differs from refineDetection's, and that difference, common to nothing but
+  // the reference image, would read as a motion of it (pose_integrity.hpp).
+  const Detection rerefined = refineDetection(target, images[reference], (*detections)[reference], options.detection);
+  if (rerefined.found && rerefined.size() == (*detections)[reference].size()) (*detections)[reference] = rerefined;
+  for (std::size_t j = 0; j < images.size(); ++j)
+    if (copy_of[j] >= 0) (*detections)[j] = (*detections)[static_cast<std::size_t>(copy_of[j])];
+  return true;
+}
+
+// What the reader must know about a valid pose: an ambiguous planar flip, a σ from residuals.
+void notePoseCaveats(PoseMeasurement* result) {
+  if (result->estimate.ambiguous) {
+    std::ostringstream text;
+    text << "ambiguous pose: the planar flip fits almost as well (cost ratio " << result->estimate.ambiguity_cost_ratio
+         << ")";
+    result->warnings.push_back(text.str());
+  }
+  if (result->estimate.scatter_from_residuals) {
+    std::ostringstream text;
+    text << (result->features.zero_scatter ? "zero scatter between the images: " : "one image: ")
+         << "sigma from the fit residuals (" << result->estimate.rms_px << " px rms, isotropic), reduced_chi2 = 1 by "
+         << "construction";
+    result->notes.push_back(text.str());
+  }
+}
+
 }  // namespace
 
+// Stages: image checks, detection in every image, the static-pose test and the average, the
+// pose, then its caveats.
 PoseMeasurement measurePose(const calibration::Camera& camera, const Target& target, const std::vector<cv::Mat>& images,
                             const std::vector<std::string>& names, const MeasurementOptions& options) {
   PoseMeasurement result;
@@ -73,62 +151,13 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
     result.error = "no images";
     return result;
   }
-  // Sizes first: mixed sizes mean mixed cameras or settings, and the calibration holds for one.
-  const cv::Size first_size = images.front().size();
-  for (std::size_t j = 0; j < images.size(); ++j) {
-    if (images[j].type() != CV_8UC1) {
-      result.error = imageName(names, j) + ": not an 8-bit grey image";
-      return result;
-    }
-    if (images[j].size() != first_size) {
-      result.error = "mixed image sizes: " + imageName(names, j) + " is " + sizeText(images[j].size()) + " but " +
-                     imageName(names, 0) + " is " + sizeText(first_size);
-      return result;
-    }
-  }
-  if (first_size != cv::Size(camera.width, camera.height)) {
-    result.error = imageName(names, 0) + " is " + sizeText(first_size) + " but the camera was calibrated at " +
-                   sizeText(cv::Size(camera.width, camera.height));
-    return result;
-  }
-
+  result.error = checkImageSizes(camera, images, names);
+  if (!result.error.empty()) return result;
   // Identical decoded pixels: a copied frame gets its original's detection (and so identical
   // features, which the integrity test counts once).
   const std::vector<int> copy_of = identicalImages(images);
-  // Full detection until the target is found once, then cheap refinement from it.
   std::vector<Detection> detections(images.size());
-  std::size_t reference = images.size();
-  for (std::size_t j = 0; j < images.size() && reference == images.size(); ++j) {
-    detections[j] = copy_of[j] >= 0 ? detections[static_cast<std::size_t>(copy_of[j])]
-                                    : detectTarget(target, images[j], options.detection);
-    if (detections[j].found) reference = j;
-    else result.warnings.push_back(imageName(names, j) + ": target not found (" + detections[j].reason + ")");
-  }
-  if (reference == images.size()) {
-    result.error = "target not found in any of the " + std::to_string(images.size()) + " images";
-    if (!detections.empty() && !detections.front().reason.empty()) result.error += " (" + detections.front().reason + ")";
-    return result;
-  }
-  for (std::size_t j = reference + 1; j < images.size(); ++j) {
-    if (copy_of[j] >= 0) {
-      detections[j] = detections[static_cast<std::size_t>(copy_of[j])];
-      continue;
-    }
-    detections[j] = refineDetection(target, images[j], detections[reference], options.detection);
-    // A refinement that lost much of the target (the camera or the target moved): search again.
-    if (!detections[j].found || detections[j].size() * 2 < detections[reference].size())
-      detections[j] = detectTarget(target, images[j], options.detection);
-    if (!detections[j].found)
-      result.warnings.push_back(imageName(names, j) + ": target not found (" + detections[j].reason + ")");
-  }
-
-  // The reference image through the same refinement as the others: a full detection's
-  // sub-pixel step differs from refineDetection's, and that difference, common to nothing but
-  // the reference image, would read as a motion of it (pose_integrity.hpp).
-  const Detection rerefined = refineDetection(target, images[reference], detections[reference], options.detection);
-  if (rerefined.found && rerefined.size() == detections[reference].size()) detections[reference] = rerefined;
-  for (std::size_t j = 0; j < images.size(); ++j)
-    if (copy_of[j] >= 0) detections[j] = detections[static_cast<std::size_t>(copy_of[j])];
+  if (!detectAll(target, images, names, copy_of, options, &detections, &result)) return result;
   result.detections = detections;  // every image's, before the integrity test leaves any out
   if (!averageIntegrity(camera, target, names, options, &detections, &result)) return result;
   result.estimate = estimatePose(camera, target.points(), result.features, options.pose);
@@ -136,19 +165,7 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
     result.error = result.estimate.reason;
     return result;
   }
-  if (result.estimate.ambiguous) {
-    std::ostringstream text;
-    text << "ambiguous pose: the planar flip fits almost as well (cost ratio " << result.estimate.ambiguity_cost_ratio
-         << ")";
-    result.warnings.push_back(text.str());
-  }
-  if (result.estimate.scatter_from_residuals) {
-    std::ostringstream text;
-    text << (result.features.zero_scatter ? "zero scatter between the images: " : "one image: ")
-         << "sigma from the fit residuals (" << result.estimate.rms_px << " px rms, isotropic), reduced_chi2 = 1 by "
-         << "construction";
-    result.notes.push_back(text.str());
-  }
+  notePoseCaveats(&result);
   result.ok = true;
   return result;
 }
