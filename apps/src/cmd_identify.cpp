@@ -13,6 +13,7 @@
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
@@ -262,7 +263,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
       return refit;
     });
   }
-  mech::alignTranslatingTarget(*result.model.mechanism, result.model.external, result.model.parameters, poses);
+  const auto mean_orientation_covariance = mech::alignTranslatingTarget(result, poses);  // Delta: σ of cRm
   if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
 
   // ---- criteria ----
@@ -396,7 +397,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
     data.summary_text = out.str();
   }
   // All or nothing (doc/robustness.md): the parameters, their covariance side file, then the report.
-  const mech::PredictionModel prediction = mech::predictionModelFrom(model, result);
+  const mech::PredictionModel prediction = mech::predictionModelFrom(model, result, mean_orientation_covariance);
   const fs::path covariance_output = mech::defaultParameterCovariancePath(args.output);
   support::OutputTransaction outputs;
   mech::writePredictionCovarianceCsv(outputs.stageFile(covariance_output), prediction);
