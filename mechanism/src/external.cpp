@@ -13,11 +13,9 @@
 #include <cmath>
 #include <algorithm>
 #include <complex>
-#include <memory>
 #include <stdexcept>
 
 #include "mire/mechanism/mechanism.hpp"
-#include "large_problem.hpp"
 
 namespace mire::mechanism {
 
@@ -82,12 +80,18 @@ void axisResidual(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0, const 
 }
 
 struct AxisResidual {
-  Eigen::Matrix3d Ac0, Am0, cRm, whitening;
+  // Pointers into the caller's arrays (they outlive the solve): 10⁵ poses must not copy the
+  // shared Ac0, Am0 10⁵ times, and the per-pose data stays contiguous.
+  const Eigen::Matrix3d* Ac0;
+  const Eigen::Matrix3d* Am0;
+  const Eigen::Matrix3d* cRm;
+  const Eigen::Matrix3d* whitening;
   template <class T>
   bool operator()(const T* tilt_c, const T* tilt_m, const T* phi, T* residual) const {
     T e[3];
-    axisResidual(Ac0, Am0, tilt_c, tilt_m, phi, Eigen::Matrix<T, 3, 3>(cRm.cast<T>()), e);
-    for (int r = 0; r < 3; ++r) residual[r] = whitening(r, 0) * e[0] + whitening(r, 1) * e[1] + whitening(r, 2) * e[2];
+    axisResidual(*Ac0, *Am0, tilt_c, tilt_m, phi, Eigen::Matrix<T, 3, 3>(cRm->cast<T>()), e);
+    const Eigen::Matrix3d& W = *whitening;
+    for (int r = 0; r < 3; ++r) residual[r] = W(r, 0) * e[0] + W(r, 1) * e[1] + W(r, 2) * e[2];
     return true;
   }
 };
@@ -353,20 +357,11 @@ AxisAlignment refineAxisAlignment(const Eigen::Matrix3d& Ac0, const Eigen::Matri
   std::vector<ceres::CostFunction*> costs;
   for (std::size_t j = 0; j < n; ++j) {
     costs.push_back(new ceres::AutoDiffCostFunction<AxisResidual, 3, 2, 2, 1>(
-        new AxisResidual{Ac0, Am0, R[j], whitening[j]}));
+        new AxisResidual{&Ac0, &Am0, &R[j], &whitening[j]}));
     problem.AddResidualBlock(costs.back(), nullptr, tilt_c, tilt_m, &phi[j]);
   }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_SCHUR;
-  if (static_cast<Eigen::Index>(3 * n) > detail::kLargeProblemRows) {
-    // The elimination order Ceres would find (angles first, then the tilts), given, so that
-    // it does not search a graph whose two tilt blocks touch every pose.
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (double& angle : phi) ordering->AddElementToGroup(&angle, 0);
-    ordering->AddElementToGroup(tilt_c, 1);
-    ordering->AddElementToGroup(tilt_m, 1);
-    options.linear_solver_ordering = ordering;
-  }
   options.logging_type = ceres::SILENT;
   options.max_num_iterations = 30;
   options.function_tolerance = 1e-12;

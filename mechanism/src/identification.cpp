@@ -476,10 +476,13 @@ std::vector<bool> flagOutliers(IdentificationResult& result, const Eigen::Vector
   return keep;
 }
 
-// The whitened system A of the poses kept, priors below, and its χ².
+// The whitened system A of the poses kept, priors below, and its χ². Without outliers left
+// out or priors, A is the whitened Jacobian itself (no copy of an N×P matrix).
 struct KeptSystem {
-  Eigen::MatrixXd A;
+  bool whole = false;   // A = SolutionJacobian::whitened
+  Eigen::MatrixXd own;  // else A
   double chi2 = 0.0;
+  const Eigen::MatrixXd& A(const SolutionJacobian& solution) const { return whole ? solution.whitened : own; }
 };
 
 KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>& keep, const PriorRows& prior,
@@ -491,29 +494,32 @@ KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>&
                              std::to_string(keep.size()) + " poses are outliers; the others cannot determine the " +
                              std::to_string(free_count) + " free parameters (check the poses file)");
   KeptSystem out;
-  out.A.resize(kept_rows + prior.rows.rows(), solution.whitened.cols());
+  out.whole = kept_rows == solution.whitened.rows() && prior.rows.rows() == 0;
+  const bool whole = out.whole;
+  if (!whole) out.own.resize(kept_rows + prior.rows.rows(), solution.whitened.cols());
   out.chi2 = prior.chi2;
   Eigen::Index row = 0;
   for (std::size_t j = 0; j < keep.size(); ++j) {
     if (!keep[j]) continue;
-    out.A.middleRows(row, J) = solution.whitened.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    if (!whole) out.own.middleRows(row, J) = solution.whitened.middleRows(static_cast<Eigen::Index>(j) * J, J);
     out.chi2 += solution.r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
     row += J;
   }
-  out.A.bottomRows(prior.rows.rows()) = prior.rows;
+  if (!whole) out.own.bottomRows(prior.rows.rows()) = prior.rows;
   return out;
 }
 
 // Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
 // Returns whether AᵀA is rank deficient.
-bool covarianceOfKept(IdentificationResult& result, const KeptSystem& kept, const IdentificationOptions& options) {
-  const int dof_kept = static_cast<int>(kept.A.rows()) - static_cast<int>(result.model.parameters.freeCount());
-  const double scale2 = kept.chi2 / std::max(1, dof_kept);
+bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, double chi2_kept,
+                      const IdentificationOptions& options) {
+  const int dof_kept = static_cast<int>(A.rows()) - static_cast<int>(result.model.parameters.freeCount());
+  const double scale2 = chi2_kept / std::max(1, dof_kept);
   result.residual_scale = result.weighted ? std::sqrt(scale2) : std::sqrt(scale2) * options.joint_sigma;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd =
-      kept.A.rows() > detail::kLargeProblemRows
-          ? Eigen::JacobiSVD<Eigen::MatrixXd>(detail::compressRows(kept.A), Eigen::ComputeThinV)
-          : Eigen::JacobiSVD<Eigen::MatrixXd>(kept.A, Eigen::ComputeThinV);
+      A.rows() > detail::kLargeProblemRows
+          ? Eigen::JacobiSVD<Eigen::MatrixXd>(detail::compressRows(A), Eigen::ComputeThinV)
+          : Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
   const double cutoff = s.size() ? s[0] * 1e-10 : 0.0;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
@@ -525,7 +531,7 @@ bool covarianceOfKept(IdentificationResult& result, const KeptSystem& kept, cons
   const Eigen::MatrixXd scaled_v = svd.matrixV() * inv_s2.asDiagonal();
   result.information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
   result.covariance_scale2 = !result.weighted ? scale2
-                             : options.scale_on_misfit ? misfitScale2(kept.chi2, dof_kept, options.outlier_probability)
+                             : options.scale_on_misfit ? misfitScale2(chi2_kept, dof_kept, options.outlier_probability)
                                                        : 1.0;
   result.covariance_method = result.weighted && result.covariance_scale2 == 1.0 ? "measured" : "residual-scaled";
   result.covariance = result.information_inverse * result.covariance_scale2;
@@ -611,8 +617,9 @@ IdentificationResult identify(const IdentificationModel& initial,
   const std::vector<bool> keep = flagOutliers(result, solution.r, prior, options);
   const KeptSystem kept = keptSystem(solution, keep, prior, initial.mechanism->jointCount(),
                                      result.model.parameters.freeCount(), result.outliers.size());
-  bool deficient = covarianceOfKept(result, kept, options);
-  addAlignmentCovariance(result, poses, keep, kept.A);
+  const Eigen::MatrixXd& A = kept.A(solution);
+  bool deficient = covarianceOfKept(result, A, kept.chi2, options);
+  addAlignmentCovariance(result, poses, keep, A);
   result.free_names = result.model.parameters.freeNames();
   if (options.compute_identifiability) {
     result.identifiability = analyzeJacobian(solution.radians, result.free_names, options.identifiability);
