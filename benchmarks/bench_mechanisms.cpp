@@ -19,6 +19,7 @@
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/prediction.hpp"
+#include "mire/mechanism/translating_target.hpp"
 
 using namespace mire::mechanism;
 using mire::datasets::Campaign;
@@ -58,7 +59,7 @@ void sigmaStudy(const std::string& name, int campaigns) {
     IdentificationModel model = makeInitialModel(all.model.mechanism, all.model.nominal, train, all.model.external_form);
     const GaugeAnalysis gauge = fixGauge(model, train);
     IdentificationResult result = identify(model, train);
-    alignTranslatingTarget(*result.model.mechanism, result.model.external, result.model.parameters, train);
+    const auto mean_orientation_covariance = alignTranslatingTarget(result, train);
     rank = gauge.report.rank;
     params = static_cast<int>(gauge.report.parameter_names.size());
     if (c == 0) for (const auto& g : gauge.gauge) gauge_names += " " + g;
@@ -67,7 +68,7 @@ void sigmaStudy(const std::string& name, int campaigns) {
       const double s = result.sigmaOf(n);
       normalised[n].push_back((result.model.parameters.value(n) - all.truth.value(n)) / s);
     }
-    const PredictionModel prediction = predictionModelFrom(name, result);
+    const PredictionModel prediction = predictionModelFrom(name, result, mean_orientation_covariance);
     double ce = 0, cs = 0;
     for (std::size_t j = all.poses.size() - 20; j < all.poses.size(); ++j) {
       const PosePrediction p = predictPose(prediction, all.poses[j].joints);

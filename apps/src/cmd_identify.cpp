@@ -14,6 +14,7 @@
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
@@ -285,7 +286,6 @@ mech::IdentificationResult identifyModel(const ModelChoice& choice, const Identi
       return refit;
     });
   }
-  mech::alignTranslatingTarget(*result.model.mechanism, result.model.external, result.model.parameters, poses);
   if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
   return result;
 }
@@ -424,6 +424,7 @@ struct IdentifyRun {
   InitialModel initial;
   std::vector<mech::PoseResidual> before;  // q̄ − f per pose, initial model
   mech::IdentificationResult result;
+  std::optional<Eigen::Matrix3d> mean_orientation_covariance;  // Delta: σ of the constant cRm
   Criteria criteria;
 };
 
@@ -470,7 +471,8 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
     data.study = run.criteria.study ? &*run.criteria.study : nullptr;
     data.summary_text = summary;
   }
-  const mech::PredictionModel prediction = mech::predictionModelFrom(run.choice.model, result);
+  const mech::PredictionModel prediction =
+      mech::predictionModelFrom(run.choice.model, result, run.mean_orientation_covariance);
   const fs::path covariance_output = mech::defaultParameterCovariancePath(args.output);
   support::OutputTransaction outputs;
   mech::writePredictionCovarianceCsv(outputs.stageFile(covariance_output), prediction);
@@ -494,6 +496,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   run.initial = initialModel(run.choice, run.inputs);
   run.before = residualsOf(run.initial.model, run.inputs.observations.poses);
   run.result = identifyModel(run.choice, run.inputs, run.initial);
+  run.mean_orientation_covariance = mech::alignTranslatingTarget(run.result, run.inputs.observations.poses);
   run.criteria = evaluateCriteria(args, run.inputs, run.initial, run.result);
   writeIdentifyOutputs(args, command_line, run, summaryText(args, run));
   return kOk;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -141,27 +142,24 @@ void meanSigma(const std::vector<double>& values, double* mean, double* sigma) {
 }
 
 }  // namespace
+namespace {
 
-MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
-                                   const std::vector<std::vector<Eigen::VectorXd>>& line_joints,
-                                   const MonteCarloOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  const int n = static_cast<int>(poses.size());
+void checkMonteCarloOptions(const MonteCarloOptions& options, int n) {
   for (int size : options.subset_sizes)
     if (size < 1 || size >= n)
       throw std::invalid_argument("Monte-Carlo subset size " + std::to_string(size) + " must be in 1.." +
                                   std::to_string(n - 1) + " (the other poses validate)");
   if (options.repeats < 1) throw std::invalid_argument("Monte-Carlo repeats must be >= 1");
+}
 
-  MonteCarloStudy study;
-  study.parameter_names = initial.parameters.names();
+struct MonteCarloJob {
+  std::size_t summary, run;
+  std::vector<int> order;  // shuffled pose indices: first `size` identify, the rest validate
+};
 
-  // Draw every subset first (one RNG stream): the outcome does not depend on the threads.
-  struct Job {
-    std::size_t summary, run;
-    std::vector<int> order;  // shuffled pose indices: first `size` identify, the rest validate
-  };
-  std::vector<Job> jobs;
+// Draws every subset first (one RNG stream): the outcome does not depend on the threads.
+std::vector<MonteCarloJob> drawSubsets(MonteCarloStudy& study, const MonteCarloOptions& options, int n) {
+  std::vector<MonteCarloJob> jobs;
   std::mt19937_64 rng(options.seed);
   study.summaries.resize(options.subset_sizes.size());
   for (std::size_t s = 0; s < options.subset_sizes.size(); ++s) {
@@ -174,80 +172,107 @@ MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial, const std
       jobs.push_back({s, static_cast<std::size_t>(r), std::move(order)});
     }
   }
+  return jobs;
+}
+
+// One run: identify on the subset, V1/V2 on the other poses, V3 on the lines.
+void identifyAndValidate(MonteCarloRun& run, int size, const std::vector<int>& order, const IdentificationModel& initial,
+                         const std::vector<PoseObservation>& poses,
+                         const std::vector<std::vector<Eigen::VectorXd>>& line_joints,
+                         const IdentificationOptions& run_options) {
+  std::vector<PoseObservation> subset, validation;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const PoseObservation& pose = poses[static_cast<std::size_t>(order[k])];
+    if (static_cast<int>(k) < size) {
+      subset.push_back(pose);
+      run.subset.push_back(pose.id);
+    } else {
+      validation.push_back(pose);
+    }
+  }
+  try {
+    const IdentificationResult result = identify(initial, subset, run_options);
+    run.values = result.model.parameters.values();
+    const JointResidualCriteria criteria = jointResidualCriteria(result.model, validation);
+    run.v1_rad = criteria.v1_rad;
+    run.v2_rad = criteria.v2_rad;
+    run.v3_m = std::numeric_limits<double>::quiet_NaN();
+    if (!line_joints.empty())
+      run.v3_m = straightnessCriterion(*result.model.mechanism, result.model.geometricValues(), line_joints).v3_m;
+    run.ok = result.converged && std::isfinite(run.v2_rad);
+    if (!run.ok)
+      run.error = result.converged ? "validation poses unreachable" : "did not converge: " + result.solver_report;
+  } catch (const std::exception& e) {
+    run.ok = false;
+    run.error = e.what();
+  }
+}
+
+// Runs jobs [0, count) on `thread_count` threads (the caller's included).
+void runOnThreads(std::size_t count, int thread_count, const std::function<void(std::size_t)>& job) {
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t j = next++; j < count; j = next++) job(j);
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < std::max(1, thread_count); ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& thread : threads) thread.join();
+}
+
+// Mean and σ of the parameters and criteria over the successful runs of one subset size.
+void summariseRuns(MonteCarloSummary& summary, Eigen::Index p) {
+  std::vector<double> v1, v2, v3;
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(p), sum_sq = Eigen::VectorXd::Zero(p);
+  for (const MonteCarloRun& run : summary.runs) {
+    if (!run.ok) {
+      ++summary.runs_failed;
+      continue;
+    }
+    ++summary.runs_ok;
+    sum += run.values;
+    v1.push_back(run.v1_rad);
+    v2.push_back(run.v2_rad);
+    v3.push_back(run.v3_m);
+  }
+  summary.mean = Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
+  summary.sigma = summary.mean;
+  if (summary.runs_ok > 0) {
+    summary.mean = sum / summary.runs_ok;
+    for (const MonteCarloRun& run : summary.runs)
+      if (run.ok) sum_sq += (run.values - summary.mean).array().square().matrix();
+    summary.sigma = summary.runs_ok > 1 ? (sum_sq / (summary.runs_ok - 1)).cwiseSqrt().eval()
+                                        : Eigen::VectorXd::Zero(p).eval();
+  }
+  meanSigma(v1, &summary.v1_mean, &summary.v1_sigma);
+  meanSigma(v2, &summary.v2_mean, &summary.v2_sigma);
+  meanSigma(v3, &summary.v3_mean, &summary.v3_sigma);
+}
+
+}  // namespace
+
+MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
+                                   const std::vector<std::vector<Eigen::VectorXd>>& line_joints,
+                                   const MonteCarloOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(poses.size());
+  checkMonteCarloOptions(options, n);
+  MonteCarloStudy study;
+  study.parameter_names = initial.parameters.names();
+  const std::vector<MonteCarloJob> jobs = drawSubsets(study, options, n);
 
   IdentificationOptions run_options = options.identification;
   run_options.compute_identifiability = false;
-
-  auto runJob = [&](const Job& job) {
-    MonteCarloRun& run = study.summaries[job.summary].runs[job.run];
-    const int size = study.summaries[job.summary].subset_size;
-    std::vector<PoseObservation> subset, validation;
-    for (int k = 0; k < n; ++k) {
-      const PoseObservation& pose = poses[static_cast<std::size_t>(job.order[static_cast<std::size_t>(k)])];
-      if (k < size) {
-        subset.push_back(pose);
-        run.subset.push_back(pose.id);
-      } else {
-        validation.push_back(pose);
-      }
-    }
-    try {
-      const IdentificationResult result = identify(initial, subset, run_options);
-      run.values = result.model.parameters.values();
-      const JointResidualCriteria criteria = jointResidualCriteria(result.model, validation);
-      run.v1_rad = criteria.v1_rad;
-      run.v2_rad = criteria.v2_rad;
-      run.v3_m = std::numeric_limits<double>::quiet_NaN();
-      if (!line_joints.empty())
-        run.v3_m = straightnessCriterion(*result.model.mechanism, result.model.geometricValues(), line_joints).v3_m;
-      run.ok = result.converged && std::isfinite(run.v2_rad);
-      if (!run.ok)
-        run.error = result.converged ? "validation poses unreachable" : "did not converge: " + result.solver_report;
-    } catch (const std::exception& e) {
-      run.ok = false;
-      run.error = e.what();
-    }
+  runOnThreads(jobs.size(), options.threads, [&](std::size_t j) {
+    const MonteCarloJob& job = jobs[j];
+    MonteCarloSummary& summary = study.summaries[job.summary];
+    identifyAndValidate(summary.runs[job.run], summary.subset_size, job.order, initial, poses, line_joints,
+                        run_options);
     if (options.on_run_done) options.on_run_done();
-  };
+  });
 
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t j = next++; j < jobs.size(); j = next++) runJob(jobs[j]);
-  };
-  const int thread_count = std::max(1, options.threads);
-  std::vector<std::thread> threads;
-  for (int t = 1; t < thread_count; ++t) threads.emplace_back(worker);
-  worker();
-  for (auto& thread : threads) thread.join();
-
-  const Eigen::Index p = static_cast<Eigen::Index>(study.parameter_names.size());
-  for (MonteCarloSummary& summary : study.summaries) {
-    std::vector<double> v1, v2, v3;
-    Eigen::VectorXd sum = Eigen::VectorXd::Zero(p), sum_sq = Eigen::VectorXd::Zero(p);
-    for (const MonteCarloRun& run : summary.runs) {
-      if (!run.ok) {
-        ++summary.runs_failed;
-        continue;
-      }
-      ++summary.runs_ok;
-      sum += run.values;
-      v1.push_back(run.v1_rad);
-      v2.push_back(run.v2_rad);
-      v3.push_back(run.v3_m);
-    }
-    summary.mean = Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
-    summary.sigma = summary.mean;
-    if (summary.runs_ok > 0) {
-      summary.mean = sum / summary.runs_ok;
-      for (const MonteCarloRun& run : summary.runs)
-        if (run.ok) sum_sq += (run.values - summary.mean).array().square().matrix();
-      summary.sigma = summary.runs_ok > 1 ? (sum_sq / (summary.runs_ok - 1)).cwiseSqrt().eval()
-                                          : Eigen::VectorXd::Zero(p).eval();
-    }
-    meanSigma(v1, &summary.v1_mean, &summary.v1_sigma);
-    meanSigma(v2, &summary.v2_mean, &summary.v2_sigma);
-    meanSigma(v3, &summary.v3_mean, &summary.v3_sigma);
-  }
+  const auto p = static_cast<Eigen::Index>(study.parameter_names.size());
+  for (MonteCarloSummary& summary : study.summaries) summariseRuns(summary, p);
   study.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return study;
 }

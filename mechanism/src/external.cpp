@@ -80,12 +80,18 @@ void axisResidual(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0, const 
 }
 
 struct AxisResidual {
-  Eigen::Matrix3d Ac0, Am0, cRm, whitening;
+  // Pointers into the caller's arrays (they outlive the solve): 10⁵ poses must not copy the
+  // shared Ac0, Am0 10⁵ times, and the per-pose data stays contiguous.
+  const Eigen::Matrix3d* Ac0;
+  const Eigen::Matrix3d* Am0;
+  const Eigen::Matrix3d* cRm;
+  const Eigen::Matrix3d* whitening;
   template <class T>
   bool operator()(const T* tilt_c, const T* tilt_m, const T* phi, T* residual) const {
     T e[3];
-    axisResidual(Ac0, Am0, tilt_c, tilt_m, phi, Eigen::Matrix<T, 3, 3>(cRm.cast<T>()), e);
-    for (int r = 0; r < 3; ++r) residual[r] = whitening(r, 0) * e[0] + whitening(r, 1) * e[1] + whitening(r, 2) * e[2];
+    axisResidual(*Ac0, *Am0, tilt_c, tilt_m, phi, Eigen::Matrix<T, 3, 3>(cRm->cast<T>()), e);
+    const Eigen::Matrix3d& W = *whitening;
+    for (int r = 0; r < 3; ++r) residual[r] = W(r, 0) * e[0] + W(r, 1) * e[1] + W(r, 2) * e[2];
     return true;
   }
 };
@@ -266,14 +272,13 @@ AxisAlignment tiltAlignment(const AxisAlignment& alignment, const Eigen::Vector4
   return out;
 }
 
-AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
-  if (poses.size() < 2) throw std::invalid_argument("the rotation axis needs at least 2 poses");
-  std::vector<Eigen::Matrix3d> R;
-  for (const PoseObservation& p : poses) R.push_back(toIsometry(p.cTm).linear());
-  // Every relative rotation is about the common axis: principal direction of their
-  // rotation vectors (small rotations weigh little). Relative to a bounded number of
-  // reference poses spread over the list, so the cost is linear in the pose count (the
-  // maximum-likelihood refinement below removes the dependence on that choice).
+namespace {
+
+// Every relative rotation is about the common axis: principal direction of their rotation
+// vectors (small rotations weigh little). Relative to a bounded number of reference poses
+// spread over the list, so the cost is linear in the pose count (the maximum-likelihood
+// refinement removes the dependence on that choice).
+Eigen::Vector3d principalRotationAxis(const std::vector<Eigen::Matrix3d>& R) {
   constexpr std::size_t kReferences = 16;
   const std::size_t stride = std::max<std::size_t>(1, R.size() / kReferences);
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
@@ -289,44 +294,70 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
     throw std::invalid_argument(
         "the measured orientations span less than 2 deg: the rotation axis is undetermined");
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
-  const Eigen::Vector3d axis_c = eigen.eigenvectors().col(2);
-  Eigen::Vector3d axis_m = Eigen::Vector3d::Zero();
-  for (const Eigen::Matrix3d& r : R) axis_m += r.transpose() * axis_c;
+  return eigen.eigenvectors().col(2);
+}
 
-  const Eigen::Matrix3d Ac0 = alignZ(axis_c), Am0 = alignZ(axis_m);
-  const std::size_t n = R.size();
-  std::vector<double> phi(n);
-  for (std::size_t j = 0; j < n; ++j) phi[j] = angleAboutZ(Ac0.transpose() * R[j] * Am0);
-
-  // Residual covariance Cj = Jr·Σr·Jrᵀ from each pose's rotation-vector covariance.
-  bool weighted = true;
-  for (const PoseObservation& p : poses) weighted = weighted && p.covariance.has_value();
+// W_j = L⁻¹ with Cj = Jr·Σr·Jrᵀ = L Lᵀ, from each pose's rotation-vector covariance; the
+// identity for every pose (and *weighted = false) when one lacks a usable covariance.
+std::vector<Eigen::Matrix3d> axisResidualWhitening(const std::vector<PoseObservation>& poses,
+                                                   const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0,
+                                                   const std::vector<double>& phi, bool* weighted) {
+  const std::size_t n = poses.size();
+  *weighted = true;
+  for (const PoseObservation& p : poses) *weighted = *weighted && p.covariance.has_value();
   std::vector<Eigen::Matrix3d> whitening(n, Eigen::Matrix3d::Identity());
-  if (weighted)
-    for (std::size_t j = 0; j < n; ++j) {
-      ceres::AutoDiffCostFunction<AxisResidualWrtMeasurement, 3, 3> cost(
-          new AxisResidualWrtMeasurement{Ac0, Am0, phi[j]});
-      const double* parameters[1] = {poses[j].cTm.data() + 3};
-      Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Jr;
-      double* jacobians[1] = {Jr.data()};
-      Eigen::Vector3d e;
-      cost.Evaluate(parameters, e.data(), jacobians);
-      const Eigen::Matrix3d C = Jr * poses[j].covariance->bottomRightCorner<3, 3>() * Jr.transpose();
-      const Eigen::LLT<Eigen::Matrix3d> llt(C);
-      if (llt.info() != Eigen::Success) {
-        weighted = false;
-        break;
-      }
-      whitening[j] = llt.matrixL().solve(Eigen::Matrix3d::Identity());
+  if (!*weighted) return whitening;
+  for (std::size_t j = 0; j < n; ++j) {
+    ceres::AutoDiffCostFunction<AxisResidualWrtMeasurement, 3, 3> cost(
+        new AxisResidualWrtMeasurement{Ac0, Am0, phi[j]});
+    const double* parameters[1] = {poses[j].cTm.data() + 3};
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Jr;
+    double* jacobians[1] = {Jr.data()};
+    Eigen::Vector3d e;
+    cost.Evaluate(parameters, e.data(), jacobians);
+    const Eigen::Matrix3d C = Jr * poses[j].covariance->bottomRightCorner<3, 3>() * Jr.transpose();
+    const Eigen::LLT<Eigen::Matrix3d> llt(C);
+    if (llt.info() != Eigen::Success) {
+      *weighted = false;
+      return std::vector<Eigen::Matrix3d>(n, Eigen::Matrix3d::Identity());
     }
-  if (!weighted) std::fill(whitening.begin(), whitening.end(), Eigen::Matrix3d::Identity());
+    whitening[j] = llt.matrixL().solve(Eigen::Matrix3d::Identity());
+  }
+  return whitening;
+}
 
+// Information of the 4 tilts: Schur complement of the per-pose angles in JᵀJ; also χ².
+Eigen::Matrix4d tiltInformation(const std::vector<ceres::CostFunction*>& costs, const double* tilt_c,
+                                const double* tilt_m, const std::vector<double>& phi, double* chi2) {
+  Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
+  *chi2 = 0.0;
+  for (std::size_t j = 0; j < costs.size(); ++j) {
+    const double* parameters[3] = {tilt_c, tilt_m, &phi[j]};
+    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> Jc, Jm;
+    Eigen::Vector3d Jp, e;
+    double* jacobians[3] = {Jc.data(), Jm.data(), Jp.data()};
+    costs[j]->Evaluate(parameters, e.data(), jacobians);
+    *chi2 += e.squaredNorm();
+    Eigen::Matrix<double, 3, 4> Jt;
+    Jt << Jc, Jm;
+    information += Jt.transpose() * Jt - Jt.transpose() * Jp * Jp.transpose() * Jt / Jp.squaredNorm();
+  }
+  return information;
+}
+
+// Maximum-likelihood refinement (axisResidual) of the tilts of Ac0, Am0 and the per-pose
+// angles φ (eliminated by the Schur complement), and the tilts' covariance.
+AxisAlignment refineAxisAlignment(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0,
+                                  const std::vector<Eigen::Matrix3d>& R,
+                                  const std::vector<Eigen::Matrix3d>& whitening, bool weighted,
+                                  std::vector<double> phi) {
+  const std::size_t n = R.size();
   double tilt_c[2] = {0.0, 0.0}, tilt_m[2] = {0.0, 0.0};
   ceres::Problem problem;
   std::vector<ceres::CostFunction*> costs;
   for (std::size_t j = 0; j < n; ++j) {
     costs.push_back(new ceres::AutoDiffCostFunction<AxisResidual, 3, 2, 2, 1>(
-        new AxisResidual{Ac0, Am0, R[j], whitening[j]}));
+        new AxisResidual{&Ac0, &Am0, &R[j], &whitening[j]}));
     problem.AddResidualBlock(costs.back(), nullptr, tilt_c, tilt_m, &phi[j]);
   }
   ceres::Solver::Options options;
@@ -338,20 +369,8 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
 
-  // Covariance of the 4 tilts: Schur complement of the per-pose angles in JᵀJ.
-  Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
   double chi2 = 0.0;
-  for (std::size_t j = 0; j < n; ++j) {
-    const double* parameters[3] = {tilt_c, tilt_m, &phi[j]};
-    Eigen::Matrix<double, 3, 2, Eigen::RowMajor> Jc, Jm;
-    Eigen::Vector3d Jp, e;
-    double* jacobians[3] = {Jc.data(), Jm.data(), Jp.data()};
-    costs[j]->Evaluate(parameters, e.data(), jacobians);
-    chi2 += e.squaredNorm();
-    Eigen::Matrix<double, 3, 4> Jt;
-    Jt << Jc, Jm;
-    information += Jt.transpose() * Jt - Jt.transpose() * Jp * Jp.transpose() * Jt / Jp.squaredNorm();
-  }
+  const Eigen::Matrix4d information = tiltInformation(costs, tilt_c, tilt_m, phi, &chi2);
   AxisAlignment alignment;
   alignment.camera = Ac0 * tiltXY(tilt_c[0], tilt_c[1]);
   alignment.target = Am0 * tiltXY(tilt_m[0], tilt_m[1]);
@@ -362,6 +381,24 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
     if (!weighted && dof > 0) alignment.covariance *= chi2 / dof;  // σ² from the fit
   }
   return alignment;
+}
+
+}  // namespace
+
+AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
+  if (poses.size() < 2) throw std::invalid_argument("the rotation axis needs at least 2 poses");
+  std::vector<Eigen::Matrix3d> R;
+  for (const PoseObservation& p : poses) R.push_back(toIsometry(p.cTm).linear());
+  const Eigen::Vector3d axis_c = principalRotationAxis(R);
+  Eigen::Vector3d axis_m = Eigen::Vector3d::Zero();
+  for (const Eigen::Matrix3d& r : R) axis_m += r.transpose() * axis_c;
+
+  const Eigen::Matrix3d Ac0 = alignZ(axis_c), Am0 = alignZ(axis_m);
+  std::vector<double> phi(R.size());
+  for (std::size_t j = 0; j < R.size(); ++j) phi[j] = angleAboutZ(Ac0.transpose() * R[j] * Am0);
+  bool weighted = false;
+  const std::vector<Eigen::Matrix3d> whitening = axisResidualWhitening(poses, Ac0, Am0, phi, &weighted);
+  return refineAxisAlignment(Ac0, Am0, R, whitening, weighted, std::move(phi));
 }
 
 std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
@@ -381,6 +418,85 @@ std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
   return bTe;
 }
 
+namespace {
+
+using cd = std::complex<double>;
+
+// φ_j: the measured rotation about the aligned axis.
+std::vector<double> measuredAxisAngles(const AxisAlignment& alignment, const std::vector<PoseObservation>& poses) {
+  std::vector<double> phi(poses.size());
+  for (std::size_t j = 0; j < poses.size(); ++j)
+    phi[j] = angleAboutZ(alignment.camera.transpose() * toIsometry(poses[j].cTm).linear() * alignment.target);
+  return phi;
+}
+
+// Orients the axis so that the measured rotation φ follows the FKM's θ (z_B up); returns φ
+// in the (possibly flipped) alignment.
+std::vector<double> orientAxisAlongTheta(AxisAlignment& alignment, const std::vector<PoseObservation>& poses,
+                                         const std::vector<double>& theta) {
+  std::vector<double> phi = measuredAxisAngles(alignment, poses);
+  double agreement = 0.0;
+  for (std::size_t j = 0; j < poses.size(); ++j) agreement += wrap(phi[j] - phi[0]) * wrap(theta[j] - theta[0]);
+  if (agreement >= 0.0) return phi;
+  const Eigen::Matrix3d flip = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+  alignment.camera = alignment.camera * flip;
+  alignment.target = alignment.target * flip;
+  // Tilts about the flipped frames: (δx, δy) -> (δx, −δy).
+  const Eigen::Matrix4d G = Eigen::Vector4d(1.0, -1.0, 1.0, -1.0).asDiagonal();
+  alignment.covariance = G * alignment.covariance * G;
+  return measuredAxisAngles(alignment, poses);
+}
+
+// The aligned mounting's translations and ψ_BC: positions p_j = Rz(ψ_BC)(Rz(φ_j) u + v_j) + t_bc
+// with v_j = Acᵀ·c t_m(j).
+struct PlanarMounting {
+  double psi_bc = 0.0;
+  cd u{0.0, 0.0}, t{0.0, 0.0};
+  double t_z = 0.0, u_z = 0.0;
+};
+
+// Base = axis-aligned camera frame: p_j − v_j = Rz(φ_j)·u.
+PlanarMounting cameraFrameMounting(const std::vector<double>& phi, const std::vector<Eigen::Vector3d>& v,
+                                   const std::vector<Eigen::Vector3d>& p) {
+  const std::size_t n = phi.size();
+  PlanarMounting m;
+  for (std::size_t j = 0; j < n; ++j) m.u += std::polar(1.0, -phi[j]) * cd(p[j].x() - v[j].x(), p[j].y() - v[j].y());
+  m.u /= static_cast<double>(n);
+  double sum = 0.0;
+  for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z();
+  m.u_z = sum / static_cast<double>(n);
+  return m;
+}
+
+// Linear complex least squares P_j = e^{iφ_j}·B + A·V_j + T, A = e^{iψ_BC}, B = A·u.
+PlanarMounting axisAlignedMounting(const std::vector<double>& phi, const std::vector<Eigen::Vector3d>& v,
+                                   const std::vector<Eigen::Vector3d>& p, double z_ME) {
+  const std::size_t n = phi.size();
+  Eigen::MatrixXcd M(static_cast<Eigen::Index>(n), 3);
+  Eigen::VectorXcd rhs(static_cast<Eigen::Index>(n));
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto r = static_cast<Eigen::Index>(j);
+    M(r, 0) = std::polar(1.0, phi[j]);
+    M(r, 1) = cd(v[j].x(), v[j].y());
+    M(r, 2) = 1.0;
+    rhs[r] = cd(p[j].x(), p[j].y());
+  }
+  const Eigen::VectorXcd x = M.colPivHouseholderQr().solve(rhs);
+  PlanarMounting m;
+  m.u_z = z_ME;
+  m.psi_bc = std::arg(x[1]);
+  m.u = x[0] * std::polar(1.0, -m.psi_bc);
+  m.t = x[2];
+  double sum = 0.0;
+  for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z() - m.u_z;
+  m.t_z = sum / static_cast<double>(n);
+  return m;
+}
+
+}  // namespace
+
+// Schönflies mechanisms (paper §4): the axis alignment, then ψ and the translations in closed
+// form from the FKM effector poses at the nominal geometry.
 ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
                               const std::vector<PoseObservation>& poses, ExternalForm form,
                               ExternalParameterization& parameterization, double z_ME) {
@@ -389,82 +505,32 @@ ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd&
   if (mechanism.motionType() != MotionType::Schoenflies)
     return estimateMountingExternal(mechanism, geometric, poses, form, parameterization);
   AxisAlignment alignment = estimateAxisAlignment(poses);
-
-  // Effector poses from the encoders through the FKM at the nominal geometry.
   const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, geometric, poses);
 
   const std::size_t n = poses.size();
-  std::vector<double> phi(n), theta(n);
-  const auto computePhi = [&] {
-    for (std::size_t j = 0; j < n; ++j)
-      phi[j] = angleAboutZ(alignment.camera.transpose() * toIsometry(poses[j].cTm).linear() *
-                           alignment.target);
-  };
-  computePhi();
+  std::vector<double> theta(n);
   for (std::size_t j = 0; j < n; ++j) theta[j] = angleAboutZ(bTe[j].linear());
-  // Orient the axis so that the measured rotation follows θ (z_B up).
-  double agreement = 0.0;
-  for (std::size_t j = 0; j < n; ++j) agreement += wrap(phi[j] - phi[0]) * wrap(theta[j] - theta[0]);
-  if (agreement < 0.0) {
-    const Eigen::Matrix3d flip = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
-    alignment.camera = alignment.camera * flip;
-    alignment.target = alignment.target * flip;
-    // Tilts about the flipped frames: (δx, δy) -> (δx, −δy).
-    const Eigen::Matrix4d G = Eigen::Vector4d(1.0, -1.0, 1.0, -1.0).asDiagonal();
-    alignment.covariance = G * alignment.covariance * G;
-    computePhi();
-  }
-
+  const std::vector<double> phi = orientAxisAlongTheta(alignment, poses, theta);
   std::complex<double> psi_sum(0.0, 0.0);
   for (std::size_t j = 0; j < n; ++j) psi_sum += std::polar(1.0, theta[j] - phi[j]);
   const double psi_total = std::arg(psi_sum);  // ψ_BC + ψ_ME
 
-  // v_j = Acᵀ·c t_m(j); positions p_j = Rz(ψ_BC)(Rz(φ_j) u + v_j) + t_bc.
   std::vector<Eigen::Vector3d> v(n), p(n);
   for (std::size_t j = 0; j < n; ++j) {
     v[j] = alignment.camera.transpose() * poses[j].cTm.head<3>();
     p[j] = bTe[j].translation();
   }
-  using cd = std::complex<double>;
-  double psi_bc = 0.0;
-  cd u(0.0, 0.0), t(0.0, 0.0);
-  double t_z = 0.0, u_z = z_ME;
-  if (form == ExternalForm::CameraFrame) {
-    // Base = axis-aligned camera frame: p_j − v_j = Rz(φ_j)·u.
-    for (std::size_t j = 0; j < n; ++j)
-      u += std::polar(1.0, -phi[j]) * cd(p[j].x() - v[j].x(), p[j].y() - v[j].y());
-    u /= static_cast<double>(n);
-    double sum = 0.0;
-    for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z();
-    u_z = sum / static_cast<double>(n);
-  } else {
-    // Linear complex least squares P_j = e^{iφ_j}·B + A·V_j + T, A = e^{iψ_BC}, B = A·u.
-    Eigen::MatrixXcd M(static_cast<Eigen::Index>(n), 3);
-    Eigen::VectorXcd rhs(static_cast<Eigen::Index>(n));
-    for (std::size_t j = 0; j < n; ++j) {
-      const auto r = static_cast<Eigen::Index>(j);
-      M(r, 0) = std::polar(1.0, phi[j]);
-      M(r, 1) = cd(v[j].x(), v[j].y());
-      M(r, 2) = 1.0;
-      rhs[r] = cd(p[j].x(), p[j].y());
-    }
-    const Eigen::VectorXcd x = M.colPivHouseholderQr().solve(rhs);
-    psi_bc = std::arg(x[1]);
-    u = x[0] * std::polar(1.0, -psi_bc);
-    t = x[2];
-    double sum = 0.0;
-    for (std::size_t j = 0; j < n; ++j) sum += p[j].z() - v[j].z() - u_z;
-    t_z = sum / static_cast<double>(n);
-  }
-  const double psi_me = wrap(psi_total - psi_bc);
+  PlanarMounting planar = form == ExternalForm::CameraFrame ? cameraFrameMounting(phi, v, p)
+                                                            : axisAlignedMounting(phi, v, p, z_ME);
+  const double psi_me = wrap(psi_total - planar.psi_bc);
 
   parameterization = ExternalParameterization(form, alignment);
   Eigen::Isometry3d bTc = Eigen::Isometry3d::Identity();
-  bTc.linear() = rotZ(psi_bc) * alignment.camera.transpose();
-  bTc.translation() = Eigen::Vector3d(t.real(), t.imag(), t_z);
+  bTc.linear() = rotZ(planar.psi_bc) * alignment.camera.transpose();
+  bTc.translation() = Eigen::Vector3d(planar.t.real(), planar.t.imag(), planar.t_z);
   Eigen::Isometry3d mTe = Eigen::Isometry3d::Identity();
   mTe.linear() = alignment.target * rotZ(psi_me);
-  mTe.translation() = alignment.target * Eigen::Vector3d(u.real(), u.imag(), u_z);
+  mTe.translation() = alignment.target * Eigen::Vector3d(planar.u.real(), planar.u.imag(), planar.u_z);
 
   ParameterSet set = parameterization.parameters();
   set.setValues(parameterization.valuesFrom(bTc, mTe));

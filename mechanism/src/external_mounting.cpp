@@ -12,6 +12,7 @@
 #include "mire/mechanism/external.hpp"
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/mechanism.hpp"
+#include "mire/mechanism/translating_target.hpp"
 
 namespace mire::mechanism {
 
@@ -104,6 +105,20 @@ Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
   return m;
 }
 
+Eigen::VectorXd mountingWithTargetOrientation(const Eigen::VectorXd& e, const Eigen::Matrix3d& cRm) {
+  const ExternalParameterization form(ExternalForm::Full);
+  const Eigen::Matrix3d cRb = form.baseFromCamera(e).linear().transpose();
+  const Eigen::Matrix3d eRm_old = form.targetFromEffector(e).linear().transpose();
+  const Eigen::Matrix3d eRm_new = projectToRotation(cRb.transpose() * cRm);
+  // The joints see only the effector origin in M, −eRmᵀ·t_EM: keep it while turning eRm.
+  const Eigen::Vector3d t_new = eRm_new * (eRm_old.transpose() * Eigen::Vector3d(e.segment<3>(6)));
+  const Eigen::AngleAxisd aa(eRm_new);
+  Eigen::VectorXd out = e;
+  out.segment<3>(6) = t_new;
+  out.segment<3>(9) = aa.axis() * aa.angle();
+  return out;
+}
+
 void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form,
                             ParameterSet& parameters, const std::vector<PoseObservation>& poses) {
   if (mechanism.motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty()) return;
@@ -112,17 +127,89 @@ void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization
   for (int k = 0; k < 12; ++k) e[k] = parameters.value(names[static_cast<std::size_t>(k)]);
   Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
   for (const PoseObservation& p : poses) mean += toIsometry(p.cTm).linear();
-  const Eigen::Matrix3d cRb = form.baseFromCamera(e).linear().transpose();
-  const Eigen::Matrix3d eRm_old = form.targetFromEffector(e).linear().transpose();
-  const Eigen::Matrix3d eRm_new = projectToRotation(cRb.transpose() * projectToRotation(mean));
-  // The joints see only the effector origin in M, −eRmᵀ·t_EM: keep it while turning eRm.
-  const Eigen::Vector3d t_new = eRm_new * (eRm_old.transpose() * Eigen::Vector3d(e.segment<3>(6)));
-  const Eigen::AngleAxisd aa(eRm_new);
-  const Eigen::Vector3d r = aa.axis() * aa.angle();
-  for (int k = 0; k < 3; ++k) {
-    parameters.setValue(names[static_cast<std::size_t>(6 + k)], t_new[k]);
-    parameters.setValue(names[static_cast<std::size_t>(9 + k)], r[k]);
+  const Eigen::VectorXd aligned = mountingWithTargetOrientation(e, projectToRotation(mean));
+  for (int k = 6; k < 12; ++k) parameters.setValue(names[static_cast<std::size_t>(k)], aligned[k]);
+}
+
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+
+// Left Jacobian of SO(3): exp(r + δ) ≈ exp(Jl(r)·δ)·exp(r).
+Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& r) {
+  const double theta = r.norm();
+  const Eigen::Matrix3d S = skew(r);
+  if (theta < 1e-8) return Eigen::Matrix3d::Identity() + 0.5 * S;
+  return Eigen::Matrix3d::Identity() + (1.0 - std::cos(theta)) / (theta * theta) * S +
+         (theta - std::sin(theta)) / (theta * theta * theta) * S * S;
+}
+
+Eigen::Vector3d logRotation(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.axis() * aa.angle();
+}
+
+// Covariance of the rotation vector of R̄ = proj(mean_j cRm_j), to first order in the spread:
+// in the left tangent at R̄, ω̄ = mean_j ω_j with ω_j = Jl(r_j)·δr_j, so
+// Σ_ω = (1/N²)·Σ_j Jl(r_j)·Σ_r,j·Jl(r_j)ᵀ (the poses' covariances), or the scatter of the
+// ω_j = log(cRm_j·R̄ᵀ) over N(N−1) when the poses carry none; then Σ_r̄ = Jl(r̄)⁻¹·Σ_ω·Jl(r̄)⁻ᵀ.
+Eigen::Matrix3d meanOrientationCovariance(const std::vector<PoseObservation>& poses, const Eigen::Matrix3d& mean) {
+  bool measured = true;
+  for (const PoseObservation& p : poses) measured = measured && p.covariance.has_value();
+  const auto n = static_cast<double>(poses.size());
+  Eigen::Matrix3d omega = Eigen::Matrix3d::Zero();
+  for (const PoseObservation& p : poses) {
+    if (measured) {
+      const Eigen::Matrix3d Jl = leftJacobian(p.cTm.tail<3>());
+      omega += Jl * p.covariance->bottomRightCorner<3, 3>() * Jl.transpose() / (n * n);
+    } else if (poses.size() > 1) {
+      const Eigen::Vector3d w = logRotation(toIsometry(p.cTm).linear() * mean.transpose());
+      omega += w * w.transpose() / (n * (n - 1.0));
+    }
   }
+  const Eigen::Matrix3d Jl_inverse = leftJacobian(logRotation(mean)).inverse();
+  return Jl_inverse * omega * Jl_inverse.transpose();
+}
+
+// The target offset's rows and columns of the free-parameter covariance follow t_EM → Q·t_EM.
+void turnTargetOffsetCovariance(IdentificationResult& result, const Eigen::Matrix3d& Q) {
+  const ParameterSet& params = result.model.parameters;
+  const std::vector<std::string> free = params.freeNames();
+  std::vector<Eigen::Index> rows;
+  for (const char* name : {"tx_EM", "ty_EM", "tz_EM"})
+    for (std::size_t f = 0; f < free.size(); ++f)
+      if (free[f] == name) rows.push_back(static_cast<Eigen::Index>(f));
+  if (rows.size() != 3 || result.covariance.rows() != static_cast<Eigen::Index>(free.size())) return;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(result.covariance.rows(), result.covariance.cols());
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) P(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]) = Q(i, j);
+  result.covariance = P * result.covariance * P.transpose();
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Index f = rows[static_cast<std::size_t>(i)];
+    result.sigma[static_cast<Eigen::Index>(params.index(free[static_cast<std::size_t>(f)]))] =
+        std::sqrt(result.covariance(f, f));
+  }
+}
+
+}  // namespace
+
+std::optional<Eigen::Matrix3d> alignTranslatingTarget(IdentificationResult& result,
+                                                      const std::vector<PoseObservation>& poses) {
+  const IdentificationModel& model = result.model;
+  const ExternalParameterization& form = model.external;
+  if (model.mechanism->motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty())
+    return std::nullopt;
+  const Eigen::Matrix3d eRm_old = form.targetFromEffector(model.externalValues()).linear().transpose();
+  alignTranslatingTarget(*model.mechanism, form, result.model.parameters, poses);
+  const Eigen::VectorXd e = result.model.externalValues();
+  const Eigen::Matrix3d eRm_new = form.targetFromEffector(e).linear().transpose();
+  turnTargetOffsetCovariance(result, eRm_new * eRm_old.transpose());
+  const Eigen::Matrix3d mean = form.baseFromCamera(e).linear().transpose() * eRm_new;  // R̄ = cRb·eRm
+  return meanOrientationCovariance(poses, mean);
 }
 
 ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "large_problem.hpp"
+
 namespace mire::mechanism {
 
 namespace {
@@ -64,26 +66,15 @@ std::string IdentifiabilityReport::text() const {
   return out.str();
 }
 
-IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vector<std::string>& names,
-                                      const IdentifiabilityOptions& options) {
+namespace {
+
+// Singular values of the column-scaled Jacobian (zeros when fewer rows than columns), the
+// condition numbers (scaled and unscaled SI) and the rank.
+void singularValueStage(IdentifiabilityReport& report, const Eigen::MatrixXd& J,
+                        const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, const IdentifiabilityOptions& options) {
   const Eigen::Index n = J.cols();
-  if (static_cast<std::size_t>(n) != names.size())
-    throw std::invalid_argument("identifiability: " + std::to_string(n) + " Jacobian columns but " +
-                                std::to_string(names.size()) + " parameter names");
-  if (!J.allFinite()) throw std::invalid_argument("identifiability: the Jacobian has non-finite entries");
-  IdentifiabilityReport report;
-  report.parameter_names = names;
-  if (n == 0) return report;
-
-  report.column_norms = J.colwise().norm().transpose();
-  Eigen::VectorXd scale(n);  // D = diag(1/‖J_k‖); an all-zero column keeps scale 1
-  for (Eigen::Index k = 0; k < n; ++k)
-    scale[k] = report.column_norms[k] > 0.0 ? 1.0 / report.column_norms[k] : 1.0;
-  const Eigen::MatrixXd Js = J * scale.asDiagonal();
-
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeFullV);
   Eigen::VectorXd s = Eigen::VectorXd::Zero(n);
-  s.head(svd.singularValues().size()) = svd.singularValues();  // fewer rows than columns: zeros
+  s.head(svd.singularValues().size()) = svd.singularValues();
   report.singular_values = s;
   report.condition_number = conditionOf(s);
   report.condition_number_unscaled = conditionOf([&] {
@@ -96,12 +87,16 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
   report.rank = 0;
   for (Eigen::Index k = 0; k < n; ++k)
     if (s[k] > threshold) ++report.rank;
+}
 
-  // Khalil & Besnard: the first `rank` pivoted-QR columns form a minimal identifiable set.
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Js);
+// Khalil & Besnard: the first `rank` pivoted-QR columns form a minimal identifiable set;
+// returns the other (dependent) columns and sets the identifiable subset's condition number.
+std::vector<Eigen::Index> pivotedQrStage(IdentifiabilityReport& report, const Eigen::MatrixXd& Js,
+                                         const std::vector<std::string>& names) {
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Js);
   const auto& permutation = qr.colsPermutation().indices();
   std::vector<Eigen::Index> identifiable_columns, dependent_columns;
-  for (Eigen::Index k = 0; k < n; ++k) {
+  for (Eigen::Index k = 0; k < Js.cols(); ++k) {
     const Eigen::Index column = permutation[k];
     (k < report.rank ? identifiable_columns : dependent_columns).push_back(column);
     (k < report.rank ? report.identifiable : report.unidentifiable)
@@ -116,12 +111,17 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
     ss.head(subsvd.singularValues().size()) = subsvd.singularValues();
     report.condition_number_identifiable = conditionOf(ss);
   }
+  return dependent_columns;
+}
 
+// Null space in parameter units (δξ = D·v), re-based so that each direction has coefficient
+// 1 on its own dependent parameter and 0 on the other dependents; named combinations.
+void nullSpaceStage(IdentifiabilityReport& report, const Eigen::MatrixXd& V, const Eigen::VectorXd& scale,
+                    const std::vector<Eigen::Index>& dependent_columns, const std::vector<std::string>& names,
+                    const IdentifiabilityOptions& options) {
+  const Eigen::Index n = V.cols();
   const Eigen::Index nullity = n - report.rank;
-  if (nullity == 0) return report;
-  // Null space in parameter units (δξ = D·v), re-based so that each direction has
-  // coefficient 1 on its own dependent parameter and 0 on the other dependents.
-  const Eigen::MatrixXd null_params = scale.asDiagonal() * svd.matrixV().rightCols(nullity);
+  const Eigen::MatrixXd null_params = scale.asDiagonal() * V.rightCols(nullity);
   Eigen::MatrixXd dependent_block(nullity, nullity);
   for (Eigen::Index j = 0; j < nullity; ++j)
     dependent_block.row(j) = null_params.row(dependent_columns[static_cast<std::size_t>(j)]);
@@ -130,7 +130,7 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
     const Eigen::Index dep = dependent_columns[static_cast<std::size_t>(j)];
     UnidentifiableCombination combination;
     combination.dependent = names[static_cast<std::size_t>(dep)];
-    combination.singular_value = s[report.rank + j];
+    combination.singular_value = report.singular_values[report.rank + j];
     combination.direction.emplace_back(combination.dependent, 1.0);
     for (Eigen::Index k = 0; k < n; ++k) {
       if (k == dep) continue;
@@ -148,6 +148,32 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
     }
     report.combinations.push_back(std::move(combination));
   }
+}
+
+}  // namespace
+
+IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vector<std::string>& names,
+                                      const IdentifiabilityOptions& options) {
+  const Eigen::Index n = J.cols();
+  if (static_cast<std::size_t>(n) != names.size())
+    throw std::invalid_argument("identifiability: " + std::to_string(n) + " Jacobian columns but " +
+                                std::to_string(names.size()) + " parameter names");
+  if (!J.allFinite()) throw std::invalid_argument("identifiability: the Jacobian has non-finite entries");
+  // Every quantity below depends on J through JᵀJ only (column norms, SVD, pivoted QR).
+  if (J.rows() > detail::kLargeProblemRows) return analyzeJacobian(detail::compressRows(J), names, options);
+  IdentifiabilityReport report;
+  report.parameter_names = names;
+  if (n == 0) return report;
+
+  report.column_norms = J.colwise().norm().transpose();
+  Eigen::VectorXd scale(n);  // D = diag(1/‖J_k‖); an all-zero column keeps scale 1
+  for (Eigen::Index k = 0; k < n; ++k)
+    scale[k] = report.column_norms[k] > 0.0 ? 1.0 / report.column_norms[k] : 1.0;
+  const Eigen::MatrixXd Js = J * scale.asDiagonal();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeFullV);
+  singularValueStage(report, J, svd, options);
+  const std::vector<Eigen::Index> dependent_columns = pivotedQrStage(report, Js, names);
+  if (report.rank < n) nullSpaceStage(report, svd.matrixV(), scale, dependent_columns, names, options);
   return report;
 }
 

@@ -14,6 +14,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "large_problem.hpp"
+
 namespace mire::mechanism {
 
 namespace {
@@ -224,25 +226,31 @@ IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model,
   return analyzeJacobian(identificationJacobian(model, poses), model.parameters.freeNames(), options);
 }
 
-IdentificationResult identify(const IdentificationModel& initial,
-                              const std::vector<PoseObservation>& poses,
+namespace {
+
+// ---- Stage 1: input checks and the free parameter set ----
+
+void checkIdentificationInput(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                               const IdentificationOptions& options) {
-  const auto start_time = std::chrono::steady_clock::now();
   if (!initial.mechanism) throw std::invalid_argument("identification: no mechanism");
-  const int J = initial.mechanism->jointCount();
   const int G = initial.geometricCount();
   const int E = initial.external.size();
   if (static_cast<int>(initial.parameters.size()) != G + E)
     throw std::invalid_argument("identification: the parameter set does not match the model");
-  validatePoses(poses, J);
+  validatePoses(poses, initial.mechanism->jointCount());
   if (!(options.joint_sigma > 0.0 && std::isfinite(options.joint_sigma)))
     throw std::invalid_argument("identification: joint_sigma must be positive and finite");
   if (!(options.loss_scale > 0.0 && std::isfinite(options.loss_scale)))
     throw std::invalid_argument("identification: loss_scale must be positive and finite");
+}
 
-  IdentificationResult result;
-  result.model = initial;
-  ParameterSet& params = result.model.parameters;
+// Applies the options' fix/release, checks ties and priors, and that the residuals can
+// determine the free parameters at reachable initial values.
+void prepareFreeParameters(IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                           const IdentificationOptions& options) {
+  ParameterSet& params = model.parameters;
+  const int G = model.geometricCount();
+  const int J = model.mechanism->jointCount();
   params.fix(options.fix);
   for (const std::string& name : options.release) params.setFixed(name, false);
   for (std::size_t i = 0; i < params.size(); ++i)
@@ -260,142 +268,203 @@ IdentificationResult identify(const IdentificationModel& initial,
     throw std::invalid_argument("identification: " + std::to_string(poses.size()) + " poses give " +
                                 std::to_string(J * poses.size()) + " residuals for " +
                                 std::to_string(free_count) + " unknowns");
-  if (const auto ids = unreachablePoses(result.model, poses); !ids.empty())
+  if (const auto ids = unreachablePoses(model, poses); !ids.empty())
     throw std::runtime_error("the IKM has no solution (a leg cannot reach the pose) at the initial parameters for pose(s) " +
                              joinIds(ids));
+}
 
+bool everyPoseHasCovariance(const std::vector<PoseObservation>& poses) {
   bool has_covariances = !poses.empty();
   for (const PoseObservation& p : poses) has_covariances = has_covariances && p.covariance.has_value();
-  result.weighted = options.use_pose_covariances && has_covariances;
+  return has_covariances;
+}
 
-  // Block-wise expansion matrices for the manifolds.
-  const Eigen::MatrixXd expansion = params.expansion();
+// ---- Stage 2: the Ceres solve ----
+
+// The expansion matrix (ambient × free) split into the geometric and external blocks.
+struct BlockExpansions {
+  Eigen::MatrixXd all, geometric, external;
+};
+
+BlockExpansions blockExpansions(const ParameterSet& params, int G, int E) {
+  BlockExpansions out;
+  out.all = params.expansion();
   std::vector<Eigen::Index> geometric_columns, external_columns;
-  for (Eigen::Index k = 0; k < expansion.cols(); ++k) {
+  for (Eigen::Index k = 0; k < out.all.cols(); ++k) {
     Eigen::Index row = 0;
-    expansion.col(k).maxCoeff(&row);
+    out.all.col(k).maxCoeff(&row);
     (row < G ? geometric_columns : external_columns).push_back(k);
   }
-  const auto blockExpansion = [&](const std::vector<Eigen::Index>& columns, Eigen::Index offset,
-                                  Eigen::Index size) {
-    Eigen::MatrixXd block(size, static_cast<Eigen::Index>(columns.size()));
+  const auto block = [&](const std::vector<Eigen::Index>& columns, Eigen::Index offset, Eigen::Index size) {
+    Eigen::MatrixXd b(size, static_cast<Eigen::Index>(columns.size()));
     for (std::size_t k = 0; k < columns.size(); ++k)
-      block.col(static_cast<Eigen::Index>(k)) = expansion.col(columns[k]).segment(offset, size);
-    return block;
+      b.col(static_cast<Eigen::Index>(k)) = out.all.col(columns[k]).segment(offset, size);
+    return b;
   };
-  const Eigen::MatrixXd expansion_g = blockExpansion(geometric_columns, 0, G);
-  const Eigen::MatrixXd expansion_e = blockExpansion(external_columns, G, E);
+  out.geometric = block(geometric_columns, 0, G);
+  out.external = block(external_columns, G, E);
+  return out;
+}
 
-  const auto solve = [&](const std::vector<Eigen::MatrixXd>& whitening) {
-    Eigen::VectorXd g = result.model.geometricValues(), e = result.model.externalValues();
-    ceres::Problem problem;
-    for (std::size_t j = 0; j < poses.size(); ++j) {
-      ceres::LossFunction* loss = nullptr;
-      if (options.loss == RobustLoss::Huber) loss = new ceres::HuberLoss(options.loss_scale);
-      if (options.loss == RobustLoss::Cauchy) loss = new ceres::CauchyLoss(options.loss_scale);
-      problem.AddResidualBlock(result.model.mechanism
-                                   ->makeJointResidual(result.model.external, poses[j].cTm,
-                                                       poses[j].joints, whitening[j])
-                                   .release(),
-                               loss, g.data(), e.data());
-    }
-    for (const GaussianPrior& prior : options.priors) {
-      const int index = static_cast<int>(params.index(prior.name));
-      if (index < G)
-        problem.AddResidualBlock(new PriorCost(G, index, prior.mean, prior.sigma), nullptr, g.data());
-      else
-        problem.AddResidualBlock(new PriorCost(E, index - G, prior.mean, prior.sigma), nullptr, e.data());
-    }
-    const auto setManifold = [&problem](double* block, const Eigen::MatrixXd& E_block) {
-      if (E_block.cols() == 0)
-        problem.SetParameterBlockConstant(block);
-      else if (!E_block.isIdentity())
-        problem.SetManifold(block, new TiedSubsetManifold(E_block));
-    };
-    setManifold(g.data(), expansion_g);
-    setManifold(e.data(), expansion_e);
-
-    ceres::Solver::Options solver;
-    solver.linear_solver_type = ceres::DENSE_QR;
-    solver.max_num_iterations = options.max_iterations;
-    solver.function_tolerance = 1e-10;
-    solver.parameter_tolerance = 1e-10;
-    solver.gradient_tolerance = 1e-12;
-    solver.num_threads = 1;
-    solver.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
-    Eigen::VectorXd all(G + E);
-    all << g, e;
-    params.setValues(all);
-    result.converged = summary.termination_type == ceres::CONVERGENCE;
-    result.iterations += static_cast<int>(summary.iterations.size());
-    result.solver_report = summary.BriefReport();
-  };
-
-  std::vector<Eigen::MatrixXd> whitening;
-  if (result.weighted) {
-    // Σq depends (weakly) on the parameters: propagate at the start, solve, then
-    // propagate again at the solution and refine.
-    whitening = poseWhitening(result.model, poses);
-    solve(whitening);
-    std::vector<Eigen::MatrixXd> updated = poseWhitening(result.model, poses);
-    double change = 0.0;
-    for (std::size_t j = 0; j < poses.size(); ++j)
-      change = std::max(change, (updated[j] - whitening[j]).norm() / whitening[j].norm());
-    whitening = std::move(updated);
-    if (change > 1e-2) solve(whitening);  // a 1 % weight change moves the solution ≪ σ
-  } else {
-    whitening = identityWhitening(result.model, poses.size(), 1.0 / options.joint_sigma);
-    solve(whitening);
+void addPoseResiduals(ceres::Problem& problem, const IdentificationModel& model,
+                      const std::vector<PoseObservation>& poses, const std::vector<Eigen::MatrixXd>& whitening,
+                      const IdentificationOptions& options, double* g, double* e) {
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    ceres::LossFunction* loss = nullptr;
+    if (options.loss == RobustLoss::Huber) loss = new ceres::HuberLoss(options.loss_scale);
+    if (options.loss == RobustLoss::Cauchy) loss = new ceres::CauchyLoss(options.loss_scale);
+    problem.AddResidualBlock(
+        model.mechanism->makeJointResidual(model.external, poses[j].cTm, poses[j].joints, whitening[j]).release(),
+        loss, g, e);
   }
+}
 
-  // Residuals and Jacobian at the solution.
+void addPriorResiduals(ceres::Problem& problem, const ParameterSet& params, int G, int E,
+                       const std::vector<GaussianPrior>& priors, double* g, double* e) {
+  for (const GaussianPrior& prior : priors) {
+    const int index = static_cast<int>(params.index(prior.name));
+    if (index < G)
+      problem.AddResidualBlock(new PriorCost(G, index, prior.mean, prior.sigma), nullptr, g);
+    else
+      problem.AddResidualBlock(new PriorCost(E, index - G, prior.mean, prior.sigma), nullptr, e);
+  }
+}
+
+// Fixed and tied parameters: a constant block, or the tie groups' manifold.
+void setBlockManifold(ceres::Problem& problem, double* block, const Eigen::MatrixXd& expansion) {
+  if (expansion.cols() == 0)
+    problem.SetParameterBlockConstant(block);
+  else if (!expansion.isIdentity())
+    problem.SetManifold(block, new TiedSubsetManifold(expansion));
+}
+
+// One Ceres solve from the result's current values with the given weights.
+void solveOnce(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+               const std::vector<Eigen::MatrixXd>& whitening, const BlockExpansions& expansions,
+               const IdentificationOptions& options) {
+  const int G = result.model.geometricCount();
+  const int E = result.model.external.size();
+  Eigen::VectorXd g = result.model.geometricValues(), e = result.model.externalValues();
+  ceres::Problem problem;
+  addPoseResiduals(problem, result.model, poses, whitening, options, g.data(), e.data());
+  addPriorResiduals(problem, result.model.parameters, G, E, options.priors, g.data(), e.data());
+  setBlockManifold(problem, g.data(), expansions.geometric);
+  setBlockManifold(problem, e.data(), expansions.external);
+
+  ceres::Solver::Options solver;
+  // Large problems: the P×P normal equations, built in one pass over the Jacobian, instead of
+  // the QR of a copy of it (large_problem.hpp); both converge to the same minimum.
+  const auto rows = static_cast<Eigen::Index>(poses.size()) * result.model.mechanism->jointCount();
+  solver.linear_solver_type = rows > detail::kLargeProblemRows ? ceres::DENSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = 1e-10;
+  solver.parameter_tolerance = 1e-10;
+  solver.gradient_tolerance = 1e-12;
+  solver.num_threads = 1;
+  solver.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  Eigen::VectorXd all(G + E);
+  all << g, e;
+  result.model.parameters.setValues(all);
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.iterations += static_cast<int>(summary.iterations.size());
+  result.solver_report = summary.BriefReport();
+}
+
+// Weighted: Σq depends (weakly) on the parameters, so propagate at the start, solve, then
+// propagate again at the solution and refine. Returns the weights of the last solve.
+std::vector<Eigen::MatrixXd> solveWeighted(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                           const BlockExpansions& expansions, const IdentificationOptions& options) {
+  if (!result.weighted) {
+    const std::vector<Eigen::MatrixXd> whitening =
+        identityWhitening(result.model, poses.size(), 1.0 / options.joint_sigma);
+    solveOnce(result, poses, whitening, expansions, options);
+    return whitening;
+  }
+  std::vector<Eigen::MatrixXd> whitening = poseWhitening(result.model, poses);
+  solveOnce(result, poses, whitening, expansions, options);
+  std::vector<Eigen::MatrixXd> updated = poseWhitening(result.model, poses);
+  double change = 0.0;
+  for (std::size_t j = 0; j < poses.size(); ++j)
+    change = std::max(change, (updated[j] - whitening[j]).norm() / whitening[j].norm());
+  whitening = std::move(updated);
+  if (change > 1e-2) solveOnce(result, poses, whitening, expansions, options);  // a 1 % weight change moves the solution ≪ σ
+  return whitening;
+}
+
+// ---- Stage 3: residuals, outliers and covariance at the solution ----
+
+// Whitened residuals r and Jacobian over the free parameters at the solution; fills the
+// per-pose residuals (rad) and returns the unwhitened Jacobian for the identifiability report.
+struct SolutionJacobian {
   Eigen::VectorXd r;
+  Eigen::MatrixXd whitened;  // Jw · expansion
+  Eigen::MatrixXd radians;   // W⁻¹ · Jw · expansion
+};
+
+SolutionJacobian residualsAtSolution(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                     const Eigen::MatrixXd& expansion) {
+  const int J = result.model.mechanism->jointCount();
+  SolutionJacobian out;
   Eigen::MatrixXd Jw;
-  evaluateAll(result.model, poses, whitening, &r, &Jw);
-  const Eigen::MatrixXd Jw_free = Jw.lazyProduct(expansion);
-  Eigen::MatrixXd J_rad_free(Jw_free.rows(), Jw_free.cols());
+  evaluateAll(result.model, poses, result.whitening, &out.r, &Jw);
+  out.whitened = Jw.lazyProduct(expansion);
+  out.radians.resize(out.whitened.rows(), out.whitened.cols());
   result.poses.resize(poses.size());
   double sum_sq_rad = 0.0;
   for (std::size_t j = 0; j < poses.size(); ++j) {
     const Eigen::Index row = static_cast<Eigen::Index>(j) * J;
-    const Eigen::MatrixXd& W = whitening[j];
-    J_rad_free.middleRows(row, J) = W.triangularView<Eigen::Lower>().solve(Jw_free.middleRows(row, J));
+    const Eigen::MatrixXd& W = result.whitening[j];
+    out.radians.middleRows(row, J) = W.triangularView<Eigen::Lower>().solve(out.whitened.middleRows(row, J));
     PoseResidual& pr = result.poses[j];
     pr.id = poses[j].id;
-    pr.residual = W.triangularView<Eigen::Lower>().solve(r.segment(row, J));
-    pr.chi2 = r.segment(row, J).squaredNorm();
+    pr.residual = W.triangularView<Eigen::Lower>().solve(out.r.segment(row, J));
+    pr.chi2 = out.r.segment(row, J).squaredNorm();
     sum_sq_rad += pr.residual.squaredNorm();
   }
-  result.rms_joint_residual = std::sqrt(sum_sq_rad / static_cast<double>(r.size()));
+  result.rms_joint_residual = std::sqrt(sum_sq_rad / static_cast<double>(out.r.size()));
+  return out;
+}
 
-  // Prior rows join the information matrix.
+// Prior rows (1/σ on the prior's tie leader) join the information matrix.
+struct PriorRows {
+  Eigen::MatrixXd rows;
+  double chi2 = 0.0;
+};
+
+PriorRows priorRows(const ParameterSet& params, const std::vector<GaussianPrior>& priors) {
   const std::vector<std::size_t> free_indices = params.freeIndices();
-  Eigen::MatrixXd prior_rows = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(options.priors.size()),
-                                                     static_cast<Eigen::Index>(free_indices.size()));
-  double prior_chi2 = 0.0;
-  for (std::size_t k = 0; k < options.priors.size(); ++k) {
-    const GaussianPrior& prior = options.priors[k];
+  PriorRows out;
+  out.rows = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(priors.size()),
+                                   static_cast<Eigen::Index>(free_indices.size()));
+  for (std::size_t k = 0; k < priors.size(); ++k) {
+    const GaussianPrior& prior = priors[k];
     const std::size_t leader = params.tieLeader(params.index(prior.name));
     for (std::size_t f = 0; f < free_indices.size(); ++f)
       if (free_indices[f] == leader)
-        prior_rows(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(f)) = 1.0 / prior.sigma;
-    prior_chi2 += std::pow((params.value(prior.name) - prior.mean) / prior.sigma, 2);
+        out.rows(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(f)) = 1.0 / prior.sigma;
+    out.chi2 += std::pow((params.value(prior.name) - prior.mean) / prior.sigma, 2);
   }
+  return out;
+}
 
-  // χ², dof, outliers (rows of outliers are left out of the covariance under a robust loss).
+// χ², dof and the outlier test; returns which poses stay in the covariance (under a robust
+// loss the outliers' rows are left out).
+std::vector<bool> flagOutliers(IdentificationResult& result, const Eigen::VectorXd& r, const PriorRows& prior,
+                               const IdentificationOptions& options) {
+  const int J = result.model.mechanism->jointCount();
+  const auto free_count = static_cast<int>(result.model.parameters.freeCount());
   const double threshold = chi2UpperQuantile(J, options.outlier_probability);
-  result.dof = static_cast<int>(r.size() + static_cast<Eigen::Index>(options.priors.size())) -
-               static_cast<int>(free_indices.size());
+  result.dof = static_cast<int>(r.size() + prior.rows.rows()) - free_count;
   result.chi2 = r.squaredNorm();
-  const double scale2_all = (result.chi2 + prior_chi2) / std::max(1, result.dof);
-  std::vector<bool> keep(poses.size(), true);
+  const double scale2_all = (result.chi2 + prior.chi2) / std::max(1, result.dof);
+  std::vector<bool> keep(result.poses.size(), true);
   std::vector<double> pose_chi2;
   for (PoseResidual& pr : result.poses) pose_chi2.push_back(pr.chi2);
   // Test each pose at the residual scale achieved (robust), so model misfit is not "outliers".
   result.outlier_scale2 = result.weighted ? robustPoseScale2(pose_chi2, J) : 1.0;
-  for (std::size_t j = 0; j < poses.size(); ++j) {
+  for (std::size_t j = 0; j < result.poses.size(); ++j) {
     PoseResidual& pr = result.poses[j];
     if (!result.weighted) pr.chi2 /= scale2_all;
     pr.outlier = pr.chi2 / result.outlier_scale2 > threshold;
@@ -404,28 +473,53 @@ IdentificationResult identify(const IdentificationModel& initial,
       if (options.loss != RobustLoss::None) keep[j] = pr.used = false;
     }
   }
+  return keep;
+}
+
+// The whitened system A of the poses kept, priors below, and its χ². Without outliers left
+// out or priors, A is the whitened Jacobian itself (no copy of an N×P matrix).
+struct KeptSystem {
+  bool whole = false;   // A = SolutionJacobian::whitened
+  Eigen::MatrixXd own;  // else A
+  double chi2 = 0.0;
+  const Eigen::MatrixXd& A(const SolutionJacobian& solution) const { return whole ? solution.whitened : own; }
+};
+
+KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>& keep, const PriorRows& prior,
+                      int J, std::size_t free_count, std::size_t outlier_count) {
   Eigen::Index kept_rows = 0;
   for (bool k : keep) kept_rows += k ? J : 0;
-  if (kept_rows + prior_rows.rows() <= static_cast<Eigen::Index>(free_indices.size()))
-    throw std::runtime_error("identification: " + std::to_string(result.outliers.size()) + " of " +
-                             std::to_string(poses.size()) + " poses are outliers; the others cannot determine the " +
-                             std::to_string(free_indices.size()) + " free parameters (check the poses file)");
-  Eigen::MatrixXd A(kept_rows + prior_rows.rows(), Jw_free.cols());
-  double chi2_kept = prior_chi2;
+  if (kept_rows + prior.rows.rows() <= static_cast<Eigen::Index>(free_count))
+    throw std::runtime_error("identification: " + std::to_string(outlier_count) + " of " +
+                             std::to_string(keep.size()) + " poses are outliers; the others cannot determine the " +
+                             std::to_string(free_count) + " free parameters (check the poses file)");
+  KeptSystem out;
+  out.whole = kept_rows == solution.whitened.rows() && prior.rows.rows() == 0;
+  const bool whole = out.whole;
+  if (!whole) out.own.resize(kept_rows + prior.rows.rows(), solution.whitened.cols());
+  out.chi2 = prior.chi2;
   Eigen::Index row = 0;
-  for (std::size_t j = 0; j < poses.size(); ++j) {
+  for (std::size_t j = 0; j < keep.size(); ++j) {
     if (!keep[j]) continue;
-    A.middleRows(row, J) = Jw_free.middleRows(static_cast<Eigen::Index>(j) * J, J);
-    chi2_kept += r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
+    if (!whole) out.own.middleRows(row, J) = solution.whitened.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    out.chi2 += solution.r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
     row += J;
   }
-  A.bottomRows(prior_rows.rows()) = prior_rows;
-  const int dof_kept = static_cast<int>(A.rows()) - static_cast<int>(free_indices.size());
+  if (!whole) out.own.bottomRows(prior.rows.rows()) = prior.rows;
+  return out;
+}
+
+// Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
+// Returns whether AᵀA is rank deficient.
+bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, double chi2_kept,
+                      const IdentificationOptions& options) {
+  const int dof_kept = static_cast<int>(A.rows()) - static_cast<int>(result.model.parameters.freeCount());
   const double scale2 = chi2_kept / std::max(1, dof_kept);
   result.residual_scale = result.weighted ? std::sqrt(scale2) : std::sqrt(scale2) * options.joint_sigma;
-
-  // Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinV);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd =
+      A.rows() > detail::kLargeProblemRows
+          ? Eigen::JacobiSVD<Eigen::MatrixXd>(detail::compressRows(A), Eigen::ComputeThinV)
+          : Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
   const double cutoff = s.size() ? s[0] * 1e-10 : 0.0;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
@@ -435,70 +529,104 @@ IdentificationResult identify(const IdentificationModel& initial,
     else deficient = true;
   }
   const Eigen::MatrixXd scaled_v = svd.matrixV() * inv_s2.asDiagonal();
-  const Eigen::MatrixXd information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
-  result.information_inverse = information_inverse;
-  result.whitening = whitening;
+  result.information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
   result.covariance_scale2 = !result.weighted ? scale2
                              : options.scale_on_misfit ? misfitScale2(chi2_kept, dof_kept, options.outlier_probability)
                                                        : 1.0;
   result.covariance_method = result.weighted && result.covariance_scale2 == 1.0 ? "measured" : "residual-scaled";
-  result.covariance = information_inverse * result.covariance_scale2;
+  result.covariance = result.information_inverse * result.covariance_scale2;
+  return deficient;
+}
 
-  // The axis alignment was estimated from the same orientations: add its uncertainty,
-  // Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).
+// The axis alignment was estimated from the same orientations: add its uncertainty,
+// Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).
+void addAlignmentCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                            const std::vector<bool>& keep, const Eigen::MatrixXd& A) {
   result.alignment_covariance = Eigen::MatrixXd::Zero(result.covariance.rows(), result.covariance.cols());
   const AxisAlignment& alignment = result.model.external.alignment();
-  if (result.model.external.form() != ExternalForm::Full && !alignment.covariance.isZero()) {
-    constexpr double kStep = 1e-6;  // rad
-    Eigen::MatrixXd dr = Eigen::MatrixXd::Zero(A.rows(), 4);
-    for (int k = 0; k < 4; ++k) {
-      Eigen::VectorXd rp, rm;
-      IdentificationModel shifted = result.model;
-      shifted.external = ExternalParameterization(result.model.external.form(),
-                                                  tiltAlignment(alignment, kStep * Eigen::Vector4d::Unit(k)));
-      evaluateAll(shifted, poses, whitening, &rp, nullptr);
-      shifted.external = ExternalParameterization(result.model.external.form(),
-                                                  tiltAlignment(alignment, -kStep * Eigen::Vector4d::Unit(k)));
-      evaluateAll(shifted, poses, whitening, &rm, nullptr);
-      Eigen::Index out_row = 0;
-      for (std::size_t j = 0; j < poses.size(); ++j) {
-        if (!keep[j]) continue;
-        dr.block(out_row, k, J, 1) = (rp.segment(static_cast<Eigen::Index>(j) * J, J) -
-                                      rm.segment(static_cast<Eigen::Index>(j) * J, J)) / (2.0 * kStep);
-        out_row += J;
-      }
+  if (result.model.external.form() == ExternalForm::Full || alignment.covariance.isZero()) return;
+  const int J = result.model.mechanism->jointCount();
+  constexpr double kStep = 1e-6;  // rad
+  Eigen::MatrixXd dr = Eigen::MatrixXd::Zero(A.rows(), 4);
+  for (int k = 0; k < 4; ++k) {
+    Eigen::VectorXd rp, rm;
+    IdentificationModel shifted = result.model;
+    shifted.external = ExternalParameterization(result.model.external.form(),
+                                                tiltAlignment(alignment, kStep * Eigen::Vector4d::Unit(k)));
+    evaluateAll(shifted, poses, result.whitening, &rp, nullptr);
+    shifted.external = ExternalParameterization(result.model.external.form(),
+                                                tiltAlignment(alignment, -kStep * Eigen::Vector4d::Unit(k)));
+    evaluateAll(shifted, poses, result.whitening, &rm, nullptr);
+    Eigen::Index out_row = 0;
+    for (std::size_t j = 0; j < poses.size(); ++j) {
+      if (!keep[j]) continue;
+      dr.block(out_row, k, J, 1) = (rp.segment(static_cast<Eigen::Index>(j) * J, J) -
+                                    rm.segment(static_cast<Eigen::Index>(j) * J, J)) / (2.0 * kStep);
+      out_row += J;
     }
-    const Eigen::MatrixXd At_dr = A.transpose().lazyProduct(dr);
-    const Eigen::MatrixXd S = -information_inverse.lazyProduct(At_dr);
-    const Eigen::MatrixXd S_cov = S.lazyProduct(alignment.covariance);
-    result.alignment_covariance = S_cov.lazyProduct(S.transpose());
-    result.alignment_sensitivity = S;
-    result.covariance += result.alignment_covariance;
   }
-  result.free_names = params.freeNames();
+  const Eigen::MatrixXd At_dr = A.transpose().lazyProduct(dr);
+  const Eigen::MatrixXd S = -result.information_inverse.lazyProduct(At_dr);
+  const Eigen::MatrixXd S_cov = S.lazyProduct(alignment.covariance);
+  result.alignment_covariance = S_cov.lazyProduct(S.transpose());
+  result.alignment_sensitivity = S;
+  result.covariance += result.alignment_covariance;
+}
 
-  if (options.compute_identifiability) {
-    result.identifiability = analyzeJacobian(J_rad_free, result.free_names, options.identifiability);
-    deficient = deficient || !result.identifiability.fullRank();
-  }
+// σ per parameter (tied ones share their leader's); ∞ for the members of an unidentifiable
+// combination when the system is deficient, 0 when fixed.
+void fillSigma(IdentificationResult& result, bool deficient) {
+  const ParameterSet& params = result.model.parameters;
+  const std::vector<std::size_t> free_indices = params.freeIndices();
   std::set<std::string> undetermined;
   for (const UnidentifiableCombination& c : result.identifiability.combinations)
     for (const auto& [name, coefficient] : c.direction) undetermined.insert(name);
-
   result.sigma = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(params.size()));
   for (std::size_t i = 0; i < params.size(); ++i) {
     const std::size_t leader = params.tieLeader(i);
     for (std::size_t f = 0; f < free_indices.size(); ++f)
       if (free_indices[f] == leader) {
         const auto fi = static_cast<Eigen::Index>(f);
-        result.sigma[static_cast<Eigen::Index>(i)] =
-            deficient && undetermined.count(params[leader].name)
-                ? std::numeric_limits<double>::infinity()
-                : std::sqrt(result.covariance(fi, fi));
+        result.sigma[static_cast<Eigen::Index>(i)] = deficient && undetermined.count(params[leader].name)
+                                                         ? std::numeric_limits<double>::infinity()
+                                                         : std::sqrt(result.covariance(fi, fi));
       }
   }
-  result.solve_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+}
+
+}  // namespace
+
+// Preprocess (checks, free set, weights) / minimise (Ceres) / postprocess (outliers,
+// covariance, alignment uncertainty, identifiability, σ), as Ceres cuts a solve.
+IdentificationResult identify(const IdentificationModel& initial,
+                              const std::vector<PoseObservation>& poses,
+                              const IdentificationOptions& options) {
+  const auto start_time = std::chrono::steady_clock::now();
+  checkIdentificationInput(initial, poses, options);
+  IdentificationResult result;
+  result.model = initial;
+  prepareFreeParameters(result.model, poses, options);
+  result.weighted = options.use_pose_covariances && everyPoseHasCovariance(poses);
+  const BlockExpansions expansions =
+      blockExpansions(result.model.parameters, initial.geometricCount(), initial.external.size());
+
+  result.whitening = solveWeighted(result, poses, expansions, options);
+
+  const SolutionJacobian solution = residualsAtSolution(result, poses, expansions.all);
+  const PriorRows prior = priorRows(result.model.parameters, options.priors);
+  const std::vector<bool> keep = flagOutliers(result, solution.r, prior, options);
+  const KeptSystem kept = keptSystem(solution, keep, prior, initial.mechanism->jointCount(),
+                                     result.model.parameters.freeCount(), result.outliers.size());
+  const Eigen::MatrixXd& A = kept.A(solution);
+  bool deficient = covarianceOfKept(result, A, kept.chi2, options);
+  addAlignmentCovariance(result, poses, keep, A);
+  result.free_names = result.model.parameters.freeNames();
+  if (options.compute_identifiability) {
+    result.identifiability = analyzeJacobian(solution.radians, result.free_names, options.identifiability);
+    deficient = deficient || !result.identifiability.fullRank();
+  }
+  fillSigma(result, deficient);
+  result.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/support/atomic_file.hpp"
@@ -86,30 +87,39 @@ Eigen::MatrixXd subCovariance(const Eigen::MatrixXd& C, const std::vector<std::s
 Eigen::Isometry3d PredictionModel::cTb() const { return fullForm().baseFromCamera(mounting.values()).inverse(); }
 Eigen::Isometry3d PredictionModel::eTm() const { return fullForm().targetFromEffector(mounting.values()).inverse(); }
 
-PredictionModel predictionModelFrom(const std::string& model_name, const IdentificationResult& result) {
-  const IdentificationModel& id = result.model;
-  PredictionModel m;
-  m.model_name = model_name;
-  m.mechanism = id.mechanism;
+namespace {
+
+// The geometric parameters of an identification, ties inside the geometry kept (variant E's L1..L4).
+ParameterSet geometricPart(const IdentificationModel& id) {
   const int G = id.geometricCount();
   const ParameterSet& all = id.parameters;
-  for (int k = 0; k < G; ++k) m.geometric.add(all[static_cast<std::size_t>(k)]);
-  // Ties inside the geometry are kept (variant E's L1..L4).
+  ParameterSet geometric;
+  for (int k = 0; k < G; ++k) geometric.add(all[static_cast<std::size_t>(k)]);
   for (int k = 0; k < G; ++k) {
     std::vector<std::string> group;
     for (int j = 0; j < G; ++j)
       if (all.tieLeader(static_cast<std::size_t>(j)) == static_cast<std::size_t>(k)) group.push_back(all[static_cast<std::size_t>(j)].name);
-    if (group.size() > 1) m.geometric.tie(group);
+    if (group.size() > 1) geometric.tie(group);
   }
-  const ExternalParameterization full = fullForm();
-  const auto toFull = [&](const Eigen::VectorXd& e) {
-    return Eigen::VectorXd(full.valuesFrom(id.external.baseFromCamera(e), id.external.targetFromEffector(e)));
-  };
-  const Eigen::VectorXd e0 = id.externalValues();
-  const Eigen::VectorXd full0 = toFull(e0);
-  // Near a half turn a rotation vector r and r·(1 − 2π/|r|) are the same rotation: take the
-  // one nearest the unperturbed value, or the differences below jump by 2π.
-  const auto nearFull0 = [&](Eigen::VectorXd v) {
+  return geometric;
+}
+
+// External values of the identification's form → the 12 full-form mounting values, and the
+// rotation vectors taken nearest the unperturbed ones (r and r·(1 − 2π/|r|) are the same
+// rotation; near a half turn central differences must not jump by 2π).
+struct FullMountingMap {
+  explicit FullMountingMap(const IdentificationModel& model) : id(model) {}
+  const IdentificationModel& id;
+  ExternalParameterization full = fullForm();
+  Eigen::VectorXd full0;
+  // Translating plate aligned on the mean orientation R̄ (alignTranslatingTarget): eRm is
+  // not a parameter but cRbᵀ·R̄, so it follows the camera rotation (mean_orientation_covariance).
+  std::optional<Eigen::Matrix3d> mean_orientation;
+
+  Eigen::VectorXd raw(const Eigen::VectorXd& e) const {
+    return full.valuesFrom(id.external.baseFromCamera(e), id.external.targetFromEffector(e));
+  }
+  Eigen::VectorXd nearest(Eigen::VectorXd v) const {
     for (int start : {3, 9}) {
       const Eigen::Vector3d r = v.segment<3>(start), r0 = full0.segment<3>(start);
       if (r.norm() > 1.0) {
@@ -118,34 +128,112 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
       }
     }
     return v;
-  };
-  m.mounting = full.parameters();
+  }
+  Eigen::VectorXd operator()(const Eigen::VectorXd& e) const {
+    return nearest(mean_orientation ? mountingWithTargetOrientation(raw(e), *mean_orientation) : raw(e));
+  }
+};
+
+FullMountingMap fullMountingMap(const IdentificationResult& result, bool aligned_translating_target) {
+  FullMountingMap map(result.model);
+  map.full0 = map.raw(result.model.externalValues());
+  if (aligned_translating_target) {
+    const Eigen::Isometry3d cTb = map.full.baseFromCamera(map.full0).inverse();
+    const Eigen::Isometry3d eTm = map.full.targetFromEffector(map.full0).inverse();
+    map.mean_orientation = Eigen::Matrix3d(cTb.linear() * eTm.linear());
+  }
+  return map;
+}
+
+constexpr double kConversionStep = 1e-5;  // smooth maps: truncation error ~1e-10
+
+// T = ∂(geometric free, full mounting)/∂(free parameters): identity on the geometric ones,
+// central differences of the conversion on the external ones.
+Eigen::MatrixXd conversionJacobian(const IdentificationResult& result, const FullMountingMap& map,
+                                   const std::vector<std::size_t>& geo, const std::vector<std::size_t>& ext) {
+  const IdentificationModel& id = result.model;
+  const int G = id.geometricCount();
+  const auto nf = static_cast<Eigen::Index>(result.free_names.size());
+  const auto rows = static_cast<Eigen::Index>(geo.size());
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(rows + 12, nf);
+  for (std::size_t i = 0; i < geo.size(); ++i) T(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(geo[i])) = 1.0;
+  const bool identity = id.external.form() == ExternalForm::Full && !map.mean_orientation;
+  const Eigen::VectorXd e0 = id.externalValues();
+  for (std::size_t k : ext) {
+    const auto index = static_cast<Eigen::Index>(id.parameters.index(result.free_names[k]) - static_cast<std::size_t>(G));
+    if (identity) {  // the mounting values are the parameters themselves
+      T(rows + index, static_cast<Eigen::Index>(k)) = 1.0;
+      continue;
+    }
+    Eigen::VectorXd p = e0, q = e0;
+    p[index] += kConversionStep;
+    q[index] -= kConversionStep;
+    T.block(rows, static_cast<Eigen::Index>(k), 12, 1) = (map(p) - map(q)) / (2 * kConversionStep);
+  }
+  return T;
+}
+
+// ∂full/∂δ over the 4 tilts of the estimated axis alignment (aligned forms).
+Eigen::MatrixXd alignmentJacobian(const IdentificationModel& id, const FullMountingMap& map, Eigen::Index rows) {
+  const AxisAlignment& alignment = id.external.alignment();
+  const Eigen::VectorXd e0 = id.externalValues();
+  Eigen::MatrixXd Td = Eigen::MatrixXd::Zero(rows + 12, 4);
+  for (int k = 0; k < 4; ++k) {
+    const auto tilted = [&](double step) {
+      const ExternalParameterization form(id.external.form(), tiltAlignment(alignment, step * Eigen::Vector4d::Unit(k)));
+      return map.nearest(Eigen::VectorXd(map.full.valuesFrom(form.baseFromCamera(e0), form.targetFromEffector(e0))));
+    };
+    Td.block(rows, k, 12, 1) = (tilted(kConversionStep) - tilted(-kConversionStep)) / (2 * kConversionStep);
+  }
+  return Td;
+}
+
+// ∂full/∂r̄ over the rotation vector of the mean orientation R̄ (translating plate).
+Eigen::MatrixXd meanOrientationJacobian(const FullMountingMap& map, Eigen::Index rows) {
+  const Eigen::AngleAxisd aa(*map.mean_orientation);
+  const Eigen::Vector3d r0 = aa.axis() * aa.angle();
+  Eigen::MatrixXd Tr = Eigen::MatrixXd::Zero(rows + 12, 3);
+  for (int k = 0; k < 3; ++k) {
+    const auto turned = [&](double step) {
+      const Eigen::Vector3d r = r0 + step * Eigen::Vector3d::Unit(k);
+      return map.nearest(mountingWithTargetOrientation(map.full0, Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix()));
+    };
+    Tr.block(rows, k, 12, 1) = (turned(kConversionStep) - turned(-kConversionStep)) / (2 * kConversionStep);
+  }
+  return Tr;
+}
+
+}  // namespace
+
+PredictionModel predictionModelFrom(const std::string& model_name, const IdentificationResult& result) {
+  return predictionModelFrom(model_name, result, std::nullopt);
+}
+
+PredictionModel predictionModelFrom(const std::string& model_name, const IdentificationResult& result,
+                                    const std::optional<Eigen::Matrix3d>& mean_orientation_covariance) {
+  const IdentificationModel& id = result.model;
+  PredictionModel m;
+  m.model_name = model_name;
+  m.mechanism = id.mechanism;
+  m.geometric = geometricPart(id);
+  const FullMountingMap map = fullMountingMap(result, mean_orientation_covariance.has_value());
+  m.mounting = map.full.parameters();
   m.mounting.freeAll();
-  m.mounting.setValues(full0);
+  m.mounting.setValues(map.full0);
 
   // Covariance: free geometric names as they are; free external names through ∂full/∂e.
   std::vector<std::size_t> geo, ext;
   for (std::size_t k = 0; k < result.free_names.size(); ++k)
-    (all.index(result.free_names[k]) < static_cast<std::size_t>(G) ? geo : ext).push_back(k);
+    (id.parameters.index(result.free_names[k]) < static_cast<std::size_t>(id.geometricCount()) ? geo : ext).push_back(k);
   for (std::size_t k : geo) m.covariance_names.push_back(result.free_names[k]);
   for (const std::string& n : m.mounting.names()) m.covariance_names.push_back(n);
   if (result.covariance.size() == 0) return m;
-  const auto nf = static_cast<Eigen::Index>(result.free_names.size());
-  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(geo.size()) + 12, nf);
-  for (std::size_t i = 0; i < geo.size(); ++i) T(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(geo[i])) = 1.0;
-  const bool is_full = id.external.form() == ExternalForm::Full;
-  constexpr double kConversionStep = 1e-5;  // smooth map: truncation error ~1e-10
-  for (std::size_t k : ext) {
-    const std::size_t index = all.index(result.free_names[k]) - static_cast<std::size_t>(G);
-    if (is_full) {  // the mounting values are the parameters themselves
-      T(static_cast<Eigen::Index>(geo.size() + index), static_cast<Eigen::Index>(k)) = 1.0;
-      continue;
-    }
-    Eigen::VectorXd p = e0, q = e0;
-    p[static_cast<Eigen::Index>(index)] += kConversionStep;
-    q[static_cast<Eigen::Index>(index)] -= kConversionStep;
-    T.block(static_cast<Eigen::Index>(geo.size()), static_cast<Eigen::Index>(k), 12, 1) =
-        (nearFull0(toFull(p)) - nearFull0(toFull(q))) / (2 * kConversionStep);
+  const Eigen::MatrixXd T = conversionJacobian(result, map, geo, ext);
+  const auto rows = static_cast<Eigen::Index>(geo.size());
+  if (map.mean_orientation) {
+    const Eigen::MatrixXd Tr = meanOrientationJacobian(map, rows);
+    m.covariance = T * result.covariance * T.transpose() + Tr * *mean_orientation_covariance * Tr.transpose();
+    return m;
   }
   // Aligned forms: the mounting also depends on the estimated axis alignment δ, whose
   // uncertainty is already folded into the parameters (Σξ = Σ₀ + S·Σδ·Sᵀ). The mounting then
@@ -153,19 +241,12 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
   // differences of the tilted alignment — leaving it out overstates the σ of the predictions
   // (the parameters' compensation of the alignment error would count as an error).
   const AxisAlignment& alignment = id.external.alignment();
-  if (is_full || result.alignment_sensitivity.rows() != nf || alignment.covariance.isZero()) {
+  if (id.external.form() == ExternalForm::Full || result.alignment_sensitivity.rows() != T.cols() ||
+      alignment.covariance.isZero()) {
     m.covariance = T * result.covariance * T.transpose();
     return m;
   }
-  Eigen::MatrixXd Td = Eigen::MatrixXd::Zero(T.rows(), 4);
-  for (int k = 0; k < 4; ++k) {
-    const auto tilted = [&](double step) {
-      const ExternalParameterization form(id.external.form(), tiltAlignment(alignment, step * Eigen::Vector4d::Unit(k)));
-      return nearFull0(Eigen::VectorXd(full.valuesFrom(form.baseFromCamera(e0), form.targetFromEffector(e0))));
-    };
-    Td.block(static_cast<Eigen::Index>(geo.size()), k, 12, 1) =
-        (tilted(kConversionStep) - tilted(-kConversionStep)) / (2 * kConversionStep);
-  }
+  const Eigen::MatrixXd Td = alignmentJacobian(id, map, rows);
   const Eigen::MatrixXd cross = result.alignment_sensitivity * alignment.covariance;  // Cov(ξ, δ)
   m.covariance = T * result.covariance * T.transpose() + Td * alignment.covariance * Td.transpose() +
                  T * cross * Td.transpose() + Td * cross.transpose() * T.transpose();
