@@ -20,16 +20,23 @@ TEST(InterruptCleanup, SigintDuringSimulateLeavesNothing) {
     std::ofstream spec(dir.path() / "spec.yaml");
     spec << "%YAML:1.0\n---\ncamera: \"camera.yaml\"\ntarget: \"target.yaml\"\ncalibration:\n  views: 200\n";
   }
-  // Start, wait until the temporary output folder exists, interrupt, report the exit code.
+  // Start, wait until the temporary output folder exists (the interrupt handler is installed
+  // by then), interrupt, report the exit code. A busy machine may be slow to get there: wait up
+  // to 120 s, and never hang — without the folder, or when the interrupt does not end mire
+  // within 60 s, the process is killed and the code file says so.
   const std::string d = dir.path().string();
   const std::string script = "cd " + d + " && { " + test::mireBinary().string() +
                              " simulate calibration --spec spec.yaml -o out >/dev/null 2>&1 & pid=$!; "
-                             "for i in $(seq 600); do ls -a | grep -q ^.tmp-dir- && break; sleep 0.05; done; "
-                             "sleep 0.5; kill -INT $pid; wait $pid; echo $? > code; }";
+                             "for i in $(seq 2400); do ls -a | grep -q ^.tmp-dir- && break; sleep 0.05; done; "
+                             "if ! ls -a | grep -q ^.tmp-dir-; then kill -KILL $pid; wait $pid; echo 1001 > code; "
+                             "else sleep 0.5; kill -INT $pid; (sleep 60; kill -KILL $pid) >/dev/null 2>&1 & watchdog=$!; "
+                             "wait $pid; echo $? > code; kill $watchdog 2>/dev/null; fi; }";
   ASSERT_EQ(test::runCommand("sh -c '" + script + "'"), 0);
   std::ifstream code_file(dir.path() / "code");
   int code = -1;
   code_file >> code;
+  ASSERT_NE(code, 1001) << "mire simulate made no temporary output folder within 120 s";
+  ASSERT_NE(code, 128 + 9) << "mire simulate did not end within 60 s of SIGINT";
   EXPECT_EQ(code, 128 + 2);
   for (const auto& entry : fs::directory_iterator(dir.path())) {
     const std::string name = entry.path().filename().string();
