@@ -2,8 +2,9 @@
 # Builds mire with AddressSanitizer + UndefinedBehaviorSanitizer (-DMIRE_SANITIZE=ON, gcc, -O1
 # with minimal debug info, in build-asan/) and runs the test suite there: the bad-input matrix
 # first (it must complete), then every other test within what is left of a suite-level budget
-# (MIRE_SANITIZE_BUDGET seconds, default 1800). Any sanitizer report or failed test fails the
-# run; tests the budget leaves unstarted are listed, not failed. Extra arguments go to both
+# (MIRE_SANITIZE_BUDGET seconds, default 1800; shortened to end by MIRE_SANITIZE_DEADLINE, a Unix
+# time, when given). Any sanitizer report or failed test fails the run; tests the budget stops or
+# leaves unstarted are counted, not failed. Extra arguments go to both
 # ctest calls (e.g. -R Detection). Cost: doc/robustness.md.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -22,9 +23,15 @@ cd "$root/build-asan"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:halt_on_error=1:detect_stack_use_after_return=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 tests_start=$(date +%s)
+if [ -n "${MIRE_SANITIZE_DEADLINE:-}" ] && [ $(( MIRE_SANITIZE_DEADLINE - tests_start )) -lt "$budget" ]; then
+  budget=$(( MIRE_SANITIZE_DEADLINE - tests_start ))
+fi
 ctest --output-on-failure -j "$(nproc)" --timeout 900 -R '^BadInput/' "$@"
 left=$(( budget - ($(date +%s) - tests_start) ))
-[ "$left" -gt 60 ] || { echo "sanitize: no budget left after the bad-input matrix" >&2; exit 1; }
+if [ "$left" -le 60 ]; then
+  echo "sanitize: the bad-input matrix passed; NO OTHER TEST RAN: ${left} s of the ${budget} s budget left" >&2
+  exit 0
+fi
 # The rest, within the budget: ctest --stop-time starts no test after that time and kills the
 # running ones ("***Timeout" before the 900 s per-test limit); only those are forgiven below.
 # ctest reads the stop time as a time of day: past midnight, the budget is not applied.
