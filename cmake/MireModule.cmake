@@ -8,9 +8,12 @@ function(mire_target_options target)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
   if(MIRE_SANITIZE OR MIRE_FUZZ)
-    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
-    # PUBLIC: whatever links a sanitized static library (tests, fuzzers, a program built against
-    # the installed package) needs the sanitizer runtime too.
+    # PUBLIC: whatever uses a sanitized library (tests, fuzzers, a program built against the
+    # installed package) must be compiled and linked the same way. Not only for the runtime:
+    # Eigen allocates differently under ASan (__SANITIZE_ADDRESS__, Eigen/src/Core/util/Memory.h),
+    # so a matrix allocated in the library and freed in an uninstrumented program is a bad free.
+    target_compile_options(${target} PUBLIC -fsanitize=address,undefined)
+    target_compile_options(${target} PRIVATE -fno-omit-frame-pointer)
     target_link_options(${target} PUBLIC -fsanitize=address,undefined)
   endif()
   if(MIRE_FUZZ)
