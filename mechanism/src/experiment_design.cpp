@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "mire/mechanism/gauge.hpp"
+#include "mire/mechanism/pose.hpp"
 #include "mire/mechanism/variants.hpp"
 
 namespace mire::mechanism {
@@ -44,8 +45,7 @@ Eigen::MatrixXd ikmPoseJacobian(const Mechanism& mechanism, const Eigen::VectorX
 
 Eigen::Isometry3d transformOf(const Eigen::Vector3d& rotation_vector, const Eigen::Vector3d& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (rotation_vector.norm() > 0)
-    T.linear() = Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized()).toRotationMatrix();
+  T.linear() = fromRotationVector(rotation_vector);
   T.translation() = t;
   return T;
 }

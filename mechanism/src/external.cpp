@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "mire/mechanism/mechanism.hpp"
+#include "mire/mechanism/pose.hpp"
 
 namespace mire::mechanism {
 
@@ -24,17 +25,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d rotZ(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
-
-Eigen::Vector3d rotationVector(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.axis() * aa.angle();
-}
-
-Eigen::Matrix3d fromRotationVector(const Eigen::Vector3d& r) {
-  const double angle = r.norm();
-  return angle > 0.0 ? Eigen::AngleAxisd(angle, r / angle).toRotationMatrix()
-                     : Eigen::Matrix3d::Identity();
-}
 
 double angleAboutZ(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 

@@ -12,6 +12,7 @@
 #include "mire/mechanism/external.hpp"
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/mechanism.hpp"
+#include "mire/mechanism/pose.hpp"
 #include "mire/mechanism/translating_target.hpp"
 
 namespace mire::mechanism {
@@ -112,10 +113,9 @@ Eigen::VectorXd mountingWithTargetOrientation(const Eigen::VectorXd& e, const Ei
   const Eigen::Matrix3d eRm_new = projectToRotation(cRb.transpose() * cRm);
   // The joints see only the effector origin in M, −eRmᵀ·t_EM: keep it while turning eRm.
   const Eigen::Vector3d t_new = eRm_new * (eRm_old.transpose() * Eigen::Vector3d(e.segment<3>(6)));
-  const Eigen::AngleAxisd aa(eRm_new);
   Eigen::VectorXd out = e;
   out.segment<3>(6) = t_new;
-  out.segment<3>(9) = aa.axis() * aa.angle();
+  out.segment<3>(9) = rotationVector(eRm_new);
   return out;
 }
 
@@ -148,11 +148,6 @@ Eigen::Matrix3d leftJacobian(const Eigen::Vector3d& r) {
          (theta - std::sin(theta)) / (theta * theta * theta) * S * S;
 }
 
-Eigen::Vector3d logRotation(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.axis() * aa.angle();
-}
-
 // Covariance of the rotation vector of R̄ = proj(mean_j cRm_j), to first order in the spread:
 // in the left tangent at R̄, ω̄ = mean_j ω_j with ω_j = Jl(r_j)·δr_j, so
 // Σ_ω = (1/N²)·Σ_j Jl(r_j)·Σ_r,j·Jl(r_j)ᵀ (the poses' covariances), or the scatter of the
@@ -167,11 +162,11 @@ Eigen::Matrix3d meanOrientationCovariance(const std::vector<PoseObservation>& po
       const Eigen::Matrix3d Jl = leftJacobian(p.cTm.tail<3>());
       omega += Jl * p.covariance->bottomRightCorner<3, 3>() * Jl.transpose() / (n * n);
     } else if (poses.size() > 1) {
-      const Eigen::Vector3d w = logRotation(toIsometry(p.cTm).linear() * mean.transpose());
+      const Eigen::Vector3d w = rotationVector(toIsometry(p.cTm).linear() * mean.transpose());
       omega += w * w.transpose() / (n * (n - 1.0));
     }
   }
-  const Eigen::Matrix3d Jl_inverse = leftJacobian(logRotation(mean)).inverse();
+  const Eigen::Matrix3d Jl_inverse = leftJacobian(rotationVector(mean)).inverse();
   return Jl_inverse * omega * Jl_inverse.transpose();
 }
 

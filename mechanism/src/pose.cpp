@@ -7,20 +7,27 @@
 
 namespace mire::mechanism {
 
+Eigen::Vector3d rotationVector(const Eigen::Matrix3d& rotation) {
+  const Eigen::AngleAxisd aa(rotation);
+  return aa.axis() * aa.angle();
+}
+
+Eigen::Matrix3d fromRotationVector(const Eigen::Vector3d& rotation_vector) {
+  const double angle = rotation_vector.norm();
+  return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
+                     : Eigen::Matrix3d::Identity();
+}
+
 Eigen::Isometry3d toIsometry(const PoseVector& pose) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d r = pose.tail<3>();
-  const double angle = r.norm();
-  T.linear() = angle > 0.0 ? Eigen::AngleAxisd(angle, r / angle).toRotationMatrix()
-                           : Eigen::Matrix3d::Identity();
+  T.linear() = fromRotationVector(pose.tail<3>());
   T.translation() = pose.head<3>();
   return T;
 }
 
 PoseVector toPoseVector(const Eigen::Isometry3d& transform) {
-  const Eigen::AngleAxisd aa(transform.linear());
   PoseVector pose;
-  pose << transform.translation(), aa.axis() * aa.angle();
+  pose << transform.translation(), rotationVector(transform.linear());
   return pose;
 }
 

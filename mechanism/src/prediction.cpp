@@ -7,6 +7,7 @@
 
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/mechanism/pose.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
@@ -190,13 +191,12 @@ Eigen::MatrixXd alignmentJacobian(const IdentificationModel& id, const FullMount
 
 // ∂full/∂r̄ over the rotation vector of the mean orientation R̄ (translating plate).
 Eigen::MatrixXd meanOrientationJacobian(const FullMountingMap& map, Eigen::Index rows) {
-  const Eigen::AngleAxisd aa(*map.mean_orientation);
-  const Eigen::Vector3d r0 = aa.axis() * aa.angle();
+  const Eigen::Vector3d r0 = rotationVector(*map.mean_orientation);
   Eigen::MatrixXd Tr = Eigen::MatrixXd::Zero(rows + 12, 3);
   for (int k = 0; k < 3; ++k) {
     const auto turned = [&](double step) {
       const Eigen::Vector3d r = r0 + step * Eigen::Vector3d::Unit(k);
-      return map.nearest(mountingWithTargetOrientation(map.full0, Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix()));
+      return map.nearest(mountingWithTargetOrientation(map.full0, fromRotationVector(r)));
     };
     Tr.block(rows, k, 12, 1) = (turned(kConversionStep) - turned(-kConversionStep)) / (2 * kConversionStep);
   }

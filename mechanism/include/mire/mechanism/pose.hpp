@@ -17,6 +17,10 @@ using PoseCovariance = Eigen::Matrix<double, 6, 6>;  // of a PoseVector, in (m, 
 Eigen::Isometry3d toIsometry(const PoseVector& pose);
 PoseVector toPoseVector(const Eigen::Isometry3d& transform);
 
+// A rotation matrix's rotation vector (axis × angle, angle in [0, π]), and back.
+Eigen::Vector3d rotationVector(const Eigen::Matrix3d& rotation);
+Eigen::Matrix3d fromRotationVector(const Eigen::Vector3d& rotation_vector);
+
 // One calibration pose: the measured target pose cTm and the encoder readings q̄.
 struct PoseObservation {
   std::string id;                             // pose id, used in every message
