@@ -163,10 +163,6 @@ TEST(Yaml, DeepNestingIsAnErrorNotACrash) {
   EXPECT_THROW(YamlFile::parse(deep, "deep.yaml"), YamlError);
 }
 
-}  // namespace
-
-namespace {
-
 // yaml-cpp 0.7 loops forever on a node that starts a line with ',' outside a flow collection
 // (found by the fuzz targets; the inputs are kept in fuzz/corpus/*/regression-hang-*). mire
 // refuses such a line before yaml-cpp sees it, naming the line; valid uses of ',' still read.
