@@ -1,11 +1,12 @@
 #include "mire/support/yaml.hpp"
 
+#include "yaml_syntax.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -81,56 +82,8 @@ struct DuplicateCheck {
   }
 };
 
-// The line (1-based) of the first line that starts, outside a flow collection ([...] or {...}),
-// quotes and block scalars, with ',' — or 0. yaml-cpp 0.7 (Debian's) loops forever on some
-// such lines (found by fuzz/fuzz_*_yaml; "# c\n---\n,\n" is one), and YAML never starts a block
-// node with ',' (a flow indicator); only a rare multi-line plain scalar's continuation may.
-int leadingFlowComma(const std::string& text) {
-  // A line ending in a block scalar header (|, >, with chomping/indent indicators): the more
-  // indented lines after it are literal text.
-  const auto opensBlockScalar = [](const std::string& line) {
-    const std::string t = trim(line);
-    const std::size_t header = t.find_last_of("|>");
-    return header != std::string::npos && t.find_first_not_of("+-0123456789", header + 1) == std::string::npos;
-  };
-  int line = 1, depth = 0, block_indent = -1, indent = 0;
-  char quote = 0;
-  bool at_start = true, comment = false;
-  std::string current;  // the line's text outside comments
-  for (const char c : text) {
-    if (c == '\n') {
-      if (quote == 0 && depth == 0 && block_indent < 0 && opensBlockScalar(current)) block_indent = indent;
-      ++line, at_start = true, comment = false, indent = 0, current.clear();
-      continue;
-    }
-    if (at_start) {
-      if (c == ' ' || c == '\t') { ++indent; continue; }
-      at_start = false;
-      if (block_indent >= 0 && indent > block_indent) { comment = true; continue; }  // literal text
-      block_indent = -1;
-      if (c == ',' && depth == 0 && quote == 0) return line;
-    }
-    if (comment) continue;
-    current += c;
-    if (quote != 0) {
-      if (c == quote) quote = 0;
-    } else if (c == '#' && (current.size() == 1 || current[current.size() - 2] == ' ')) {
-      comment = true, current.pop_back();
-    } else if ((c == '"' || c == '\'') && (current.size() == 1 || std::strchr(" :[{,-?", current[current.size() - 2]))) {
-      quote = c;  // a quoted scalar starts only where a scalar starts (not "it's")
-    } else if (c == '[' || c == '{') {
-      ++depth;
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return 0;
-}
-
 std::vector<YAML::Node> parseDocuments(const std::string& text, const std::string& name) {
-  if (const int line = leadingFlowComma(text))
-    throw YamlError(name + ":" + std::to_string(line) +
-                    ": invalid YAML: a line starts with ',' outside a flow collection ([...] or {...})");
+  checkYamlSyntax(text, name, kMaxDepth);  // first: yaml-cpp 0.7 can hang on malformed text
   try {
     return YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
