@@ -5,6 +5,8 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <unordered_map>
+#include <unordered_set>
 #include <sstream>
 #include <stdexcept>
 
@@ -24,7 +26,7 @@ std::vector<std::string> jointColumns(int joint_count) {
 }
 
 // Row index of every id, rejecting duplicates with both lines.
-void checkUniqueId(std::map<std::string, std::size_t>& seen, const support::CsvTable& table,
+void checkUniqueId(std::unordered_map<std::string, std::size_t>& seen, const support::CsvTable& table,
                    std::size_t row, const std::string& id, const char* what) {
   if (id.empty()) throw std::runtime_error(table.where(row) + ": empty " + what);
   const auto [it, inserted] = seen.emplace(id, row);
@@ -82,7 +84,8 @@ std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
   if (covariance_csv) side = readCovarianceCsv(*covariance_csv);
 
   std::vector<PoseRow> rows;
-  std::map<std::string, std::size_t> seen;
+  rows.reserve(table.rows.size());
+  std::unordered_map<std::string, std::size_t> seen(table.rows.size());
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
     PoseRow row;
     row.line = static_cast<int>(table.line_numbers[r]);
@@ -125,7 +128,8 @@ std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv,
   std::vector<std::size_t> cols;
   for (const auto& name : joint_columns) cols.push_back(table.column(name));
   std::vector<JointRow> rows;
-  std::map<std::string, std::size_t> seen;
+  rows.reserve(table.rows.size());
+  std::unordered_map<std::string, std::size_t> seen(table.rows.size());
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
     JointRow row;
     row.pose_id = table.rows[r][id_col];
@@ -173,10 +177,12 @@ ObservationSet readObservations(const std::filesystem::path& poses_csv, const st
   const int joint_count = static_cast<int>(joint_columns.size());
   const auto pose_rows = readPosesCsv(poses_csv, covariance_csv);
   const auto joint_rows = readJointsCsv(joints_csv, joint_columns);
-  std::map<std::string, const JointRow*> by_id;
+  // Hashed: linear in the pose count (issue 12, doc/mechanisms.md "Identify linear in the pose count").
+  std::unordered_map<std::string, const JointRow*> by_id(joint_rows.size());
   for (const auto& row : joint_rows) by_id[row.pose_id] = &row;
   ObservationSet set;
-  std::set<std::string> used;
+  set.poses.reserve(pose_rows.size());
+  std::unordered_set<std::string> used(pose_rows.size());
   for (const auto& row : pose_rows) {
     const auto it = by_id.find(row.observation.id);
     if (it == by_id.end())
