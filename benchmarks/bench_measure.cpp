@@ -205,7 +205,7 @@ void pipelineComparison(int kPoses) {
       averaged.ids.push_back(static_cast<int>(i));
       averaged.pixels.emplace_back(sum[i].x / found, sum[i].y / found);
     }
-    // SB may start its corner order at another board corner than mire's origin (BRIEF §10):
+    // SB may start its corner order at another board corner than mire's origin (doc/file-formats.md, "Target frame M"):
     // try the four grid orderings and keep the one nearest the truth (generous to the peer).
     const int cols = target.spec().cols, rows = target.spec().rows;
     std::optional<Vector6d> best;

@@ -1,6 +1,6 @@
 // `mire calibrate`: camera intrinsics + distortion from a folder of target images
-// (../shared/BRIEF.md §3, §10). Detection runs in parallel on all cores; images without the
-// target are listed and skipped; bad input (empty folder, unreadable image, bad target spec,
+// (doc/calibration.md; camera.yaml and target.yaml: doc/file-formats.md). Detection runs in parallel on all cores;
+// images without the target are listed and skipped; bad input (empty folder, unreadable image, bad target spec,
 // too few usable views) stops with a message naming the cause and writes nothing.
 #include "commands.hpp"
 #include "detections_io.hpp"

@@ -1,5 +1,5 @@
 // `mire identify`: geometric + external parameters of the H4 from measured target poses and
-// encoder readings (paper §2–6, BRIEF §4–10), with the paper's evaluation criteria and an
+// encoder readings (paper §2–6; doc/identification-h4.md), with the paper's evaluation criteria and an
 // optional Monte-Carlo study over random pose subsets. Everything is computed before anything
 // is written: bad input stops with a message naming the file/line and writes nothing.
 #include "commands.hpp"
@@ -507,7 +507,7 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
 Runner addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArguments>();
   CLI::App* cmd = app.add_subcommand("identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
-  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, BRIEF §10)")->required();
+  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, doc/file-formats.md)")->required();
   cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")->required();
   cmd->add_option("--pose-covariances", args->covariances,
                   "6x6 pose covariances (default: <poses>_covariance.csv beside poses.csv when it exists, "

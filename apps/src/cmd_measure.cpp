@@ -1,5 +1,5 @@
 // `mire measure`: target poses cTm with their precision, from one image folder per pose
-// (../shared/BRIEF.md §3, §10). Poses are measured in parallel; a pose that fails is reported
+// (doc/measurement.md; poses.csv: doc/file-formats.md). Poses are measured in parallel; a pose that fails is reported
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
 #include "detections_io.hpp"

@@ -59,7 +59,8 @@ void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::os
     if (slowest == nullptr || t.seconds > slowest->seconds) slowest = &t;
   }
   md << "# mire demo: the H4 experiment of Renaud et al. (2004), in simulation\n\n"
-     << "A simulated H4 (nominal geometry of BRIEF §4 with manufacturing errors of the paper's magnitude, 1σ 5 mm on "
+     << "A simulated H4 (mire's reference nominal geometry, doc/mechanism-models.md, with manufacturing errors of "
+        "the paper's magnitude, 1σ 5 mm on "
         "lengths, 2° on pivot angles, 5° on encoder offsets, and defects model 12 cannot represent: per-leg lengths, non-coplanar pivots, tilted axes, imperfect parallelograms) carries a "
         "chessboard seen by the reference camera (1024×768, 3.8 mm lens, strong barrel distortion). mire calibrated "
         "the camera from images, measured the 81 poses from images, and identified the robot from `poses.csv` + "

@@ -1,7 +1,7 @@
 #pragma once
 // The image-folder stages shared by `mire calibrate`, `mire measure` and `mire demo`: the
 // target detected in every image of a calibration folder, and one pose measured per pose
-// subfolder (BRIEF §10), each in parallel with a progress bar.
+// subfolder (doc/file-formats.md, "pose image folder"), each in parallel with a progress bar.
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/camera_model.hpp"
 #include "mire/metrology/pose_measurement.hpp"

@@ -19,7 +19,7 @@ H4CampaignSpec H4CampaignSpec::reference() {
   H4CampaignSpec spec;
   spec.camera_file = specPath("reference_camera.yaml");
   spec.target_file = specPath("target_h4.yaml");
-  // A real 3.8 mm lens at f/4 is slightly soft, and an 8-bit sensor is noisy (BRIEF §3).
+  // A real 3.8 mm lens at f/4 is slightly soft, and an 8-bit sensor is noisy (paper §5).
   spec.render.blur_sigma_px = 0.6;
   spec.noise.gaussian_sigma = 1.5;
   spec.noise.shot_noise_gain = 20.0;

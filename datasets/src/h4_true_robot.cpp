@@ -34,7 +34,8 @@ ArmFrame armFrame(const H4TrueLeg& leg) {
   return {m.col(0), m.col(1), m.col(2)};
 }
 
-// Nacelle offset of attachment i before tilt: ε·h·(cosθ, sinθ, 0) + σ·d·(0,1,0) (BRIEF §4).
+// Nacelle offset of attachment i before tilt: ε·h·(cosθ, sinθ, 0) + σ·d·(0,1,0) (doc/mechanism-models.md, "H4
+// model 12").
 template <typename T>
 Vec3<T> nacelleOffset(const H4TrueGeometry& g, int leg, const T& theta) {
   using std::cos;
@@ -43,7 +44,7 @@ Vec3<T> nacelleOffset(const H4TrueGeometry& g, int leg, const T& theta) {
   return Vec3<T>(eps * g.h * cos(theta), eps * g.h * sin(theta) + T(sig * g.d), T(0.0));
 }
 
-// Arm angle φ solving ‖A − P − L·V(φ)‖ = l, elbow-out branch (BRIEF §4, general axis):
+// Arm angle φ solving ‖A − P − L·V(φ)‖ = l, elbow-out branch (doc/mechanism-models.md, "H4 model 12", general axis):
 // with w = A − P, a = −w·e1, b = −w·e2, c = (L² + ‖w‖² − l²)/(2L): a cosφ + b sinφ = c.
 // Returns false when |c| > ρ (unreachable). `clamp` keeps the result finite for the tilt model.
 template <typename T>
@@ -157,7 +158,7 @@ H4TrueGeometry geometryFromModel12(const H4Model12Values& v) {
   g.rotation_ratio = v.amplification;
   for (int i = 0; i < 4; ++i) {
     H4TrueLeg& leg = g.legs[i];
-    // P_i = A_i(0) + R·(cos α_i, sin α_i, 0); model 12 is ψ_i = α_i + π, β_i = π/2 (BRIEF §5).
+    // P_i = A_i(0) + R·(cos α_i, sin α_i, 0); model 12 is ψ_i = α_i + π, β_i = π/2 (eq. 17).
     leg.pivot = Eigen::Vector3d(mechanism::kH4Epsilon[i] * v.h, mechanism::kH4Sigma[i] * v.d, 0.0) +
                 v.R * Eigen::Vector3d(std::cos(v.alpha[i]), std::sin(v.alpha[i]), 0.0);
     leg.psi = v.alpha[i] + kH4Pi;

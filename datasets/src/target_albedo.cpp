@@ -171,7 +171,8 @@ float TargetAlbedo::chessboard(double x, double y) const {
   const int ix = static_cast<int>(std::floor(x / s));
   const int iy = static_cast<int>(std::floor(y / s));
   if (ix < -1 || ix > spec_.cols - 1 || iy < -1 || iy > spec_.rows - 1) return light_;  // margin
-  // Square (-1, -1), just outside the origin, is dark (BRIEF §10): dark when ix + iy is even.
+  // Square (-1, -1), just outside the origin, is dark (doc/file-formats.md, "Target frame M"): dark when ix + iy
+  // is even.
   return ((ix + iy) & 1) == 0 ? dark_ : light_;
 }
 

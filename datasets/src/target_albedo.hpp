@@ -1,6 +1,6 @@
 #pragma once
 // The printed target as a function of the point (X, Y) on its plane (frame M, metres):
-// what the renderer samples. Layout as in metrology/target.hpp; BRIEF §10 for the colours
+// what the renderer samples. Layout as in metrology/target.hpp; doc/file-formats.md, "Target frame M" for the colours
 // (chessboard: the square at x < 0, y < 0 is dark).
 #include "mire/metrology/target.hpp"
 

@@ -1,4 +1,4 @@
-// Identification files (BRIEF §10); see io.hpp.
+// Identification files (doc/file-formats.md); see io.hpp.
 #include "mire/mechanism/io.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Variants A–H of the paper's Table 2 (BRIEF §8).
+// Variants A–H of the paper's Table 2 (doc/mechanism-models.md).
 #include "mire/mechanism/variants.hpp"
 
 #include <cctype>

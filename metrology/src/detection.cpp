@@ -1,5 +1,5 @@
 // Target detection entry points and the grid ordering shared by chessboards and circle
-// grids (BRIEF §10: frame M, chessboard colour rule).
+// grids (doc/file-formats.md, "Target frame M": chessboard colour rule).
 #include "mire/metrology/detection.hpp"
 
 #include "detection_internal.hpp"
@@ -135,7 +135,7 @@ double smallestSpacingPx(const std::vector<cv::Point2f>& opencv_grid, int cols, 
 
 // Keep the orderings that fit the layout (all of them fit a symmetric layout equally; an
 // asymmetric one rejects the wrong ones by a residual of the order of the spacing), then
-// the chessboard colour rule (BRIEF §10): the square just outside the origin is dark.
+// the chessboard colour rule (doc/file-formats.md): the square just outside the origin is dark.
 std::vector<GridCandidate> fittingCandidates(const std::vector<GridCandidate>& candidates,
                                              const std::vector<cv::Point2f>& opencv_grid, int cols, int rows) {
   double best_rms = std::numeric_limits<double>::infinity();

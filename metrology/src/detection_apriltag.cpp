@@ -1,4 +1,4 @@
-// AprilTag grids through AprilTag 3 (BRIEF §10 target layout, detection.hpp).
+// AprilTag grids through AprilTag 3 (layout: doc/targets.md; detection.hpp).
 #include "mire/metrology/apriltag_family.hpp"
 #include "detection_internal.hpp"
 

@@ -19,7 +19,7 @@ constexpr int kCameraStride = 4;
 
 // Whitened reprojection residual of one feature: L⁻¹ (project(cTm · X) − x̄), with
 // L Lᵀ = Σ the covariance of the averaged feature x̄. Parameter blocks: pose = (angle-axis r,
-// translation t), camera = calibration::Camera::params. Templated projection (BRIEF §3).
+// translation t), camera = calibration::Camera::params. Templated projection (doc/measurement.md, step 4 "Pose").
 struct ReprojectionResidual {
   Eigen::Vector3d point;
   Eigen::Vector2d observed;

@@ -1,4 +1,4 @@
-// Planar targets: validation, feature layout in frame M and target.yaml (BRIEF §10).
+// Planar targets: validation, feature layout in frame M and target.yaml (doc/targets.md).
 #include "mire/metrology/target.hpp"
 
 #include "mire/metrology/apriltag_family.hpp"

@@ -1,5 +1,5 @@
 // `mire measure` from image folders: bad input is reported per pose, the other poses are
-// still measured and written, exit code 3 (BRIEF §10, issue 5).
+// still measured and written, exit code 3 (doc/conventions.md "Exit codes", issue 5).
 #include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/render.hpp"

@@ -1,4 +1,4 @@
-// camera.yaml round trip and errors (BRIEF §10).
+// camera.yaml round trip and errors (doc/file-formats.md).
 #include "mire/calibration/camera_io.hpp"
 
 #include "test_support.hpp"

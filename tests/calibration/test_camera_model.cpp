@@ -11,7 +11,7 @@
 namespace mire::calibration {
 namespace {
 
-// The reference camera (BRIEF §3 / datasets/specs/reference_camera.yaml) with `count`
+// The reference camera (paper §5 / datasets/specs/reference_camera.yaml) with `count`
 // coefficients; the higher-order ones small but non-zero so that every term is exercised.
 Camera referenceCamera(int count) {
   std::vector<double> distortion = {-0.3, 0.1, 1e-3, -1e-3, -0.02, 0.01, -0.005, 0.002, 1e-3, -5e-4, 8e-4, -3e-4};

@@ -1,6 +1,6 @@
 #pragma once
 // Synthetic calibration scenes for tests and benchmarks: a reference short-focal camera
-// (../shared/BRIEF.md §3: 1024×768, 3.8 mm lens), a chessboard-like grid, well-spread views
+// (paper §5, doc/measurement.md: 1024×768, 3.8 mm lens), a chessboard-like grid, well-spread views
 // (target centre on a grid over the image, tilts up to ±40°), exact projections + Gaussian
 // pixel noise. Only points that land inside the image are kept (partial views, as in reality).
 #include "mire/calibration/camera_model.hpp"

@@ -1,5 +1,5 @@
-// Identification of the simulated TRUE H4 judged by the paper's criteria (paper §6, BRIEF §9):
-// V2 down to the joint-noise level, V3 straightness, the square test, the Monte-Carlo study.
+// Identification of the simulated TRUE H4 judged by the paper's criteria (paper §6; doc/identification-h4.md,
+// "Evaluation criteria"): V2 down to the joint-noise level, V3 straightness, the square test, the Monte-Carlo study.
 // (Lives in the datasets suite because it needs the true robot; the criteria themselves are
 // unit-tested in tests/mechanism/test_evaluation.cpp.)
 #include <gtest/gtest.h>
@@ -31,7 +31,7 @@ struct Campaign {
   std::vector<std::vector<Eigen::VectorXd>> lines;  // the two straight-line motions
 };
 
-// Manufacturing errors twice BRIEF's ≈1 mm / 0.5° so that the nominal control is off by
+// Manufacturing errors twice the default ≈1 mm / 0.5° so that the nominal control is off by
 // millimetres like the paper's robot (Table 4: 4–7 mm before identification).
 H4ErrorSizes testErrors(bool unmodelled_defects) {
   H4ErrorSizes sizes = unmodelled_defects ? H4ErrorSizes{} : H4ErrorSizes::withoutUnmodelledDefects();

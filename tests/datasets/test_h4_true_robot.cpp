@@ -12,7 +12,7 @@ namespace {
 H4TrueRobot defectiveRobot() { return H4TrueRobot(makeTrueGeometry(H4Model12Values{}, H4ErrorSizes{}, 3)); }
 
 TEST(H4TrueRobot, NominalIkmMatchesBriefClosedForm) {
-  // BRIEF §4 closed form on the nominal geometry at the workspace centre, leg 1.
+  // The model-12 closed form (doc/mechanism-models.md) on the nominal geometry at the workspace centre, leg 1.
   const H4TrueRobot robot(geometryFromModel12(H4Model12Values{}));
   const H4Pose x(0.01, -0.02, -0.62, 0.1);
   const auto q = robot.joints(x);
@@ -89,7 +89,7 @@ TEST(H4TrueRobot, EffectorPoseCarriesTiltAndRotation) {
   EXPECT_LT((b_T_e.translation() - x.head<3>()).norm(), 1e-15);
   const Eigen::Vector3d z_e = b_T_e.linear().col(2);
   EXPECT_NEAR(std::acos(z_e.z()), robot.tilt(x).norm(), 1e-9);
-  // cTm composes as BRIEF §1: bTe = bTc · cTm · mTe.
+  // cTm composes as paper eq. 3: bTe = bTc · cTm · mTe.
   const Eigen::Isometry3d recomposed = robot.baseTCamera() * robot.cameraTMarker(x) * robot.markerTEffector();
   EXPECT_LT((recomposed.matrix() - b_T_e.matrix()).cwiseAbs().maxCoeff(), 1e-12);
 }
@@ -97,7 +97,7 @@ TEST(H4TrueRobot, EffectorPoseCarriesTiltAndRotation) {
 TEST(H4TrueRobot, TargetStaysInViewOverTheProtocol) {
   const H4TrueRobot robot = defectiveRobot();
   // Outer corners of the 12 x 9 inner-corner, 16 mm chessboard of specs/target_h4.yaml
-  // (BRIEF §10: first inner corner at the origin, one square of border beyond).
+  // (doc/file-formats.md: first inner corner at the origin, one square of border beyond).
   std::vector<Eigen::Vector3d> board;
   for (double x : {-0.016, 0.192})
     for (double y : {-0.016, 0.144}) board.emplace_back(x, y, 0.0);

@@ -24,7 +24,7 @@ using mire::metrology::TargetType;
 
 constexpr double kDegree = M_PI / 180.0;
 
-// datasets/specs/reference_camera.yaml (BRIEF §3).
+// datasets/specs/reference_camera.yaml (paper §5).
 Camera referenceCamera() {
   return mire::calibration::cameraFromOpenCV(1024, 768, 817.2043010752688, 817.2043010752688, 511.5, 383.5,
                                              {-0.30, 0.10, 4.0e-4, -3.0e-4, -0.015});
@@ -156,7 +156,7 @@ TEST(Render, GroundTruthIsTheCameraProjection) {
     EXPECT_EQ((pixel - truth.pixels[k]).norm(), 0.0);
     EXPECT_TRUE(truth.visible[k]);
   }
-  // The square just outside the origin (x < 0, y < 0) is dark, the next one light (BRIEF §10).
+  // The square just outside the origin (x < 0, y < 0) is dark, the next one light (doc/file-formats.md).
   const auto rendering = Renderer(camera, target).render(pose);
   const auto levelAt = [&](double x, double y) {
     Eigen::Vector2d pixel;

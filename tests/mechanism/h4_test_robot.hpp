@@ -1,7 +1,7 @@
 #pragma once
 // A small simulated H4 for the mechanism tests: a "true" model-12 robot ≈1 mm / 0.5° from
-// the BRIEF §4 nominal, true camera and target transforms, the 81-pose protocol of BRIEF
-// §9 and cTm noise of 0.2 mm / 0.03° per component (paper §5).
+// the nominal of doc/mechanism-models.md, true camera and target transforms, the 81-pose
+// protocol of doc/identification-h4.md and cTm noise of 0.2 mm / 0.03° per component (paper §5).
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -53,7 +53,7 @@ struct TestRobot {
     mTe.translation() << 0.012, -0.008, 0.03;
   }
 
-  // BRIEF §9: 27 positions (3×3×3 over 200×200×150 mm) × θ ∈ {−20°, 0°, 20°}.
+  // Paper §6: 27 positions (3×3×3 over 200×200×150 mm) × θ ∈ {−20°, 0°, 20°}.
   static std::vector<Eigen::Isometry3d> protocolPoses() {
     std::vector<Eigen::Isometry3d> poses;
     for (int ix = -1; ix <= 1; ++ix)

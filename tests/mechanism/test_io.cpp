@@ -1,4 +1,4 @@
-// Identification files (BRIEF §10): poses.csv (+ covariance side file), joints.csv,
+// Identification files (doc/file-formats.md): poses.csv (+ covariance side file), joints.csv,
 // lines.csv and the parameter YAML; every error names the file and line.
 #include <gtest/gtest.h>
 

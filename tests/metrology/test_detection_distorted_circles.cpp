@@ -22,7 +22,7 @@ namespace {
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
-// datasets/specs/reference_camera.yaml (BRIEF §3).
+// datasets/specs/reference_camera.yaml (paper §5).
 calibration::Camera referenceCamera() {
   return calibration::cameraFromOpenCV(1024, 768, 817.2043010752688, 817.2043010752688, 511.5, 383.5,
                                        {-0.30, 0.10, 4.0e-4, -3.0e-4, -0.015});

@@ -1,5 +1,5 @@
 // Chessboard and circle-grid detection on exact synthetic renders (synthetic_board.hpp):
-// accuracy against the projected ground truth, frame conventions (BRIEF §10), re-refinement.
+// accuracy against the projected ground truth, frame conventions (doc/file-formats.md), re-refinement.
 #include "mire/metrology/detection.hpp"
 
 #include "synthetic_board.hpp"

@@ -66,6 +66,6 @@ TEST(PoseFromImages, SixPosesOfTenImagesAgainstTruth) {
               rms_z, worst_z, worst_pixel_z, kPoses);
   // Sanity: the σ from pixel noise alone is ~20× optimistic here (one render, 10 noise draws:
   // the detector's bias does not average out); inflated by the reduced χ² it is the right
-  // order (BRIEF §3).
+  // order (paper §5).
   EXPECT_LT(rms_z, 3.0);
 }

@@ -147,7 +147,7 @@ TEST(PoseStatistics, CoverageWithIntrinsicsDrawnFromTheirCovariance) {
     EXPECT_GE(coverage.z_std_combined[c], 0.8) << kNames[c];
     EXPECT_LE(coverage.z_std_combined[c], 1.25) << kNames[c];
   }
-  // Without the intrinsics term the σ would be too optimistic (BRIEF §3).
+  // Without the intrinsics term the σ would be too optimistic (doc/measurement.md, "The reference system").
   double worst_noise_only = 0.0;
   for (int c = 0; c < 6; ++c) worst_noise_only = std::max(worst_noise_only, coverage.z_std_noise[c]);
   EXPECT_GT(worst_noise_only, 2.0);

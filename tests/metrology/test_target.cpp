@@ -1,4 +1,4 @@
-// Target layout (frame M, BRIEF §10), target.yaml round trip and bad specs.
+// Target layout (frame M, doc/file-formats.md), target.yaml round trip and bad specs.
 #include "mire/metrology/target.hpp"
 
 #include "test_support.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Camera calibration from views of a planar target (../shared/BRIEF.md §3): OpenCV-calib3d
+// Camera calibration from views of a planar target (paper §5; doc/calibration.md): OpenCV-calib3d
 // shaped (per-view object points + image points + image size), solved as a Ceres bundle
 // adjustment over the intrinsics + distortion (one parameter block, projected through
 // calibration::projectPoint), every view's pose and — optionally — the target's own 3D points

@@ -1,5 +1,5 @@
 #pragma once
-// camera.yaml (OpenCV FileStorage, ../shared/BRIEF.md §10) and ViSP's camera XML.
+// camera.yaml (OpenCV FileStorage, doc/file-formats.md; doc/files.md, "Camera files") and ViSP's camera XML.
 #include "mire/calibration/camera_model.hpp"
 #include "mire/support/yaml.hpp"
 

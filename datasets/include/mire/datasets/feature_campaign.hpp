@@ -16,7 +16,7 @@
 
 namespace mire::datasets {
 
-// The reference system's camera (../shared/BRIEF.md §3): 1024×768, 3.8 mm lens,
+// The reference system's camera (doc/measurement.md, "The reference system"): 1024×768, 3.8 mm lens,
 // fx = fy = 817.2 px, cx = 511.5, cy = 383.5, k1 k2 p1 p2 k3 = −0.30, 0.10, 4e-4, −3e-4, −0.015.
 calibration::Camera referenceCamera();
 
@@ -27,7 +27,7 @@ struct CampaignGeometry {
   double tilt_deg = 15.0;
   Eigen::Vector3d target_centre_m = Eigen::Vector3d::Zero();  // offset of the board centre in M
   // Effector motion around the nominal pose (uniform): translations ±half_extent_m along the
-  // camera's axes (200×200×150 mm by default, BRIEF §9), rotation about the target normal
+  // camera's axes (200×200×150 mm by default, the paper's protocol volume), rotation about the target normal
   // ±rotation_deg, and small tilts ±wobble_deg about the target's x and y axes.
   Eigen::Vector3d half_extent_m = Eigen::Vector3d(0.100, 0.100, 0.075);
   double rotation_deg = 20.0;

@@ -1,7 +1,7 @@
 #pragma once
-// The paper's experiment in simulation (paper §5–6, BRIEF §9): a simulated true H4 carrying a
-// target, seen by the reference camera. Generates, deterministically for a seed, everything a
-// user would have recorded on the real robot, as files in the formats of BRIEF §10:
+// The paper's experiment in simulation (paper §5–6; doc/identification-h4.md, "Evaluation criteria"): a simulated
+// true H4 carrying a target, seen by the reference camera. Generates, deterministically for a seed, everything a
+// user would have recorded on the real robot, as files in the formats of doc/file-formats.md:
 //   <dir>/target.yaml                      the target
 //   <dir>/calibration/images/view_XXX.png  calibration images of the reference camera
 //   <dir>/poses/<pose_id>/img_XX.png       81 poses × N images of the target on the effector
@@ -24,9 +24,9 @@ struct H4CampaignSpec {
   std::filesystem::path camera_file;  // true camera (camera.yaml); default: the reference camera
   std::filesystem::path target_file;  // default: datasets/specs/target_h4.yaml
   int calibration_views = 25;
-  int images_per_pose = 10;           // BRIEF §3
+  int images_per_pose = 10;           // paper §5 (doc/measurement.md)
   int line_points = 20;               // per straight line (V3)
-  H4ProtocolGrid grid;                // the 81-pose protocol (BRIEF §9)
+  H4ProtocolGrid grid;                // the 81-pose protocol (paper §6)
   H4ErrorSizes errors;                // manufacturing errors and unmodelled defects
   double encoder_noise_rad = 2e-5;
   RenderOptions render;

@@ -1,8 +1,8 @@
 #pragma once
-// A simulated "true" H4 robot (BRIEF §4, §9): the ground truth that identification is tested
-// against. It carries what model 12 can represent (R, L, l, h, α_i, q0_i errors) AND what it
-// cannot (BRIEF §9 last point, paper §6.3): per-leg arm/forearm lengths, non-coplanar pivots,
-// tilted arm axes (a model-31-like geometry per leg) and imperfect parallelograms that tilt the
+// A simulated "true" H4 robot (doc/identification-h4.md, "The simulated true H4"): the ground truth that
+// identification is tested against. It carries what model 12 can represent (R, L, l, h, α_i, q0_i errors) AND what it
+// cannot (paper §6.3; doc/identification-h4.md, "Evaluation criteria"): per-leg arm/forearm lengths, non-coplanar
+// pivots, tilted arm axes (a model-31-like geometry per leg) and imperfect parallelograms that tilt the
 // nacelle by ≈0.1°, varying over the workspace.
 //
 // Physical model (documented in README "The simulated true H4"):
@@ -19,7 +19,7 @@
 //    n_i(X) is evaluated at the untilted configuration, so ω is a smooth single-valued function
 //    of the pose: the IKM and the FKM below are exact inverses of each other.
 //  * Effector: bTe = [R_tilt(X)·Rz(k·θ), c] (k = rotation_ratio, default 1).
-// Conventions: BRIEF §2 (aTb maps b→a, SI units); pose X = (x, y, z, θ) of the central bar.
+// Conventions: doc/conventions.md (aTb maps b→a, SI units); pose X = (x, y, z, θ) of the central bar.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -62,22 +62,22 @@ struct H4TrueGeometry {
   double bar_spacing = 0.10;      // s: distance between the two bars of a forearm (m)
   double rotation_ratio = 1.0;    // k: effector rotation = k·θ
   // The nacelle was levelled at assembly at this pose (the workspace centre, H configuration):
-  // the tilt is zero there, so z_B (normal to the nacelle, BRIEF §2) stays well defined.
+  // the tilt is zero there, so z_B (normal to the nacelle, doc/mechanism-models.md) stays well defined.
   Eigen::Vector4d level_pose{0.0, 0.0, -0.62, 0.0};
 };
 
-// The model-12 parameter values (BRIEF §4) a true geometry can be built from: the mechanism
-// module's nominal struct (R, L, l, h, d, α_i, q0_i, amplification k).
+// The model-12 parameter values (doc/mechanism-models.md, "H4 model 12") a true geometry can be built from: the
+// mechanism module's nominal struct (R, L, l, h, d, α_i, q0_i, amplification k).
 using H4Model12Values = mechanism::H4Nominal;
 
-// Leg signs (ε_i, σ_i) of BRIEF §4 are the mechanism module's mechanism::kH4Epsilon, kH4Sigma.
+// Leg signs (ε_i, σ_i) of doc/mechanism-models.md are the mechanism module's mechanism::kH4Epsilon, kH4Sigma.
 
 // Exactly the geometry model 12 describes for `values` (no unmodelled defect).
 H4TrueGeometry geometryFromModel12(const H4Model12Values& values);
 
 // Sizes (1σ) of the random errors drawn by makeTrueGeometry.
 struct H4ErrorSizes {
-  // Manufacturing errors model 12 CAN represent (BRIEF task: ≈1 mm / 0.5°).
+  // Manufacturing errors model 12 CAN represent (default ≈1 mm / 0.5°, doc/identification-h4.md).
   double length_m = 1e-3;         // R, L, l, h
   double angle_rad = 0.5 * kH4Degree;         // α_i
   // q0_i: encoder zero offsets. The paper's robot was off by far more than 0.5° (V2 −98 %,
@@ -107,8 +107,8 @@ H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSiz
 H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes,
                                   std::uint64_t seed);
 
-// Default true mounting of the camera (BRIEF §6): below the workspace, looking up (z_C ≈ z_B),
-// ≈0.8 m from the target, turned by ψ_BC = 25° with a 1–2° tilt like a real bracket.
+// Default true mounting of the camera (doc/identification-h4.md, "The simulated true H4"): below the workspace,
+// looking up (z_C ≈ z_B), ≈0.8 m from the target, turned by ψ_BC = 25° with a 1–2° tilt like a real bracket.
 Eigen::Isometry3d defaultBaseTCamera();
 // Default true mounting of the target: plane parallel to the nacelle (z_M = z_E), 40 mm below
 // the effector, origin (first feature) offset so a ≈180×140 mm board is centred on it, ψ_ME = 10°.
@@ -155,7 +155,7 @@ class H4TrueRobot {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Protocol of paper §5–6 (BRIEF §9).
+// Protocol of paper §5–6 (doc/identification-h4.md, "Evaluation criteria").
 
 struct H4ProtocolGrid {
   Eigen::Vector3d centre{0.0, 0.0, -0.62};
@@ -193,7 +193,7 @@ SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_
 
 // A simulated measurement campaign: for each pose, the measured target pose cTm (true value
 // plus Gaussian noise of σ_t per translation component and σ_r per rotation-vector
-// component, BRIEF §3: 0.2 mm and 0.03°) and the encoder readings.
+// component, paper §5: 0.2 mm and 0.03°) and the encoder readings.
 struct H4SimulatedMeasurement {
   int pose_id = 0;
   H4Pose true_pose;
@@ -220,7 +220,7 @@ Eigen::Isometry3d perturbPose(const Eigen::Isometry3d& pose, const H4Measurement
 std::vector<mechanism::PoseObservation> toObservations(const std::vector<H4SimulatedMeasurement>& measurements,
                                                        const H4MeasurementNoise& noise);
 
-// Writes a campaign as `mire identify` reads it (BRIEF §10): dir/poses.csv (σ columns from
+// Writes a campaign as `mire identify` reads it (doc/file-formats.md): dir/poses.csv (σ columns from
 // `noise`, images_used = images_total = 10, rms_px = 0), dir/joints.csv and, when `lines` is
 // not empty, dir/lines.csv (line_id 1, 2, ...). Atomic per file.
 void writeSimulatedCampaign(const std::filesystem::path& dir,

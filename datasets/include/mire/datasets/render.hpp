@@ -3,7 +3,7 @@
 // truth (issue 3). Rendering is an exact per-pixel INVERSE mapping: pixel -> normalised ray
 // (exact undistortion) -> point (X, Y) on the target plane (homography [r1 r2 t]^-1) ->
 // albedo, averaged over n x n sub-samples per pixel (box-filter antialiasing).
-// Frames and pixel convention: ../shared/BRIEF.md §2 (cTm maps target M to camera C,
+// Frames and pixel convention: doc/conventions.md (cTm maps target M to camera C,
 // integer pixel coordinates at pixel centres).
 #include "mire/calibration/camera_model.hpp"
 #include "mire/metrology/target.hpp"
@@ -78,7 +78,7 @@ struct RenderOptions {
 };
 
 // Sensor noise, added to a clean radiance image (so that the 10 images of one static pose
-// share one render, BRIEF §3).
+// share one render, paper §5).
 struct NoiseOptions {
   double gaussian_sigma = 0.0;  // additive read noise, grey levels
   // Shot noise: electrons per grey level; the signal I gets variance I / gain (Gaussian

@@ -1,6 +1,6 @@
 #pragma once
 // Simulated image sets with their ground truth (issue 3): calibration views, and images of
-// a target carried by the effector at a set of poses (10 per pose, BRIEF §3). The spec is a
+// a target carried by the effector at a set of poses (10 per pose, paper §5). The spec is a
 // YAML file (cv::FileStorage) documented in datasets/specs/simulate_*.yaml; `mire simulate`
 // and `mire demo` both call the functions here.
 #include "mire/calibration/camera_model.hpp"
@@ -31,7 +31,7 @@ struct ViewPlacement {
   double roll_rad = 0.0;
 };
 
-// cTm for a placement (BRIEF §2: target frame M to camera frame C).
+// cTm for a placement (doc/conventions.md: target frame M to camera frame C).
 Eigen::Isometry3d placeTarget(const calibration::Camera& camera, const metrology::Target& target,
                               const ViewPlacement& placement);
 
@@ -122,7 +122,7 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
 
 // Writes DIR/poses/<pose_id>/img_XX.png (images_per_pose noisy images of one clean render),
 // DIR/camera.yaml, DIR/target.yaml, DIR/truth.yaml and DIR/truth_poses.csv (the true cTm in
-// poses.csv's columns, BRIEF §10, σ = 0).
+// poses.csv's columns, doc/file-formats.md, σ = 0).
 SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem::path& output_dir,
                                const ProgressCallback& progress = {});
 

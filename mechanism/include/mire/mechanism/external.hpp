@@ -1,5 +1,5 @@
 #pragma once
-// External parameters ξe (paper §4, BRIEF §6): the pose chain bTe = bTc · cTm · mTe (eq. 3)
+// External parameters ξe (paper §4; doc/mechanism-models.md): the pose chain bTe = bTc · cTm · mTe (eq. 3)
 // that turns the measured target pose cTm into the effector pose X.
 //
 // Three forms:
@@ -137,8 +137,8 @@ Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe,
 Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
                              const std::vector<PoseVector>& cTm);
 
-// Initial external values from the data, never typed by users (BRIEF §6): the effector
-// poses are computed with the FKM at `geometric` (nominal) and the encoder readings, then
+// Initial external values from the data, never typed by users (doc/mechanism-models.md, "External parameters"):
+// the effector poses are computed with the FKM at `geometric` (nominal) and the encoder readings, then
 // bTc, mTe are solved in closed form (rotation-axis alignment, then a linear least-squares
 // fit of ψ_BC and the translations in the plane; z_BC from the mean with z_ME = `z_ME`).
 // A mechanism whose effector only translates or moves in 6 DoF takes the Full form only,

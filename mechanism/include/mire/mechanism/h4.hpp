@@ -1,8 +1,8 @@
 #pragma once
-// The H4 parallel robot (paper §3, BRIEF §4–5): 4 legs, effector pose X = (x, y, z, θ).
+// The H4 parallel robot (paper §3; doc/mechanism-models.md): 4 legs, effector pose X = (x, y, z, θ).
 //
-// Conventions (BRIEF §4): base frame B at the nacelle centre in its "H" configuration
-// raised into the arm-pivot plane, z_B up (workspace z < 0); legs (ε, σ) = 1 (+,+),
+// Conventions (doc/mechanism-models.md, "H4 model 12: frame, geometry, IKM"): base frame B at the nacelle centre
+// in its "H" configuration raised into the arm-pivot plane, z_B up (workspace z < 0); legs (ε, σ) = 1 (+,+),
 // 2 (−,+), 3 (−,−), 4 (+,−); nacelle attachment A_i = (x,y,z) + ε_i·h·(cosθ, sinθ, 0)
 // + σ_i·d·(0,1,0); effector rotation = k·θ about z_B (k = amplification, default 1);
 // arm angle φ_i = q̄_i + q0_i; elbow-out assembly φ_i = atan2(S, C) − acos(T/ρ).
@@ -28,7 +28,7 @@
 
 namespace mire::mechanism {
 
-// Reference nominal geometry used by the datasets (BRIEF §4).
+// Reference nominal geometry used by the datasets (doc/mechanism-models.md).
 struct H4Nominal {
   double R = 0.22;
   double L = 0.30;
@@ -41,7 +41,7 @@ struct H4Nominal {
   double amplification = 1.0;  // effector rotation = amplification · θ
 };
 
-// Leg sign pattern (BRIEF §4).
+// Leg sign pattern (doc/mechanism-models.md).
 constexpr std::array<int, 4> kH4Epsilon{+1, -1, -1, +1};
 constexpr std::array<int, 4> kH4Sigma{+1, +1, -1, -1};
 

@@ -1,7 +1,7 @@
 #pragma once
 // Identifiability analysis of the identification Jacobian J_ξ = ∂ε/∂ξ (paper §2.2, eq. 5–12,
-// BRIEF §7): SVD and condition number of the column-scaled Jacobian, rank, QR with column
-// pivoting (Khalil & Besnard) for a minimal identifiable set, and the unidentifiable
+// doc/mechanism-models.md, "Identifiability report"): SVD and condition number of the column-scaled Jacobian,
+// rank, QR with column pivoting (Khalil & Besnard) for a minimal identifiable set, and the unidentifiable
 // combinations written with parameter names (from the null space).
 //
 // Scaling: the primary condition number uses J·D with D = diag(1/‖J_k‖), i.e. every column

@@ -1,5 +1,5 @@
 #pragma once
-// Files of the identification (BRIEF §10): poses.csv (+ its covariance side file),
+// Files of the identification (doc/file-formats.md): poses.csv (+ its covariance side file),
 // joints.csv, straight-line joint records (criterion V3), mechanism parameter YAML.
 // Every reader validates the whole file before returning and throws std::runtime_error
 // whose message names the file and line ("path:line: ...") and what is wrong.
@@ -17,7 +17,7 @@
 namespace mire::mechanism {
 
 // ---- poses.csv --------------------------------------------------------------------------
-// Header (BRIEF §10, extra columns allowed):
+// Header (doc/file-formats.md, extra columns allowed):
 //   pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,
 //   sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px
 // Covariance of each pose: the `total` part of the side file when given, written by

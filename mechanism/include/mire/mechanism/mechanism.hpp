@@ -1,5 +1,5 @@
 #pragma once
-// The mechanism interface (BRIEF §1, paper §2.1): a closed-form inverse kinematic model
+// The mechanism interface (paper §2.1; doc/mechanisms.md): a closed-form inverse kinematic model
 // (IKM) q = f(X, ξg) (eq. 1), a numerical forward model (FKM) built on it, and a factory of
 // Ceres cost functions for the identification residual ε = q̄ − f(X(ξe), ξg) (eq. 4).
 //
@@ -24,8 +24,8 @@ class CostFunction;
 
 namespace mire::mechanism {
 
-// How the effector moves (BRIEF §4, §11, §12). It chooses the external parametrisation
-// and its data-driven initialisation (external.hpp):
+// How the effector moves (doc/mechanisms.md, "Mounting: chosen by the motion type"). It chooses the external
+// parametrisation and its data-driven initialisation (external.hpp):
 //  - Schoenflies: 3 translations + rotation about one fixed axis (H4): axis alignment;
 //  - Translation: the plate keeps the base orientation (Delta): rotation fit from the
 //    displacements (Kabsch/Umeyama);
@@ -69,7 +69,7 @@ class Mechanism {
   virtual int jointCount() const = 0;
   // Unit of each actuated joint: Radian (revolute) or Metre (prismatic), jointCount() entries.
   virtual std::vector<Unit> jointUnits() const = 0;
-  // joints.csv column names q<i>_rad / q<i>_m (BRIEF §10).
+  // joints.csv column names q<i>_rad / q<i>_m (doc/file-formats.md, "Joint columns").
   std::vector<std::string> jointColumnNames() const;
   virtual MotionType motionType() const = 0;
   // Number of effector degrees of freedom and their names/units (H4: x, y, z [m], theta [rad]).

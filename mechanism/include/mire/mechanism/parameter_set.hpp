@@ -1,7 +1,7 @@
 #pragma once
 // Named mechanism parameters (geometric and external) with nominal values, units, fixed
 // flags and ties (several names sharing one value, e.g. variant E's single arm length).
-// BRIEF §10: parameter names are the YAML keys; values are SI (m, rad).
+// doc/file-formats.md, "Mechanism parameter files": parameter names are the YAML keys; values are SI (m, rad).
 #include <Eigen/Core>
 
 #include <cstddef>

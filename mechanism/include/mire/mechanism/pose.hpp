@@ -1,5 +1,5 @@
 #pragma once
-// Measured poses and joint readings exchanged by the identification (BRIEF §2, §10).
+// Measured poses and joint readings exchanged by the identification (doc/conventions.md, doc/file-formats.md).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 

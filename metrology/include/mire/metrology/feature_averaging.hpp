@@ -1,6 +1,6 @@
 #pragma once
 // Combining the detections of one pose over several images (paper §5: "10 images per pose,
-// combined to reduce high-frequency image noise", ../shared/BRIEF.md §3).
+// combined to reduce high-frequency image noise", paper §5; doc/measurement.md).
 //
 // Each feature's position is averaged over the images that kept it, and its scatter gives the
 // covariance of that mean, which weights the pose fit and yields the pose's precision.

@@ -1,5 +1,5 @@
 #pragma once
-// The target pose cTm from averaged features, with its precision (../shared/BRIEF.md §3, §10).
+// The target pose cTm from averaged features, with its precision (doc/measurement.md).
 //
 //  1. Planar initialisation: IPPE (cv::solvePnPGeneric, SOLVEPNP_IPPE) on the undistorted rays
 //     (Camera::unproject, exact), keeping both of its solutions.

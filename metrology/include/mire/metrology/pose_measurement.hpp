@@ -1,5 +1,5 @@
 #pragma once
-// One pose from its images (../shared/BRIEF.md §3, §10): detect the target once (in the first
+// One pose from its images (doc/measurement.md): detect the target once (in the first
 // image where it is found), refine those features in every other image (cheap), average them
 // with their scatter (feature_averaging.hpp), and estimate cTm with its precision
 // (pose_estimation.hpp).

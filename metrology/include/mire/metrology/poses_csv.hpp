@@ -1,5 +1,5 @@
 #pragma once
-// poses.csv and its covariance side file (../shared/BRIEF.md §10).
+// poses.csv and its covariance side file (doc/file-formats.md, doc/measurement.md).
 //
 // poses.csv: one row per pose, header
 //   pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,

@@ -1,5 +1,5 @@
 #pragma once
-// Planar calibration/measurement targets (target.yaml, ../shared/BRIEF.md §10).
+// Planar calibration/measurement targets (target.yaml, doc/file-formats.md, doc/targets.md).
 // Frame M: origin at the first feature, x along `cols`, y along `rows`, z = x × y (into the
 // board seen from the front), every feature at z = 0.
 #include <Eigen/Core>

@@ -1,0 +1,67 @@
+// Code comments and docs cite the paper's equations or files in doc/, never a document outside the
+// repository (issue 16). Scans every tracked C++, Python and CMake file and doc/*.md.
+#include "test_support.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The outside brief's name, spelt so that this file does not contain it.
+const std::string kOutsideDocument = std::string("BRI") + "EF";
+
+bool isScanned(const std::string& relative) {
+  const fs::path path(relative);
+  const std::string ext = path.extension().string();
+  const std::string name = path.filename().string();
+  if (ext == ".cpp" || ext == ".hpp" || ext == ".h" || ext == ".py" || ext == ".cmake" || name == "CMakeLists.txt")
+    return true;
+  return ext == ".md" && path.parent_path() == "doc";
+}
+
+// Tracked files (git ls-files); without git (an exported tree), every file outside hidden and build folders.
+std::vector<std::string> candidateFiles(const fs::path& root) {
+  std::vector<std::string> files;
+  int code = -1;
+  const std::string listing =
+      mire::test::captureCommand("git -C '" + root.string() + "' ls-files 2>/dev/null", &code);
+  if (code == 0 && !listing.empty()) {
+    std::istringstream lines(listing);
+    for (std::string line; std::getline(lines, line);) files.push_back(line);
+    return files;
+  }
+  for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it) {
+    const std::string name = it->path().filename().string();
+    if (it->is_directory() && (name.rfind('.', 0) == 0 || name.rfind("build", 0) == 0)) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    if (it->is_regular_file()) files.push_back(fs::relative(it->path(), root).generic_string());
+  }
+  return files;
+}
+
+}  // namespace
+
+TEST(DocCitations, NoSourceOrDocCitesTheOutsideBrief) {
+  const fs::path root = mire::test::sourceDir();
+  int scanned = 0;
+  for (const std::string& relative : candidateFiles(root)) {
+    if (!isScanned(relative)) continue;
+    std::ifstream in(root / relative);
+    ASSERT_TRUE(in) << relative;
+    ++scanned;
+    int line_number = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++line_number;
+      EXPECT_EQ(line.find(kOutsideDocument), std::string::npos)
+          << relative << ":" << line_number << " cites a document outside the repository (cite the paper's "
+          << "equation or doc/):\n  " << line;
+    }
+  }
+  EXPECT_GT(scanned, 100) << "too few source files found under " << root;
+}
