@@ -7,5 +7,5 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(Ceres REQUIRED)
 find_package(Threads REQUIRED)
 find_package(CLI11 REQUIRED)
-find_package(yaml-cpp REQUIRED)
+find_package(yaml-cpp REQUIRED)  # tests only: an independent YAML writer for the syntax-variant tests
 find_package(apriltag REQUIRED CONFIG)

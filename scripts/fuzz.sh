@@ -30,7 +30,6 @@ mkdir -p "$findings"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 failed=0
-yaml_targets="camera_yaml parameters simulation_spec target_yaml"  # readers built on yaml-cpp
 for corpus in "$root"/fuzz/corpus/*/; do
   name="$(basename "$corpus")"
   work="$root/build-fuzz/corpus/$name"   # grows as the fuzzer learns; the seeds stay untouched
@@ -41,10 +40,6 @@ for corpus in "$root"/fuzz/corpus/*/; do
   if "$root/build-fuzz/fuzz/fuzz_$name" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=4096 \
       -artifact_prefix="$findings/$name-" -print_final_stats=1 "$work" "$corpus" >"$root/build-fuzz/$name.log" 2>&1; then
     status=ok
-  elif [[ " $yaml_targets " == *" $name "* ]] && grep -q "ERROR: libFuzzer: timeout" "$root/build-fuzz/$name.log"; then
-    # Known, open (doc/robustness.md): Debian's yaml-cpp 0.7 loops forever on some malformed
-    # inputs; mire refuses the class it understands (a line starting with ','), not yet all.
-    status="KNOWN yaml-cpp hang (open defect, doc/robustness.md)"
   else
     status=FAILED
     failed=1

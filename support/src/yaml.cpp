@@ -1,6 +1,6 @@
 #include "mire/support/yaml.hpp"
 
-#include "yaml_syntax.hpp"
+#include "yaml_tree.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -18,13 +18,13 @@ namespace {
 
 // Larger inputs are not mire files; refusing them keeps a mistaken path from costing memory.
 constexpr std::uintmax_t kMaxFileBytes = 64u << 20;
-// Bounds on nesting and on nodes visited (anchors/aliases can multiply them) at load.
+// Bounds on nesting, on nodes built and on nodes visited (aliases can multiply them) at load.
 constexpr int kMaxDepth = 64;
-constexpr std::size_t kMaxVisits = 10'000'000;
+constexpr std::size_t kMaxNodes = 1'000'000;
+constexpr std::size_t kMaxVisits = 2'000'000;
 
-int markLine(const YAML::Mark& mark, int fallback) {
-  return mark.is_null() || mark.line < 0 ? fallback : mark.line + 1;
-}
+using detail::YamlTreeNode;
+using Kind = YamlTreeNode::Kind;
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -56,40 +56,30 @@ struct DuplicateCheck {
     throw YamlError(file + ":" + std::to_string(line) + ": " + what);
   }
 
-  void walk(const YAML::Node& node, const std::string& path, int depth) {
-    if (++visits > kMaxVisits) fail(markLine(node.Mark(), 1), "too many nodes (aliases expanding?)");
-    if (depth > kMaxDepth) fail(markLine(node.Mark(), 1), "nested more than 64 levels deep");
-    if (node.IsSequence()) {
+  void walk(const YamlTreeNode& node, const std::string& path, int depth) {
+    if (++visits > kMaxVisits) fail(node.line, "too many nodes (aliases expanding?)");
+    if (depth > kMaxDepth) fail(node.line, "nested more than 64 levels deep");
+    if (node.kind == Kind::Sequence) {
       std::size_t i = 0;
-      for (const auto& item : node) walk(item, path + "[" + std::to_string(i++) + "]", depth + 1);
-    } else if (node.IsMap()) {
+      for (const auto& item : node.items) walk(*item, path + "[" + std::to_string(i++) + "]", depth + 1);
+    } else if (node.kind == Kind::Map) {
       walkMap(node, path, depth);
     }
   }
 
-  void walkMap(const YAML::Node& node, const std::string& path, int depth) {
+  void walkMap(const YamlTreeNode& node, const std::string& path, int depth) {
     std::unordered_map<std::string, int> seen;
-    for (const auto& pair : node) {
-      const int line = markLine(pair.first.Mark(), markLine(node.Mark(), 1));
-      if (!pair.first.IsScalar()) fail(line, "a key must be a plain name, not a map or a list");
-      const std::string key = pair.first.Scalar();
+    for (const auto& [key_node, value] : node.entries) {
+      if (key_node->kind != Kind::Scalar) fail(key_node->line, "a key must be a plain name, not a map or a list");
+      const std::string& key = key_node->text;
       const std::string full = path.empty() ? key : path + "." + key;
-      const auto [it, inserted] = seen.emplace(key, line);
+      const auto [it, inserted] = seen.emplace(key, key_node->line);
       if (!inserted)
-        fail(line, "key '" + full + "' appears twice (first at line " + std::to_string(it->second) + ")");
-      walk(pair.second, full, depth + 1);
+        fail(key_node->line, "key '" + full + "' appears twice (first at line " + std::to_string(it->second) + ")");
+      walk(*value, full, depth + 1);
     }
   }
 };
-
-std::vector<YAML::Node> parseDocuments(const std::string& text, const std::string& name) {
-  checkYamlSyntax(text, name, kMaxDepth);  // first: yaml-cpp 0.7 can hang on malformed text
-  try {
-    return YAML::LoadAll(text);
-  } catch (const YAML::Exception& e) {
-    throw YamlError(name + ":" + std::to_string(markLine(e.mark, 1)) + ": invalid YAML: " + e.msg);
-  }
-}
 
 // Unsigned digits in a base (YAML 1.2 0x.. and 0o.. integers); false on bad syntax.
 bool parseBased(const std::string& digits, int base, double& value) {
@@ -168,18 +158,17 @@ YamlFile YamlFile::load(const std::filesystem::path& path) {
 
 YamlFile YamlFile::parse(const std::string& raw_text, const std::string& name) {
   std::string text = normalise(raw_text);
-  const auto documents = parseDocuments(text, name);
-  std::size_t used = 0;
-  for (std::size_t i = 0; i < documents.size(); ++i) {
-    if (documents[i].IsNull()) continue;
-    if (used != 0) throw YamlError(name + ":" + std::to_string(markLine(documents[i].Mark(), 1)) +
-                                   ": a second YAML document ('---'); a mire file holds one");
-    used = i + 1;
+  const auto documents = detail::parseYamlDocuments(text, name, {kMaxDepth, kMaxNodes});
+  YamlNode::Tree root;
+  for (const auto& document : documents) {
+    if (document->kind == Kind::Null) continue;
+    if (root) throw YamlError(name + ":" + std::to_string(document->line) +
+                              ": a second YAML document ('---'); a mire file holds one");
+    root = document;
   }
-  YAML::Node root = used ? documents[used - 1] : YAML::Node();
-  DuplicateCheck{name}.walk(root, "", 0);
-  const int line = markLine(root.Mark(), 1);
-  return YamlFile(YamlNode(root, name, "", line), std::move(text));
+  if (!root) root = std::make_shared<const YamlTreeNode>();
+  DuplicateCheck{name}.walk(*root, "", 0);
+  return YamlFile(YamlNode(root, name, "", root->line), std::move(text));
 }
 
 const YamlNode& YamlFile::rootMap() const {
@@ -197,21 +186,21 @@ void YamlNode::fail(const std::string& what) const {
   throw YamlError(where() + ": key '" + key_ + "': " + what);
 }
 
-bool YamlNode::isMap() const { return node_.IsMap(); }
-bool YamlNode::isSequence() const { return node_.IsSequence(); }
-bool YamlNode::isScalar() const { return node_.IsScalar(); }
-bool YamlNode::isNull() const { return !node_.IsDefined() || node_.IsNull(); }
-std::string YamlNode::tag() const { return node_.Tag(); }
+bool YamlNode::isMap() const { return node_->kind == Kind::Map; }
+bool YamlNode::isSequence() const { return node_->kind == Kind::Sequence; }
+bool YamlNode::isScalar() const { return node_->kind == Kind::Scalar; }
+bool YamlNode::isNull() const { return node_->kind == Kind::Null; }
+std::string YamlNode::tag() const { return node_->tag; }
 
-YamlNode YamlNode::child(const YAML::Node& node, const std::string& key, int key_line) const {
-  // A scalar's own mark is its line; an empty value has none, and a nested map or list starts
-  // on the next line: the key's line is where a reader looks.
-  const int line = node.IsScalar() ? markLine(node.Mark(), key_line) : key_line;
+YamlNode YamlNode::child(const Tree& node, const std::string& key, int key_line) const {
+  // A scalar's line is its own; an empty value has none, and a nested map or list starts on the
+  // next line: the key's line is where a reader looks.
+  const int line = node->kind == Kind::Scalar ? node->line : key_line;
   return YamlNode(node, file_, key, line);
 }
 
 void YamlNode::requireMap() const {
-  if (node_.IsMap()) return;
+  if (isMap()) return;
   fail(isNull() ? "expected a map of keys, found an empty value" : "expected a map of keys");
 }
 
@@ -219,10 +208,10 @@ void YamlNode::requireMap() const {
 
 std::optional<YamlNode> YamlNode::find(const std::string& key) const {
   requireMap();
-  for (const auto& pair : node_) {
-    if (pair.first.IsScalar() && pair.first.Scalar() == key) {
+  for (const auto& [key_node, value] : node_->entries) {
+    if (key_node->kind == Kind::Scalar && key_node->text == key) {
       const std::string path = key_.empty() ? key : key_ + "." + key;
-      return child(pair.second, path, markLine(pair.first.Mark(), line_));
+      return child(value, path, key_node->line);
     }
   }
   return std::nullopt;
@@ -248,18 +237,18 @@ std::optional<YamlNode> YamlNode::findAny(const std::vector<std::string>& keys) 
 std::vector<std::string> YamlNode::keys() const {
   requireMap();
   std::vector<std::string> names;
-  for (const auto& pair : node_) names.push_back(pair.first.Scalar());
+  for (const auto& entry : node_->entries) names.push_back(entry.first->text);
   return names;
 }
 
 void YamlNode::checkKeys(const std::vector<std::string>& known) const {
   requireMap();
-  for (const auto& pair : node_) {
-    const std::string key = pair.first.Scalar();
+  for (const auto& entry : node_->entries) {
+    const std::string& key = entry.first->text;
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
     const std::string path = key_.empty() ? key : key_ + "." + key;
     const std::string hint = closestName(key, known);
-    std::string message = file_ + ":" + std::to_string(markLine(pair.first.Mark(), line_)) +
+    std::string message = file_ + ":" + std::to_string(entry.first->line) +
                           ": unknown key '" + path + "'";
     if (!hint.empty()) {
       message += " (did you mean '" + hint + "'?)";
@@ -280,29 +269,31 @@ std::optional<double> YamlNode::optionalNumber(const std::string& key, YamlRange
 
 // ---------------------------------------------------------------- sequences
 
-std::size_t YamlNode::size() const { return node_.IsSequence() || node_.IsMap() ? node_.size() : 0; }
+std::size_t YamlNode::size() const { return isSequence() ? node_->items.size() : isMap() ? node_->entries.size() : 0; }
 
 std::vector<YamlNode> YamlNode::items() const {
-  if (!node_.IsSequence()) fail(isNull() ? "expected a list, found an empty value" : "expected a list");
+  if (!isSequence()) fail(isNull() ? "expected a list, found an empty value" : "expected a list");
   std::vector<YamlNode> result;
-  result.reserve(node_.size());
-  for (std::size_t i = 0; i < node_.size(); ++i) result.push_back((*this)[i]);
+  result.reserve(node_->items.size());
+  for (std::size_t i = 0; i < node_->items.size(); ++i) result.push_back((*this)[i]);
   return result;
 }
 
 YamlNode YamlNode::operator[](std::size_t index) const {
-  if (!node_.IsSequence()) fail("expected a list");
-  if (index >= node_.size()) fail("has " + std::to_string(node_.size()) + " items, item " + std::to_string(index) + " asked");
-  const YAML::Node item = node_[index];
-  return YamlNode(item, file_, key_ + "[" + std::to_string(index) + "]", markLine(item.Mark(), line_));
+  if (!isSequence()) fail("expected a list");
+  const std::size_t count = node_->items.size();
+  if (index >= count) fail("has " + std::to_string(count) + " items, item " + std::to_string(index) + " asked");
+  const Tree& item = node_->items[index];
+  // An empty item has no line of its own: the list's.
+  return YamlNode(item, file_, key_ + "[" + std::to_string(index) + "]", item->kind == Kind::Null ? line_ : item->line);
 }
 
 // ---------------------------------------------------------------- scalars
 
 std::string YamlNode::scalarText(const char* expected) const {
-  if (node_.IsScalar()) return node_.Scalar();
+  if (isScalar()) return node_->text;
   if (isNull()) fail(std::string("missing value (expected ") + expected + ")");
-  fail(std::string("expected ") + expected + ", found a " + (node_.IsMap() ? "map" : "list"));
+  fail(std::string("expected ") + expected + ", found a " + (isMap() ? "map" : "list"));
 }
 
 std::string YamlNode::asString() const { return scalarText("text"); }
@@ -347,7 +338,7 @@ std::vector<double> YamlNode::asDoubles(YamlRange range) const {
 
 YamlMatrix YamlNode::asMatrix(YamlRange range) const {
   YamlMatrix matrix;
-  if (node_.IsMap()) {  // OpenCV's !!opencv-matrix
+  if (isMap()) {  // OpenCV's !!opencv-matrix
     checkKeys({"rows", "cols", "dt", "data"});
     matrix.rows = static_cast<int>(integer("rows", 0, 100000));
     matrix.cols = static_cast<int>(integer("cols", 0, 100000));

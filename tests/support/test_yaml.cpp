@@ -183,6 +183,26 @@ TEST(Yaml, MalformedTextIsRefusedWithItsLineNotAHang) {
     EXPECT_EQ(errorOf(text, parseOnly), "(no error)") << text;
 }
 
+// A text yaml-cpp 0.7 looped on and libyaml reads (an anchored plain scalar): an answer, not a hang.
+TEST(Yaml, TextYamlCppLoopedOnIsRead) {
+  const auto file = YamlFile::parse("&L:%\n, .\n\n", "f.yaml");
+  EXPECT_EQ(file.root().asString(), ":% , .");  // anchor "L"
+}
+
+TEST(Yaml, AliasesShareTheirAnchorAndCannotLoop) {
+  const auto file = YamlFile::parse("a: &x [1, 2]\nb: *x\n", "f.yaml");
+  EXPECT_EQ(file.rootMap().at("b").asDoubles({0, 10}), (std::vector<double>{1, 2}));
+  const std::string self = errorOf("a: &x [1, *x]\n", [](const YamlFile&) {});
+  EXPECT_NE(self.find("f.yaml:1: invalid YAML: alias '*x'"), std::string::npos) << self;
+  std::string laughs = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
+  for (char c = 'b'; c <= 'j'; ++c)
+    laughs += std::string(1, c) + ": &" + c + " [*" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) +
+              ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" +
+              char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + "]\n";
+  const std::string expanded = errorOf(laughs, [](const YamlFile&) {});
+  EXPECT_NE(expanded.find("too many nodes"), std::string::npos) << expanded;
+}
+
 TEST(Yaml, TextThatIsNotUtf8IsRefusedWithItsLine) {
   const std::string error = errorOf("a: 1\n# cam\xe9ra\n", [](const YamlFile&) {});
   EXPECT_NE(error.find("f.yaml:2: invalid YAML: "), std::string::npos) << error;

@@ -1,20 +1,23 @@
 #pragma once
-// mire's one YAML reader (on yaml-cpp): standard YAML 1.2 with or without a %YAML directive,
+// mire's one YAML reader (on libyaml, support/src/yaml_tree.hpp): standard YAML 1.2 with or without a %YAML directive,
 // OpenCV FileStorage files (a "%YAML:1.0" first line, !!opencv-matrix nodes), "---"-only files,
-// CRLF, a UTF-8 BOM, comments anywhere, flow style. Duplicate keys are errors (yaml-cpp keeps
-// them silently). Every getter validates strictly, and every error names the file, the line and
+// CRLF, a UTF-8 BOM, comments anywhere, flow style. Duplicate keys are errors (YAML parsers
+// commonly keep one silently). Every getter validates strictly, and every error names the file, the line and
 // the key: "target.yaml:4: key 'cols': 3000000000 is out of range (1..10000)". The file format
 // rules are documented in doc/files.md.
-#include <yaml-cpp/yaml.h>
-
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace mire::support {
+
+namespace detail {
+struct YamlTreeNode;
+}
 
 // Every YAML input error (parse, missing/unknown/duplicate key, type, range).
 class YamlError : public std::runtime_error {
@@ -100,12 +103,13 @@ class YamlNode {
 
  private:
   friend class YamlFile;
-  YamlNode(YAML::Node node, std::string file, std::string key, int line)
+  using Tree = std::shared_ptr<const detail::YamlTreeNode>;
+  YamlNode(Tree node, std::string file, std::string key, int line)
       : node_(std::move(node)), file_(std::move(file)), key_(std::move(key)), line_(line) {}
-  YamlNode child(const YAML::Node& node, const std::string& key, int key_line) const;
+  YamlNode child(const Tree& node, const std::string& key, int key_line) const;
   std::string scalarText(const char* expected) const;
 
-  YAML::Node node_;
+  Tree node_;  // never null (an absent value is a Null node)
   std::string file_;
   std::string key_;
   int line_ = 0;
