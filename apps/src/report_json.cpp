@@ -31,7 +31,7 @@ std::vector<std::string> commandLineOf(const CLI::App& command) {
   for (const CLI::Option* option : command.get_options()) {
     if (option->count() == 0) continue;
     words.push_back(option->get_name());
-    if (option->get_type_size() == 0) continue;  // a flag
+    if (option->get_expected_max() == 0) continue;  // a flag
     for (const std::string& value : option->results()) words.push_back(value);
   }
   return words;

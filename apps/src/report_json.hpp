@@ -14,7 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "demo.hpp"
 #include "output_paths.hpp"
+#include "mire/calibration/calibrate.hpp"
+#include "mire/mechanism/experiment_design.hpp"
+#include "mire/mechanism/model_selection.hpp"
 
 namespace mire::app {
 
@@ -50,5 +54,28 @@ Json covarianceJson(const std::vector<std::string>& names, const std::vector<std
 // Checks that no number is non-finite, then writes `document` (2-space indent, final newline)
 // atomically. Throws std::logic_error naming the key path of a non-finite number.
 void writeReportJson(const std::filesystem::path& path, const Json& document);
+
+// One writer per report (identify's is in identify_report.hpp), each in <command>_report_json.cpp.
+void writeCalibrateReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
+                              const calibration::CalibrationResult& result,
+                              const calibration::ProjectionUncertaintySummary& uncertainty);
+
+struct PlanReportSettings {
+  ReportProvenance provenance;
+  std::string model;
+  int candidates = 0;
+  unsigned seed = 0;
+};
+void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
+                         const mechanism::CandidateInformation& info, const mechanism::DesignReport& report);
+
+// `joint_unit`: the unit of the scores (rad or m).
+void writeSelectReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
+                           const mechanism::SelectionResult& result, mechanism::Unit joint_unit, int folds,
+                           unsigned seed);
+
+// The demo's report.json: its results without the run times (never the same twice).
+void writeDemoReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
+                         const DemoOptions& options, const DemoResults& results);
 
 }  // namespace mire::app
