@@ -543,7 +543,7 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")->capture_default_str()->check(CLI::Range(1, kMaxThreads));
   cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)");
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
-  cmd->add_option("--report", args->report, "folder for report.md and its PNG charts");
+  cmd->add_option("--report", args->report, "folder for report.md, its PNG charts and report.json");
   return [args, cmd] {
     args->command_line = commandLineOf(*cmd);
     std::string command_line = "mire identify --poses " + args->poses + " --joints " + args->joints + " --model " +
