@@ -321,6 +321,15 @@ TEST_F(ReportJson, SelectMatchesScoresCsvAndWritesNullWithReason) {
   expectDeterministic(args, json_path, out / "log.txt");
 }
 
+// The demo's output folder is checked before the simulation: a file there is refused, untouched.
+TEST(ReportJsonDemo, OutputThatIsAFileIsRefusedBeforeAnyWork) {
+  test::TempDir dir;
+  std::ofstream(dir.path() / "report.json") << "{}";
+  EXPECT_EQ(runMire("demo --quick -o " + (dir.path() / "report.json").string(), dir.path() / "log.txt"), 1);
+  EXPECT_NE(slurp(dir.path() / "log.txt").find("exists and is not a folder"), std::string::npos);
+  EXPECT_EQ(slurp(dir.path() / "report.json"), "{}");
+}
+
 // The policy for non-finite numbers: null plus a reason when the writer knows why; any other
 // NaN or Inf fails the report, and nothing is written.
 TEST(ReportJsonPolicy, NonFiniteIsNullWithReasonOrFailsTheReport) {
