@@ -9,6 +9,7 @@
 #include "report_json.hpp"
 
 #include "mire/calibration/camera_io.hpp"
+#include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/support/csv.hpp"
 #include "test_support.hpp"
@@ -76,46 +77,18 @@ void expectDeterministic(const std::string& args, const fs::path& report_json, c
   EXPECT_TRUE(slurp(report_json) == first) << report_json << " differs between two identical runs";
 }
 
-// One `mire demo --quick` for the whole suite (about 10 s), run twice: its report.json must
-// not change.
-class ReportJson : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    root_ = new fs::path(fs::temp_directory_path() / ("mire-test-report-json-" + std::to_string(::getpid())));
-    fs::remove_all(*root_);
-    fs::create_directories(*root_);
-    demo_status_ = runMire("demo --quick -o " + demo().string(), *root_ / "demo1.log");
-    if (demo_status_ != 0) return;
-    fs::copy_file(demo() / "report.json", *root_ / "demo_first.json");
-    demo_status_ = runMire("demo --quick -o " + demo().string(), *root_ / "demo2.log");
-  }
-  static void TearDownTestSuite() {
-    std::error_code ignored;
-    fs::remove_all(*root_, ignored);
-    delete root_;
-    root_ = nullptr;
-  }
-  void SetUp() override { ASSERT_EQ(demo_status_, 0) << slurp(*root_ / "demo1.log") << slurp(*root_ / "demo2.log"); }
-
-  static fs::path demo() { return *root_ / "demo"; }
-  static fs::path dir(const std::string& name) { return *root_ / name; }
-
-  static fs::path* root_;
-  static int demo_status_;
-};
-fs::path* ReportJson::root_ = nullptr;
-int ReportJson::demo_status_ = -1;
-
-TEST_F(ReportJson, DemoMatchesCameraYamlAndIdentifiedYaml) {
-  const fs::path json_path = demo() / "report.json";
-  EXPECT_TRUE(slurp(json_path) == slurp(dir("demo_first.json"))) << "two identical demo runs gave different report.json";
+// The demo's report.json against camera.yaml and identified_D.yaml; `first_json`: the same
+// command's report.json from a first run.
+void checkDemo(const fs::path& demo, const fs::path& first_json) {
+  const fs::path json_path = demo / "report.json";
+  EXPECT_TRUE(slurp(json_path) == slurp(first_json)) << "two identical demo runs gave different report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
   EXPECT_EQ(doc.at("report"), "demo");
   EXPECT_EQ(doc.at("provenance").at("mire_version"), versionString());
 
   // The calibration: camera.yaml's parameters, σ and covariance, to the last digit.
-  const calibration::Camera camera = calibration::readCameraYaml(demo() / "camera.yaml");
+  const calibration::Camera camera = calibration::readCameraYaml(demo / "camera.yaml");
   const Json& calibration = doc.at("calibration");
   ASSERT_EQ(calibration.at("parameters").size(), camera.params.size());
   const std::vector<double> sigma = camera.sigmas();
@@ -129,7 +102,7 @@ TEST_F(ReportJson, DemoMatchesCameraYamlAndIdentifiedYaml) {
               camera.covariance(i, i));
 
   // Variant D: identified_D.yaml's values and σ, to the last digit.
-  const mechanism::ParameterFile yaml = mechanism::readParameterFile(demo() / "identified_D.yaml");
+  const mechanism::ParameterFile yaml = mechanism::readParameterFile(demo / "identified_D.yaml");
   const Json& identified = doc.at("identified");
   std::vector<double> identified_sigma;
   ASSERT_GE(identified.at("parameters").size(), 15u);
@@ -147,12 +120,11 @@ TEST_F(ReportJson, DemoMatchesCameraYamlAndIdentifiedYaml) {
   EXPECT_EQ(doc.at("run").at("seed"), 2004);
 }
 
-TEST_F(ReportJson, IdentifyMatchesTheIdentifiedYaml) {
-  const fs::path out = dir("identify");
+void checkIdentify(const fs::path& demo, const fs::path& out) {
   fs::create_directories(out);
-  const std::string args = "identify --poses " + (demo() / "poses.csv").string() + " --joints " +
-                           (demo() / "campaign/joints.csv").string() + " --lines " +
-                           (demo() / "campaign/lines.csv").string() + " -o " + (out / "id.yaml").string() +
+  const std::string args = "identify --poses " + (demo / "poses.csv").string() + " --joints " +
+                           (demo / "campaign/joints.csv").string() + " --lines " +
+                           (demo / "campaign/lines.csv").string() + " -o " + (out / "id.yaml").string() +
                            " --report " + (out / "report").string();
   ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
@@ -176,16 +148,19 @@ TEST_F(ReportJson, IdentifyMatchesTheIdentifiedYaml) {
   expectCovariance(doc["covariance"], sigma, "identify");
   EXPECT_EQ(doc.at("poses").size(), 81u);
   EXPECT_GT(doc.at("fit").at("v3_after_m").get<double>(), 0.0);
-  EXPECT_EQ(doc.at("pose_covariances_file"), (demo() / "poses_covariance.csv").string());
+  EXPECT_EQ(doc.at("pose_covariances_file"), (demo / "poses_covariance.csv").string());
   expectDeterministic(args, json_path, out / "log.txt");
 }
 
 // A failing run writes no report; report.json can be neither -o nor an input.
-TEST_F(ReportJson, IdentifyFailingOrClashingRunsWriteNoReportJson) {
-  const fs::path out = dir("identify-bad");
+TEST(ReportJson, IdentifyFailingOrClashingRunsWriteNoReportJson) {
+  test::TempDir dir;
+  const fs::path out = dir.path();
+  const datasets::Campaign campaign = datasets::simulateCampaign("h4-12", 5);
+  datasets::writeCampaignFiles(campaign, out, 0, campaign.poses.size());
   fs::create_directories(out / "report");
-  const std::string inputs = "identify --poses " + (demo() / "poses.csv").string() + " --joints " +
-                             (demo() / "campaign/joints.csv").string();
+  const std::string inputs =
+      "identify --poses " + (out / "poses.csv").string() + " --joints " + (out / "joints.csv").string();
   EXPECT_EQ(runMire(inputs + " --fix no_such_parameter -o " + (out / "id.yaml").string() + " --report " +
                         (out / "failed").string(),
                     out / "log.txt"),
@@ -199,23 +174,22 @@ TEST_F(ReportJson, IdentifyFailingOrClashingRunsWriteNoReportJson) {
             2);
   EXPECT_NE(slurp(out / "log.txt").find("would overwrite each other"), std::string::npos) << slurp(out / "log.txt");
   // An input is report.json.
-  fs::copy_file(demo() / "campaign/lines.csv", out / "report/report.json");
+  std::ofstream(out / "report/report.json") << "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n";
   EXPECT_EQ(runMire(inputs + " --lines " + (out / "report/report.json").string() + " -o " + (out / "id.yaml").string() +
                         " --report " + (out / "report").string(),
                     out / "log.txt"),
             2);
   EXPECT_NE(slurp(out / "log.txt").find("holds the input"), std::string::npos) << slurp(out / "log.txt");
-  EXPECT_EQ(slurp(out / "report/report.json"), slurp(demo() / "campaign/lines.csv"));  // untouched
+  EXPECT_EQ(slurp(out / "report/report.json"), "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n");  // untouched
   EXPECT_FALSE(fs::exists(out / "id.yaml"));
 }
 
 // --threads 1: with more, Ceres sums the normal equations in thread order and camera.yaml itself
 // changes in its last digits from run to run (doc/report-json.md).
-TEST_F(ReportJson, CalibrateMatchesCameraYamlAndViewsCsv) {
-  const fs::path out = dir("calibrate");
+void checkCalibrate(const fs::path& demo, const fs::path& out) {
   fs::create_directories(out);
-  const std::string args = "calibrate --target " + (demo() / "campaign/target.yaml").string() + " --images " +
-                           (demo() / "campaign/calibration/images").string() + " --model opencv5 --threads 1 -o " +
+  const std::string args = "calibrate --target " + (demo / "campaign/target.yaml").string() + " --images " +
+                           (demo / "campaign/calibration/images").string() + " --model opencv5 --threads 1 -o " +
                            (out / "camera.yaml").string() + " --report " + (out / "report").string();
   ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
@@ -257,8 +231,9 @@ TEST_F(ReportJson, CalibrateMatchesCameraYamlAndViewsCsv) {
   expectDeterministic(args, json_path, out / "log.txt");
 }
 
-TEST_F(ReportJson, PlanMatchesPlanCsvAndSigmaCsv) {
-  const fs::path out = dir("plan");
+TEST(ReportJson, PlanMatchesPlanCsvAndSigmaCsv) {
+  test::TempDir dir;
+  const fs::path out = dir.path();
   fs::create_directories(out);
   std::ofstream(out / "workspace.yaml")
       << "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\njoint_margin_deg: 1\n";
@@ -293,11 +268,10 @@ TEST_F(ReportJson, PlanMatchesPlanCsvAndSigmaCsv) {
   expectDeterministic(args, json_path, out / "log.txt");
 }
 
-TEST_F(ReportJson, SelectMatchesScoresCsvAndWritesNullWithReason) {
-  const fs::path out = dir("select");
+void checkSelect(const fs::path& demo, const fs::path& out) {
   fs::create_directories(out);
-  const std::string args = "select --poses " + (demo() / "poses.csv").string() + " --joints " +
-                           (demo() / "campaign/joints.csv").string() + " --models h4-12:C,D --folds 3 --report " +
+  const std::string args = "select --poses " + (demo / "poses.csv").string() + " --joints " +
+                           (demo / "campaign/joints.csv").string() + " --models h4-12:C,D --folds 3 --report " +
                            (out / "report").string();
   ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
@@ -319,6 +293,27 @@ TEST_F(ReportJson, SelectMatchesScoresCsvAndWritesNullWithReason) {
   const std::string log = slurp(out / "log.txt");
   EXPECT_NE(log.find("recommended: " + doc["recommended"].get<std::string>()), std::string::npos) << log;
   expectDeterministic(args, json_path, out / "log.txt");
+}
+
+// One `mire demo --quick` (about 7 s of CPU), run twice: its report.json must not change; its
+// images, poses and joints then feed identify, calibrate and select (one test, so that ctest's
+// one process per test runs the demo once).
+TEST(ReportJson, DemoAndTheCommandsOnItsFiles) {
+  test::TempDir dir;
+  const fs::path demo = dir.path() / "demo";
+  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << slurp(dir.path() / "demo.log");
+  fs::copy_file(demo / "report.json", dir.path() / "demo_first.json");
+  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << slurp(dir.path() / "demo.log");
+  {
+    SCOPED_TRACE("demo");
+    checkDemo(demo, dir.path() / "demo_first.json");
+  }
+  for (const auto& [name, check] : {std::pair{"identify", &checkIdentify}, std::pair{"calibrate", &checkCalibrate},
+                                    std::pair{"select", &checkSelect}}) {
+    SCOPED_TRACE(name);
+    fs::create_directories(dir.path() / name);
+    check(demo, dir.path() / name);
+  }
 }
 
 // The demo's output folder is checked before the simulation: a file there is refused, untouched.
