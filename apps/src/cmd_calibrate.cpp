@@ -8,6 +8,7 @@
 #include "output_paths.hpp"
 #include "validate.hpp"
 #include "plot.hpp"
+#include "report_json.hpp"
 
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/calibration_plots.hpp"
@@ -46,6 +47,7 @@ struct CalibrateArguments {
   std::string save_detections;    // CSV of every view's detections (doc/targets.md)
   std::string detections_path;    // calibrate from this file instead of images
   std::vector<int> image_size;    // width height, for a detections file that does not say
+  std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
 std::string fixed(double value, int digits) {
@@ -111,8 +113,9 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
   return out.str();
 }
 
-// Everything that can be checked before the long work is checked first.
-void checkCalibratePaths(const CalibrateArguments& args) {
+// Everything that can be checked before the long work is checked first. Returns the paths
+// (report.json's provenance).
+CommandPaths checkCalibratePaths(const CalibrateArguments& args) {
   if (args.images_dir.empty() == args.detections_path.empty())
     throw UsageError("give either --images or --detections");
   CommandPaths paths{{{args.target_path, "--target"}}, {}, {{args.output_path, "-o"}}, {}};
@@ -121,6 +124,7 @@ void checkCalibratePaths(const CalibrateArguments& args) {
   if (!args.save_detections.empty()) paths.output_files.push_back({args.save_detections, "--save-detections"});
   if (!args.report_dir.empty()) paths.output_folders.push_back({args.report_dir, "--report"});
   checkCommandPaths(paths);
+  return paths;
 }
 
 metrology::Target readTarget(const std::string& path) {
@@ -148,7 +152,7 @@ CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const met
 }
 
 // Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
-void writeCalibrateOutputs(const CalibrateArguments& args, const metrology::Target& target,
+void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& paths, const metrology::Target& target,
                            const CalibrationFolder& folder, const calibration::CalibrationResult& result,
                            const calibration::ProjectionUncertaintySummary& uncertainty) {
   support::OutputTransaction outputs;
@@ -160,6 +164,10 @@ void writeCalibrateOutputs(const CalibrateArguments& args, const metrology::Targ
     writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
+    ReportProvenance provenance{args.command_line, paths.input_files, paths.output_files};
+    provenance.inputs.insert(provenance.inputs.end(), paths.input_folders.begin(), paths.input_folders.end());
+    provenance.outputs.push_back({args.report_dir, "--report"});
+    writeCalibrateReportJson(dir / "report.json", provenance, result, uncertainty);
   }
   if (!args.save_detections.empty())
     support::writeFileAtomically(outputs.stageFile(args.save_detections),
@@ -215,7 +223,7 @@ void printQuality(const calibration::CalibrationResult& result,
 
 // Stages: checks, the views, the calibration, the outputs, then the summary.
 int runCalibrate(const CalibrateArguments& args) {
-  checkCalibratePaths(args);
+  const CommandPaths paths = checkCalibratePaths(args);
   const int threads = workerThreads(args.threads, "--threads");
   const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
   const metrology::Target target = readTarget(args.target_path);
@@ -234,7 +242,7 @@ int runCalibrate(const CalibrateArguments& args) {
   for (const auto& view : result.views)
     if (view.used) distances.push_back(view.translation.norm());
   checkImpliedDistances(distances, args.target_path, "view");
-  writeCalibrateOutputs(args, target, folder, result, uncertainty);
+  writeCalibrateOutputs(args, paths, target, folder, result, uncertainty);
 
   const int skipped = static_cast<int>(folder.skipped.size());
   std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images") << " without the target, "
@@ -272,9 +280,12 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_flag("--refine-target", args->refine_target,
                     "also estimate the target's 3D points (Lavest & Dhome) for an imperfect board");
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
-  command->add_option("--report", args->report_dir, "folder for residuals.png, projection_uncertainty.png, views.csv");
+  command->add_option("--report", args->report_dir, "folder for residuals.png, projection_uncertainty.png, views.csv, report.json");
   command->add_option("--threads", args->threads, "detection/solver threads (default: all cores)");
-  return [args] { return runCalibrate(*args); };
+  return [args, command] {
+    args->command_line = commandLineOf(*command);
+    return runCalibrate(*args);
+  };
 }
 
 }  // namespace mire::app

@@ -1,5 +1,7 @@
 #include "commands.hpp"
 #include "demo.hpp"
+#include "output_paths.hpp"
+#include "report_json.hpp"
 
 #include <iostream>
 #include <memory>
@@ -14,7 +16,10 @@ Runner addDemoCommand(CLI::App& app) {
       ->capture_default_str();
   demo->add_flag("--quick", options->quick, "Smaller run: 15 calibration views, 3 images per pose, fewer repeats");
   demo->add_option("--seed", options->seed, "Seed of the simulated robot, images and random subsets")->capture_default_str();
-  return [options] {
+  return [options, demo] {
+    options->command_line = commandLineOf(*demo);
+    // The output folder (report.md, report.json, ...) is checked before the simulation starts.
+    checkCommandPaths({{}, {}, {}, {{options->output, "-o"}}});
     const DemoResults results = runDemo(*options);
     std::cout << "mire demo: report written to " << (options->output / "report.md").string() << "\n";
     std::cout << "  V3 straightness: " << 1e3 * results.nominal_v3_m << " mm (nominal) -> ";

@@ -7,6 +7,7 @@
 #include "identify_report.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
+#include "report_json.hpp"
 #include "validate.hpp"
 
 #include "mire/datasets/data_dir.hpp"
@@ -49,6 +50,7 @@ struct IdentifyArguments {
   bool robust = false, unweighted = false, independent_poses = false;
   int mc_repeats = 100, threads = 2;
   unsigned long long mc_seed = 1;
+  std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
 std::string defaultNominalPath() { return datasets::specPath("h4_nominal.yaml").string(); }
@@ -106,7 +108,8 @@ std::string human(const mech::Parameter& p, double si) {
 }
 
 // Inputs exist and are regular files; outputs clash with none of them (output_paths.hpp).
-void checkPaths(const IdentifyArguments& args) {
+// Returns them (report.json's provenance).
+CommandPaths checkPaths(const IdentifyArguments& args) {
   CommandPaths paths;
   paths.input_files = {{args.poses, "--poses"}, {args.joints, "--joints"}};
   if (!args.covariances.empty()) paths.input_files.push_back({args.covariances, "--pose-covariances"});
@@ -120,6 +123,7 @@ void checkPaths(const IdentifyArguments& args) {
   paths.output_files = {{args.output, "-o"}, {mech::defaultParameterCovariancePath(args.output), "the covariance side file of -o"}};
   if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
   checkCommandPaths(paths);
+  return paths;
 }
 
 // The model the user chose: its name, whether it is one of the H4's, the H4 model kind and
@@ -426,6 +430,7 @@ struct IdentifyRun {
   mech::IdentificationResult result;
   std::optional<Eigen::Matrix3d> mean_orientation_covariance;  // Delta: σ of the constant cRm
   Criteria criteria;
+  CommandPaths paths;  // as checked
 };
 
 // The human summary (mm, deg) printed and repeated in the report.
@@ -470,6 +475,11 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
     data.v3_after_m = run.criteria.v3_after;
     data.study = run.criteria.study ? &*run.criteria.study : nullptr;
     data.summary_text = summary;
+    data.provenance = {args.command_line, run.paths.input_files, run.paths.output_files};
+    data.provenance.outputs.push_back({args.report, "--report"});
+    data.model_name = run.choice.model;
+    data.variant = run.choice.letter ? std::string(1, run.choice.letter) : std::string();
+    if (run.inputs.covariance_path && !args.unweighted) data.pose_covariance_file = run.inputs.covariance_path->string();
   }
   const mech::PredictionModel prediction =
       mech::predictionModelFrom(run.choice.model, result, run.mean_orientation_covariance);
@@ -489,8 +499,8 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
 // Stages: paths and model choice, inputs, initial model, the fit, the criteria, the summary,
 // then the outputs.
 int runIdentify(const IdentifyArguments& args, const std::string& command_line) {
-  checkPaths(args);
   IdentifyRun run;
+  run.paths = checkPaths(args);
   run.choice = chooseModel(args);
   run.inputs = readIdentifyInputs(args, run.choice);
   run.initial = initialModel(run.choice, run.inputs);
@@ -533,8 +543,9 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")->capture_default_str()->check(CLI::Range(1, kMaxThreads));
   cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)");
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
-  cmd->add_option("--report", args->report, "folder for report.md and its PNG charts");
-  return [args] {
+  cmd->add_option("--report", args->report, "folder for report.md, its PNG charts and report.json");
+  return [args, cmd] {
+    args->command_line = commandLineOf(*cmd);
     std::string command_line = "mire identify --poses " + args->poses + " --joints " + args->joints + " --model " +
                                (args->model.empty() ? "(default)" : args->model) + (args->variant.empty() ? "" : " --variant " + args->variant) + " -o " +
                                args->output;

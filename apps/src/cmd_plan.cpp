@@ -15,6 +15,7 @@
 #include "validate.hpp"
 #include "kinematics_files.hpp"
 #include "plan_inputs.hpp"
+#include "report_json.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
@@ -30,6 +31,7 @@ struct PlanArguments {
   std::string model, nominal, workspace, output, externals, camera, target, criterion = "D", report;
   int count = 15, candidates = 10000;
   unsigned seed = 1;
+  std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
 mech::DesignCriterion parseCriterion(const std::string& text) {
@@ -112,6 +114,10 @@ int runPlan(const PlanArguments& args) {
     const fs::path dir = outputs.stageFolder(args.report);
     support::writeFileAtomically(dir / "plan_report.txt", text);
     support::writeFileAtomically(dir / "plan_sigma.csv", sigmaCsv(report));
+    PlanReportSettings settings{{args.command_line, paths.input_files, paths.output_files}, args.model,
+                                args.candidates, args.seed};
+    settings.provenance.outputs.push_back({args.report, "--report"});
+    writePlanReportJson(dir / "report.json", settings, info, report);
   }
   outputs.commit();
   std::cout << text << "wrote " << args.output << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv")
@@ -136,8 +142,11 @@ Runner addPlanCommand(CLI::App& app) {
   cmd->add_option("--criterion", args->criterion, "D (Ds-optimal, default), A or E")->capture_default_str();
   cmd->add_option("--candidates", args->candidates, "candidate poses drawn in the workspace")->capture_default_str();
   cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")->capture_default_str();
-  cmd->add_option("--report", args->report, "report folder (plan_report.txt, plan_sigma.csv)");
-  return [args] { return runPlan(*args); };
+  cmd->add_option("--report", args->report, "report folder (plan_report.txt, plan_sigma.csv, report.json)");
+  return [args, cmd] {
+    args->command_line = commandLineOf(*cmd);
+    return runPlan(*args);
+  };
 }
 
 }  // namespace mire::app

@@ -16,6 +16,7 @@
 #include "validate.hpp"
 #include "plan_inputs.hpp"
 #include "plot.hpp"
+#include "report_json.hpp"
 #include "mire/mechanism/model_selection.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
@@ -31,6 +32,7 @@ struct SelectArguments {
   std::string poses, joints, lines, nominal, models, report, covariances;
   int folds = 10;
   unsigned seed = 1;
+  std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
 // The joint columns of joints.csv's header (q<i>_rad or q<i>_m): the mechanism family.
@@ -117,6 +119,9 @@ int runSelect(const SelectArguments& args) {
     support::writeFileAtomically(dir / "select_report.txt", table + "recommended: " + result.recommendedLabel() + "\n");
     support::writeFileAtomically(dir / "select_scores.csv", scoresCsv(result));
     writeSelectPlot(dir / "select_cv.png", result, m.jointUnits().front());
+    ReportProvenance provenance{args.command_line, paths.input_files, {{args.report, "--report"}}};
+    if (covariance && args.covariances.empty()) provenance.inputs.push_back({*covariance, "the covariance side file"});
+    writeSelectReportJson(dir / "report.json", provenance, result, m.jointUnits().front(), args.folds, args.seed);
     outputs.commit();
   }
   std::cout << observations.poses.size() << " poses, " << args.folds << "-fold cross-validation, "
@@ -139,8 +144,11 @@ Runner addSelectCommand(CLI::App& app) {
                                              "(default: all of the mechanism)");
   cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();
   cmd->add_option("--seed", args->seed, "seed of the fold assignment")->capture_default_str();
-  cmd->add_option("--report", args->report, "report folder (select_report.txt, select_scores.csv, select_cv.png)");
-  return [args] { return runSelect(*args); };
+  cmd->add_option("--report", args->report, "report folder (select_report.txt, select_scores.csv, select_cv.png, report.json)");
+  return [args, cmd] {
+    args->command_line = commandLineOf(*cmd);
+    return runSelect(*args);
+  };
 }
 
 }  // namespace mire::app

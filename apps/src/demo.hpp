@@ -16,6 +16,7 @@ struct DemoOptions {
   std::filesystem::path output = "demo-output";
   bool quick = false;  // fewer images and repeats (the end-to-end test uses it)
   std::uint64_t seed = 2004;
+  std::vector<std::string> command_line;  // as parsed (report.json); empty when run in-process
 };
 
 struct StageTiming {
@@ -29,6 +30,7 @@ struct DemoCalibration {
   double rms_px = 0.0;
   int views_used = 0, views_total = 0;
   double uncertainty_centre_px = 0.0, uncertainty_corner_px = 0.0;
+  Eigen::MatrixXd covariance;  // of `estimate` (camera.yaml's), for report.json
 };
 
 struct DemoMeasurement {
@@ -59,6 +61,8 @@ struct DemoPoseCount {
 struct DemoParameterScore {
   std::string name, unit;  // display unit (mm, deg)
   double estimate = 0, sigma = 0, truth = 0;  // display units
+  std::string si_unit;                           // the same in SI (m, rad), as identified_D.yaml
+  double si_estimate = 0, si_sigma = 0, si_truth = 0;
 };
 
 struct DemoResults {
@@ -73,6 +77,7 @@ struct DemoResults {
   int pose_count_repeats = 0;
   std::array<double, 4> square_before_mm{}, square_after_mm{};
   std::vector<DemoParameterScore> identified;  // variant D on all poses
+  Eigen::MatrixXd identified_covariance;       // of `identified` (that order), SI
   std::string sigma_method;                    // which σ identify printed (and why)
   double chi2_per_dof = 0.0;
   std::size_t outlier_count = 0;
@@ -82,7 +87,7 @@ struct DemoResults {
 // Runs the whole demo into options.output; returns the results (also written as report.md).
 DemoResults runDemo(const DemoOptions& options);
 
-// Writes report.md and the figures; returns the files written (relative names).
+// Writes report.md, report.json and the figures; returns the files written (relative names).
 std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& results);
 
 }  // namespace mire::app

@@ -65,6 +65,7 @@ calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const m
   const auto uncertainty = calibration::summarizeProjectionUncertainty(result);
   summary.uncertainty_centre_px = uncertainty.centre_px;
   summary.uncertainty_corner_px = uncertainty.corner_px;
+  summary.covariance = result.camera.covariance;
   return result.camera;
 }
 
@@ -183,10 +184,12 @@ void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& cam
   for (const auto& name : result.free_names) {
     const std::size_t i = p.index(name);
     const auto unit = p[i].unit;
+    const double sigma = result.sigma[static_cast<Eigen::Index>(i)], true_value = truth[static_cast<Eigen::Index>(i)];
     results.identified.push_back({name, mechanism::displayUnitName(unit), mechanism::toDisplay(unit, p[i].value),
-                                  mechanism::toDisplay(unit, result.sigma[static_cast<Eigen::Index>(i)]),
-                                  mechanism::toDisplay(unit, truth[static_cast<Eigen::Index>(i)])});
+                                  mechanism::toDisplay(unit, sigma), mechanism::toDisplay(unit, true_value),
+                                  mechanism::unitName(unit), p[i].value, sigma, true_value});
   }
+  results.identified_covariance = result.covariance;
   results.sigma_method = result.covariance_method;
   results.chi2_per_dof = result.chi2 / std::max(1, result.dof);
   results.outlier_count = result.outliers.size();

@@ -2,6 +2,7 @@
 // pose-count study of §6.2, Fig. 11) and the figures as PNG.
 #include "demo.hpp"
 #include "plot.hpp"
+#include "report_json.hpp"
 
 #include "mire/support/atomic_file.hpp"
 
@@ -220,8 +221,19 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   writeSquareSection(r, md);
   writeDemoFigures(options.output, r, charts);
   support::writeFileAtomically(options.output / "report.md", md.str());
-  return {"report.md", "fig11_v3_per_variant.png", "pose_count_study.png", "square_test.png", "camera.yaml",
-          "poses.csv", "poses_covariance.csv", "identified_D.yaml"};
+  const std::vector<std::string> files{"report.md",   "report.json", "fig11_v3_per_variant.png", "pose_count_study.png",
+                                       "square_test.png", "camera.yaml", "poses.csv", "poses_covariance.csv",
+                                       "identified_D.yaml"};
+  DemoResults with_files = r;
+  with_files.files = files;
+  ReportProvenance provenance{options.command_line, {}, {{options.output, "--output"}}};
+  if (provenance.command_line.empty()) {  // run in-process: the equivalent command
+    provenance.command_line = {"mire", "demo", "--output", options.output.string()};
+    if (options.quick) provenance.command_line.push_back("--quick");
+    provenance.command_line.insert(provenance.command_line.end(), {"--seed", std::to_string(options.seed)});
+  }
+  writeDemoReportJson(options.output / "report.json", provenance, options, with_files);
+  return files;
 }
 
 }  // namespace mire::app

@@ -164,6 +164,7 @@ void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportD
     md << " | " << (p.outlier ? "yes" : "") << " |\n";
   }
   support::writeFileAtomically(dir / "report.md", md.str());
+  writeIdentifyReportJson(dir / "report.json", data);
 }
 
 }  // namespace mire::app

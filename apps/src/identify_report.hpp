@@ -7,6 +7,7 @@
 
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/identification.hpp"
+#include "report_json.hpp"
 
 namespace mire::app {
 
@@ -19,10 +20,17 @@ struct IdentifyReportData {
   double v3_before_m = -1.0, v3_after_m = -1.0;  // < 0: no lines given
   const mechanism::MonteCarloStudy* study = nullptr;
   std::string summary_text;  // the console summary, repeated in the report
+  // report.json (doc/report-json.md): provenance, the model's name and variant, and the pose
+  // covariance file the fit was weighted by (empty: none).
+  ReportProvenance provenance;
+  std::string model_name, variant;
+  std::string pose_covariance_file;
 };
 
 // Writes DIR/report.md, DIR/residuals.png, DIR/singular_values.png and, with a study,
-// DIR/monte_carlo_spread.png (each atomically). Creates DIR.
+// DIR/monte_carlo_spread.png and DIR/report.json (each atomically). Creates DIR.
 void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportData& data);
+// DIR/report.json alone (identify_report_json.cpp).
+void writeIdentifyReportJson(const std::filesystem::path& path, const IdentifyReportData& data);
 
 }  // namespace mire::app

@@ -1,0 +1,83 @@
+// report.json of `mire plan` (doc/report-json.md): the chosen poses (as plan.csv), the
+// predicted σ of every free parameter for the plan, random sets of the same size and the
+// whole candidate set (as plan_sigma.csv, at full precision), the plan's full predicted
+// covariance (the inverse of its Fisher information) and the predicted position σ.
+#include "kinematics_files.hpp"
+#include "report_json.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace mech = mire::mechanism;
+
+const char* kNoInformation = "the design carries no information on this parameter (singular information matrix)";
+
+Json posesJson(const mech::CandidateInformation& info, const std::vector<int>& design) {
+  const mech::Mechanism& m = *info.model.mechanism;
+  const std::vector<std::string> pose_columns = poseColumnNames(m), joint_columns = m.jointColumnNames();
+  Json list = Json::array();
+  char id[32];
+  for (std::size_t k = 0; k < design.size(); ++k) {
+    const auto j = static_cast<std::size_t>(design[k]);
+    std::snprintf(id, sizeof id, "p%03zu", k + 1);
+    Json pose, joints;
+    for (std::size_t c = 0; c < pose_columns.size(); ++c)
+      pose[pose_columns[c]] = info.poses[j][static_cast<Eigen::Index>(c)];  // finite: writeReportJson checks
+    for (std::size_t c = 0; c < joint_columns.size(); ++c)
+      joints[joint_columns[c]] = info.observations[j].joints[static_cast<Eigen::Index>(c)];
+    list.push_back({{"pose_id", id}, {"candidate", design[k]}, {"pose", pose}, {"joints", joints}});
+  }
+  return list;
+}
+
+Json parametersJson(const mech::DesignReport& r) {
+  Json list = Json::array();
+  for (std::size_t i = 0; i < r.names.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    Json item{{"name", r.names[i]},
+              {"unit", mech::unitName(r.units[i])},
+              {"role", static_cast<int>(i) < r.geometric_free ? "geometric" : "mounting"}};
+    setNumber(item, "sigma_plan", r.sigma_plan[k], kNoInformation);
+    setNumber(item, "sigma_random", r.sigma_random[k], kNoInformation);
+    setNumber(item, "sigma_all", r.sigma_all[k], kNoInformation);
+    list.push_back(item);
+  }
+  return list;
+}
+
+Json summaryJson(const mech::DesignReport& r) {
+  Json out;
+  setNumber(out, "median_ratio_plan_random", r.median_ratio_plan_random, kNoInformation);
+  setNumber(out, "position_sigma_plan_rms_m", r.position_sigma_plan_rms, kNoInformation);
+  setNumber(out, "position_sigma_plan_max_m", r.position_sigma_plan_max, kNoInformation);
+  setNumber(out, "position_sigma_random_rms_m", r.position_sigma_random_rms, kNoInformation);
+  out["random_designs_used"] = r.random_designs_used;
+  return out;
+}
+
+}  // namespace
+
+void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
+                         const mech::CandidateInformation& info, const mech::DesignReport& report) {
+  Json doc = reportHeader("plan", settings.provenance);
+  doc["model"] = settings.model;
+  doc["criterion"] = mech::designCriterionName(report.criterion);
+  doc["count"] = report.design.size();
+  doc["candidates"] = settings.candidates;
+  doc["seed"] = settings.seed;
+  doc["poses"] = posesJson(info, report.design);
+  doc["parameters"] = parametersJson(report);
+  std::vector<std::string> units;
+  for (const mech::Unit unit : report.units) units.push_back(mech::unitName(unit));
+  const Eigen::MatrixXd covariance = mech::designCovariance(info, report.design);
+  if (covariance.allFinite()) {
+    doc["covariance_plan"] = covarianceJson(report.names, units, covariance);
+  } else {
+    doc["covariance_plan"] = nullptr;
+    doc["covariance_plan_null_reason"] = "the plan's information matrix is singular";
+  }
+  doc["summary"] = summaryJson(report);
+  writeReportJson(path, doc);
+}
+
+}  // namespace mire::app
