@@ -28,6 +28,18 @@ void text(cv::Mat& image, const std::string& s, cv::Point at, double scale = 0.4
   cv::putText(image, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
 }
 
+// Text read bottom to top, its first letter at `top_left` (bar labels under narrow bars).
+void verticalText(cv::Mat& image, const std::string& s, cv::Point top_left, double scale = 0.4) {
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(s, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline);
+  cv::Mat horizontal(size.height + baseline + 2, size.width + 2, image.type(), cv::Scalar(255, 255, 255));
+  cv::putText(horizontal, s, {1, size.height + 1}, cv::FONT_HERSHEY_SIMPLEX, scale, {0, 0, 0}, 1, cv::LINE_AA);
+  cv::Mat vertical;
+  cv::rotate(horizontal, vertical, cv::ROTATE_90_COUNTERCLOCKWISE);
+  const cv::Rect where = cv::Rect(top_left - cv::Point(vertical.cols, 0), vertical.size()) & cv::Rect({}, image.size());
+  if (where.area() > 0) vertical(cv::Rect({0, 0}, where.size())).copyTo(image(where));
+}
+
 // A panel of per-pose, per-leg residuals (deg) with a shared symmetric y range.
 void residualPanel(cv::Mat& image, cv::Rect area, const std::vector<mechanism::PoseResidual>& residuals,
                    double limit_deg, const std::string& title) {
@@ -67,7 +79,7 @@ void writeResidualsPng(const std::filesystem::path& path, const IdentifyReportDa
 }
 
 void writeSingularValuesPng(const std::filesystem::path& path, const mechanism::IdentifiabilityReport& report) {
-  cv::Mat image(420, 900, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat image(440, 900, CV_8UC3, cv::Scalar(255, 255, 255));
   const cv::Rect area(80, 40, 790, 300);
   cv::rectangle(image, area, cv::Scalar(120, 120, 120));
   text(image, "singular values of J (" + report.scaling + "), cond = " + format("%.4g", report.condition_number),
@@ -88,11 +100,14 @@ void writeSingularValuesPng(const std::filesystem::path& path, const mechanism::
       const int x0 = area.x + k * area.width / n + 2, x1 = area.x + (k + 1) * area.width / n - 2;
       cv::rectangle(image, cv::Point(x0, area.y + area.height - height), cv::Point(x1, area.y + area.height),
                     cv::Scalar(180, 110, 40), cv::FILLED);
+      if (static_cast<std::size_t>(k) < report.dominant_parameters.size())  // the direction's main parameter
+        verticalText(image, report.dominant_parameters[static_cast<std::size_t>(k)], {(x0 + x1) / 2 + 4, area.y + area.height + 6});
     }
   }
-  text(image, "index of the singular value (descending); rank " + std::to_string(report.rank) + " of " +
+  text(image, "descending; under each, the parameter dominating its direction; rank " +
+                  std::to_string(report.rank) + " of " +
                   std::to_string(report.parameter_names.size()) + " free parameters",
-       {area.x, 380});
+       {area.x, 425});
   writePng(path, image);
 }
 

@@ -172,6 +172,11 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
   const Eigen::MatrixXd Js = J * scale.asDiagonal();
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeFullV);
   singularValueStage(report, J, svd, options);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::Index largest = 0;
+    svd.matrixV().col(k).cwiseAbs().maxCoeff(&largest);
+    report.dominant_parameters.push_back(names[static_cast<std::size_t>(largest)]);
+  }
   const std::vector<Eigen::Index> dependent_columns = pivotedQrStage(report, Js, names);
   if (report.rank < n) nullSpaceStage(report, svd.matrixV(), scale, dependent_columns, names, options);
   return report;

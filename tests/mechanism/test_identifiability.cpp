@@ -42,6 +42,22 @@ TEST(Identifiability, ScalingMakesUnitsIrrelevant) {
   EXPECT_TRUE(a.fullRank());
 }
 
+// Column scaling makes every unit direction's singular value 1 unless columns mix: two
+// correlated columns (a, b) and an independent one (c) weighted 10x give the directions a+b
+// (largest), c, then a-b; each named by its dominant parameter.
+TEST(Identifiability, EachSingularValueIsNamedByItsDominantParameter) {
+  Eigen::MatrixXd J(4, 3);
+  J << 1.0, 0.9, 0.0,
+       0.0, 0.1, 0.0,
+       1.0, 1.0, 0.0,
+       0.0, 0.0, 10.0;
+  const auto report = analyzeJacobian(J, {"a", "b", "c"});
+  ASSERT_EQ(report.dominant_parameters.size(), 3u);
+  EXPECT_EQ(report.dominant_parameters[1], "c");
+  EXPECT_NE(report.dominant_parameters[0], "c");
+  EXPECT_NE(report.dominant_parameters[2], "c");
+}
+
 TEST(Identifiability, BadInput) {
   Eigen::MatrixXd J = Eigen::MatrixXd::Identity(3, 3);
   EXPECT_THROW(analyzeJacobian(J, {"a", "b"}), std::invalid_argument);

@@ -43,6 +43,9 @@ struct IdentifiabilityReport {
   std::string scaling = "columns scaled to unit Euclidean norm";
   Eigen::VectorXd column_norms;              // ‖J_k‖ in SI (rad per m or rad per rad)
   Eigen::VectorXd singular_values;           // of the scaled Jacobian, descending
+  // Per singular value: the parameter with the largest weight in its right singular vector (the
+  // scaled parameter direction it measures), e.g. to name the bars of a singular-value plot.
+  std::vector<std::string> dominant_parameters;
   double condition_number = 0.0;             // σ_max/σ_min of the scaled Jacobian (inf if σ_min = 0)
   double condition_number_unscaled = 0.0;    // same for the SI Jacobian
   double condition_number_identifiable = 0.0;  // scaled, restricted to `identifiable`
