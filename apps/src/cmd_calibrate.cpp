@@ -161,6 +161,7 @@ void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& p
   if (!args.report_dir.empty()) {
     const fs::path dir = outputs.stageFolder(args.report_dir);
     writePng(dir / "residuals.png", calibration::drawResidualMap(result));
+    writePng(dir / "residuals_per_view.png", calibration::drawResidualsPerView(result));
     writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
@@ -280,7 +281,7 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_flag("--refine-target", args->refine_target,
                     "also estimate the target's 3D points (Lavest & Dhome) for an imperfect board");
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
-  command->add_option("--report", args->report_dir, "folder for residuals.png, projection_uncertainty.png, views.csv, report.json");
+  command->add_option("--report", args->report_dir, "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, views.csv, report.json");
   command->add_option("--threads", args->threads, "detection/solver threads (default: all cores)");
   return [args, command] {
     args->command_line = commandLineOf(*command);

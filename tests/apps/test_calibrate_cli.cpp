@@ -10,9 +10,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -29,6 +32,38 @@ void writeTarget(const fs::path& path) {
   spec.rows = kRows;
   spec.square_size_m = kSquare;
   mire::support::writeFileAtomically(path, mire::metrology::Target(spec).yamlString());
+}
+
+// Share of `image`'s pixels whose grey level is within ±12 of the median: near 1 for a map that
+// is one flat colour (the former linear scale, where all but the corners was one tone).
+double shareNearMedianGrey(const cv::Mat& image) {
+  cv::Mat grey;
+  cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  std::vector<uchar> values(grey.begin<uchar>(), grey.end<uchar>());
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  const int median = values[values.size() / 2];
+  const auto near = std::count_if(values.begin(), values.end(), [&](uchar v) { return std::abs(v - median) <= 12; });
+  return static_cast<double>(near) / static_cast<double>(values.size());
+}
+
+// The report's images (doc/plots.md): sizes as documented, not one flat colour, contour lines drawn
+// (white pixels inside the map), per-view panels with residual vectors (blue ink).
+void checkReportImages(const fs::path& report) {
+  const cv::Mat map = cv::imread((report / "projection_uncertainty.png").string());
+  ASSERT_FALSE(map.empty());
+  EXPECT_EQ(map.cols, 8 + 640 + 150);
+  EXPECT_EQ(map.rows, 72 + 480 + 10);
+  const cv::Mat inside = map(cv::Rect(8, 72, 640, 480));
+  EXPECT_LT(shareNearMedianGrey(inside), 0.5);
+  cv::Mat white;
+  cv::inRange(inside, cv::Scalar(200, 200, 200), cv::Scalar(255, 255, 255), white);
+  EXPECT_GT(cv::countNonZero(white), 3000) << "contour lines and their labels";
+  const cv::Mat panels = cv::imread((report / "residuals_per_view.png").string());
+  ASSERT_FALSE(panels.empty());
+  EXPECT_EQ(panels.cols, 1500);
+  cv::Mat blue;
+  cv::inRange(panels, cv::Scalar(150, 40, 0), cv::Scalar(255, 120, 60), blue);
+  EXPECT_GT(cv::countNonZero(blue), 1000) << "residual vectors in the 7 panels";
 }
 
 std::string calibrateCommand(const fs::path& dir, const fs::path& images, const fs::path& target) {
@@ -146,4 +181,5 @@ TEST(CalibrateCli, CalibratesRenderedChessboards) {
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "residuals.png"));
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "projection_uncertainty.png"));
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "views.csv"));
+  checkReportImages(dir.path() / "report");
 }

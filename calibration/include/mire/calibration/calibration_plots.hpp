@@ -11,8 +11,15 @@ namespace mire::calibration {
 // with a labelled scale bar; inliers in blue, rejected points in red.
 cv::Mat drawResidualMap(const CalibrationResult& result);
 
-// Map of the projection uncertainty (projectionUncertaintyPx at the working distance) over
-// the image, colour-coded with a labelled colour bar and the values at centre, edge, corner.
+// One panel per used view (grid, 1500 px wide): the view's residual vectors at one magnification
+// common to all panels (stated by a scale bar in the header), the view's RMS in the panel title,
+// in red when above 1.5 × the overall RMS (doc/plots.md).
+cv::Mat drawResidualsPerView(const CalibrationResult& result);
+
+// Map of the projection uncertainty (projectionUncertaintyPx at the working distance, sampled every
+// grid_step_px, bicubic in log10 between) on a log colour scale with 1-2-5 px contour lines and the
+// observed corners of all used views as dots; the image is the camera's size plus 72 px of title
+// above and 150 px of colour bar on the right (doc/plots.md).
 cv::Mat drawProjectionUncertaintyMap(const CalibrationResult& result, int grid_step_px = 32);
 
 }  // namespace mire::calibration
