@@ -2,7 +2,8 @@
 # Code style (doc/install.md "Code style"): .clang-format and .clang-tidy at the repository root.
 #   scripts/format.sh            reformat every C++ file in place (review the diff before committing)
 #   scripts/format.sh --check    list what clang-format would change, per module; exit 1 if anything
-#   scripts/format.sh --tidy [MODULE...]   clang-tidy over the modules' sources (needs build/compile_commands.json)
+#   scripts/format.sh --tidy [MODULE...]   clang-tidy over the modules' sources (needs build/compile_commands.json);
+#                                          exit 1 if a warning remains in a product module
 # Needs Debian's clang-format and clang-tidy (apt-get install clang-format clang-tidy).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -28,16 +29,24 @@ case "$mode" in
     exit $status
     ;;
   --tidy)
+    # One clang-tidy process at a time (heavy); exit 1 when a product module (not tests,
+    # benchmarks, examples) keeps a warning or an error, so CI can run it.
     shift
     [ -f build/compile_commands.json ] || { echo "format.sh: configure build/ first (scripts/build.sh)" >&2; exit 2; }
     (($#)) && modules=("$@")
+    product=" support calibration metrology mechanism datasets apps "
+    status=0
     for module in "${modules[@]}"; do
       mapfile -t files < <(git ls-files "$module/*.cpp")
       ((${#files[@]})) || continue
       log="build/clang-tidy-$module.log"
-      clang-tidy -p build --quiet "${files[@]}" >"$log" 2>/dev/null || true
-      printf '%-12s %5d clang-tidy warnings (%s)\n' "$module" "$(grep -c 'warning:' "$log" || true)" "$log"
+      rc=0
+      clang-tidy -p build --quiet "${files[@]}" >"$log" 2>/dev/null || rc=$?
+      count=$(grep -cE '(warning|error):' "$log" || true)
+      printf '%-12s %5d clang-tidy warnings (%s)%s\n' "$module" "$count" "$log" "$( ((rc)) && echo ", clang-tidy failed: exit $rc")"
+      [[ ("$count" -eq 0 && "$rc" -eq 0) || "$product" != *" $module "* ]] || status=1
     done
+    exit $status
     ;;
   *)
     echo "usage: scripts/format.sh [--check | --tidy [MODULE...]]" >&2

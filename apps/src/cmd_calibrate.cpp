@@ -138,9 +138,9 @@ metrology::Target readTarget(const std::string& path) {
 // The views: detected in the images (in parallel) or read from a detections file; the images
 // without the target are listed. At least 3 views, or an error naming the folder.
 CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target, int threads) {
-  const CalibrationFolder folder = args.detections_path.empty()
-                                       ? detectCalibrationFolder(target, args.images_dir, threads)
-                                       : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
+  CalibrationFolder folder = args.detections_path.empty()
+                                 ? detectCalibrationFolder(target, args.images_dir, threads)
+                                 : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
   if (folder.views.size() < 3)

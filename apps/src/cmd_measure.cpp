@@ -129,8 +129,8 @@ int runMeasure(const MeasureSettings& settings) {
       std::cerr << "mire measure: pose " << job.pose_id << ": FAILED: " << job.measurement.error << "\n";
       continue;
     }
-    measured.push_back({job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate,
-                        metrology::measurementFlags(job.measurement)});
+    measured.emplace_back(job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate,
+                          metrology::measurementFlags(job.measurement));
   }
   reportScreening(&measured);
   if (measured.empty()) {
@@ -138,6 +138,7 @@ int runMeasure(const MeasureSettings& settings) {
     return kFailure;
   }
   std::vector<double> distances;
+  distances.reserve(measured.size());
   for (const auto& pose : measured) distances.push_back(pose.estimate.translation.norm());
   checkImpliedDistances(distances, settings.target_path, "pose");
   // All files or none; the side files land first, so a poses.csv never pairs with an older

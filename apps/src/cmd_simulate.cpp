@@ -9,6 +9,7 @@
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -54,7 +55,7 @@ int runSimulation(const SimulateOptions& options, bool calibration) {
   outputs.commit();
   std::cout << "mire simulate " << (calibration ? "calibration" : "poses") << ": wrote " << result.images
             << " images of " << result.views_or_poses << (calibration ? " views" : " poses") << " to "
-            << options.output << " (" << static_cast<int>(100.0 * result.visible_fraction + 0.5)
+            << options.output << " (" << std::lround(100.0 * result.visible_fraction)
             << " % of the features visible; truth in truth.yaml)\n";
   return kOk;
 }

@@ -88,7 +88,7 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
       std::cerr << "mire demo: pose " << pose.pose_id << ": " << m.error << "\n";
       continue;
     }
-    measured.push_back({pose.pose_id, m.features.images_used, pose.images_total, m.estimate});
+    measured.emplace_back(pose.pose_id, m.features.images_used, pose.images_total, m.estimate);
     // Scoring against the simulator's truth.
     const auto index = std::find(campaign.pose_ids.begin(), campaign.pose_ids.end(), pose.pose_id) - campaign.pose_ids.begin();
     const Eigen::Isometry3d truth = campaign.robot.cameraTMarker(campaign.poses.at(static_cast<std::size_t>(index)));
@@ -137,7 +137,7 @@ double trueStraightness(const datasets::H4Campaign& campaign, const std::vector<
       const auto pose = campaign.robot.pose(datasets::H4Joints(q), guess);
       if (!pose) continue;
       guess = *pose;
-      points.push_back(pose->head<3>());
+      points.emplace_back(pose->head<3>());
     }
     total += mechanism::straightness(points);
   }

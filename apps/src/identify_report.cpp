@@ -24,7 +24,7 @@ std::string format(const char* fmt, double value) {
   return buffer;
 }
 
-void text(cv::Mat& image, const std::string& s, cv::Point at, double scale = 0.45, cv::Scalar colour = {0, 0, 0}) {
+void text(cv::Mat& image, const std::string& s, cv::Point at, double scale = 0.45, const cv::Scalar& colour = {0, 0, 0}) {
   cv::putText(image, s, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
 }
 

@@ -280,7 +280,7 @@ Eigen::MatrixXd inverseNormalMatrix(const Eigen::MatrixXd& jacobian, std::vector
   const Eigen::MatrixXd scaled = jacobian * scale.asDiagonal();
   const Eigen::MatrixXd normal = scaled.transpose() * scaled;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normal);
-  const Eigen::VectorXd values = eigen.eigenvalues();
+  const Eigen::VectorXd& values = eigen.eigenvalues();
   const double largest = values.maxCoeff();
   Eigen::VectorXd inverse_values(n);
   int deficient = 0;

@@ -62,6 +62,7 @@ bool Camera::unproject(const Eigen::Vector2d& pixel, Eigen::Vector2d* normalized
   const int count = distortionCount();
   using Jet = ceres::Jet<double, 2>;
   std::vector<Jet> coefficients;
+  coefficients.reserve(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) coefficients.emplace_back(params[kIntrinsicCount + i]);
   Eigen::Vector2d x = target;
   for (int iteration = 0; iteration < 100; ++iteration) {

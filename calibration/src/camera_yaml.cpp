@@ -91,7 +91,7 @@ void readCameraMatrix(const YamlNode& root, Camera& camera) {
   const YamlNode node = requireOne(root, kMatrixKeys);
   const support::YamlMatrix k = node.asMatrix(kAnyFinite);
   if (k.data.size() != 9) node.fail("must be a 3x3 matrix, has " + std::to_string(k.data.size()) + " values");
-  const auto at = [&](int r, int c) { return k.data[static_cast<std::size_t>(3 * r + c)]; };
+  const auto at = [&](std::size_t r, std::size_t c) { return k.data[3 * r + c]; };
   if (at(0, 1) != 0.0) node.fail("skew (element 0,1) must be 0: mire's model has none");
   if (at(1, 0) != 0.0 || at(2, 0) != 0.0 || at(2, 1) != 0.0 || at(2, 2) != 1.0)
     node.fail("must be [fx 0 cx; 0 fy cy; 0 0 1]");
@@ -351,9 +351,10 @@ std::string cameraYamlString(const Camera& camera) {
   out << "rms_px: " << support::formatYamlNumber(camera.rms_px) << "\n";
   if (camera.covariance.size() != 0) {
     const int n = static_cast<int>(camera.params.size());
-    std::vector<double> c(static_cast<std::size_t>(n * n));
+    std::vector<double> c;  // row-major
+    c.reserve(static_cast<std::size_t>(camera.covariance.size()));
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) c[static_cast<std::size_t>(i * n + j)] = camera.covariance(i, j);
+      for (int j = 0; j < n; ++j) c.push_back(camera.covariance(i, j));
     out << openCvMatrix("covariance", c.data(), n, n);
     out << "covariance_parameters: [ " << joined(camera.parameterNames()) << " ]\n";
     const std::vector<double> sigma = camera.sigmas();

@@ -44,7 +44,7 @@ Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_par
                                          const std::vector<Pose>& estimate_poses,
                                          const std::vector<double>& truth_params, const std::vector<Pose>& truth_poses,
                                          const Eigen::Vector2d& pixel, double distance_m, LensModel lens) {
-  const Eigen::Vector2d nan = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector2d nan = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   Camera truth;
   truth.lens = lens;
   truth.params = truth_params;
@@ -73,7 +73,7 @@ double projectionUncertaintyPx(const CalibrationResult& result, const Eigen::Vec
 
 Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Eigen::Vector2d& pixel,
                                        double distance_m) {
-  const Eigen::Matrix2d nan = Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Matrix2d nan = Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
   const std::vector<double>& params = result.camera.params;
   const std::vector<Pose> poses = posesOf(result);
   const int parameter_count = static_cast<int>(params.size());

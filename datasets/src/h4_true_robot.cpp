@@ -224,8 +224,8 @@ Eigen::Isometry3d defaultMarkerTEffector() {
   return makeIsometry(rotation, Eigen::Vector3d(0.088, 0.064, 0.04));
 }
 
-H4TrueRobot::H4TrueRobot(H4TrueGeometry geometry, Eigen::Isometry3d base_T_camera,
-                         Eigen::Isometry3d marker_T_effector)
+H4TrueRobot::H4TrueRobot(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera,
+                         const Eigen::Isometry3d& marker_T_effector)
     : geometry_(std::move(geometry)),
       base_T_camera_(base_T_camera),
       marker_T_effector_(marker_T_effector) {}

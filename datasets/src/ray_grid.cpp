@@ -41,8 +41,9 @@ RayGrid::RayGrid(const calibration::Camera& camera)
   camera.validate();
   rays_.resize(static_cast<std::size_t>(width_ + 1) * (height_ + 1));
   std::vector<ceres::Jet<double, 2>> coefficients;
+  coefficients.reserve(static_cast<std::size_t>(camera.distortionCount()));
   for (int i = 0; i < camera.distortionCount(); ++i)
-    coefficients.emplace_back(camera.params[static_cast<std::size_t>(calibration::kIntrinsicCount + i)]);
+    coefficients.emplace_back(camera.params[calibration::kIntrinsicCount + static_cast<std::size_t>(i)]);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   cv::parallel_for_(cv::Range(0, height_ + 1), [&](const cv::Range& range) {
     for (int j = range.start; j < range.end; ++j) {
@@ -83,7 +84,7 @@ Eigen::Matrix2d RayGrid::inverseJacobian(const Eigen::Vector2d& ray) const {
   using Jet = ceres::Jet<double, 2>;
   const int count = static_cast<int>(params_.size()) - calibration::kIntrinsicCount;
   Jet coefficients[12];
-  for (int i = 0; i < count; ++i) coefficients[i] = Jet(params_[static_cast<std::size_t>(calibration::kIntrinsicCount + i)]);
+  for (int i = 0; i < count; ++i) coefficients[i] = Jet(params_[calibration::kIntrinsicCount + static_cast<std::size_t>(i)]);
   const Jet jx(ray.x(), 0), jy(ray.y(), 1);
   Jet xd, yd;
   calibration::distortLens(lens_, coefficients, count, jx, jy, &xd, &yd);

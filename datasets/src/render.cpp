@@ -57,6 +57,7 @@ cv::Mat clutteredBackground(int width, int height, double level, std::uint64_t s
       }
       default: {
         std::vector<cv::Point> triangle;
+        triangle.reserve(3);
         for (int k = 0; k < 3; ++k)
           triangle.emplace_back(cvRound(centre.x + rng.uniform(-extent, extent)), cvRound(centre.y + rng.uniform(-extent, extent)));
         cv::fillConvexPoly(canvas, triangle, grey, cv::LINE_AA);

@@ -64,7 +64,7 @@ class SpecSection {
   std::vector<double> numbers(const std::string& key, std::size_t size, double minimum, double maximum) const {
     const auto value = find(key);
     if (!value) throw support::YamlError(where() + ": missing key '" + key + "'");
-    const std::vector<double> result = value->asDoubles({minimum, maximum});
+    std::vector<double> result = value->asDoubles({minimum, maximum});
     if (size != 0 && result.size() != size) value->fail("must have " + std::to_string(size) + " values");
     return result;
   }

@@ -93,10 +93,11 @@ std::vector<Eigen::Isometry3d> generateCalibrationViews(const calibration::Camer
     placement.tilt_axis_rad = 2.0 * M_PI * unit(random);
     placement.roll_rad = spec.max_roll_deg * kDegree * (2.0 * unit(random) - 1.0);
     const int cell = cell_slot[static_cast<std::size_t>(k)];
+    const int column = cell % grid_cols, row = cell / grid_cols;
     // Cell corners reach the image corners: the board is pushed there, then pulled back
     // toward the centre until it fits.
-    const double fu = grid_cols == 1 ? 0.5 : (cell % grid_cols + unit(random) * 0.3) / (grid_cols - 1 + 0.3);
-    const double fv = grid_rows == 1 ? 0.5 : (cell / grid_cols + unit(random) * 0.3) / (grid_rows - 1 + 0.3);
+    const double fu = grid_cols == 1 ? 0.5 : (column + unit(random) * 0.3) / (grid_cols - 1 + 0.3);
+    const double fv = grid_rows == 1 ? 0.5 : (row + unit(random) * 0.3) / (grid_rows - 1 + 0.3);
     Eigen::Vector2d wanted(fu * (camera.width - 1), fv * (camera.height - 1));
     Eigen::Isometry3d pose;
     bool fits = false;

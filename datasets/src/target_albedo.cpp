@@ -86,7 +86,7 @@ double TargetAlbedo::addAprilTags(const metrology::Target& target, double* min_x
       for (int col = 0; col < bitmap.size; ++col)
         bitmap.dark[static_cast<std::size_t>(row) * bitmap.size + col] = image->buf[row * image->stride + col] < 128;
     bitmaps_.push_back(std::move(bitmap));
-    const Eigen::Vector3d& top_left = points[static_cast<std::size_t>(4 * k)];
+    const Eigen::Vector3d& top_left = points[4 * static_cast<std::size_t>(k)];
     tags_.push_back({top_left.x() - border_start * tag_cell_, top_left.y() - border_start * tag_cell_, k});
   }
   const double outside = border_start * tag_cell_;

@@ -78,7 +78,7 @@ StraightnessResult straightnessCriterion(const Mechanism& mechanism, const Eigen
         break;
       }
       guess = fkm.pose;
-      points.push_back(fkm.bTe.translation());
+      points.emplace_back(fkm.bTe.translation());
     }
     if (!result.ok) break;
     result.per_line_m.push_back(straightness(points));

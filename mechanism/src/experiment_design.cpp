@@ -52,15 +52,15 @@ Eigen::Isometry3d transformOf(const Eigen::Vector3d& rotation_vector, const Eige
 
 }  // namespace
 
-IdentificationModel initialModelFor(const DesignModel& model, const std::vector<PoseObservation>& sample) {
+IdentificationModel initialModelFor(const DesignModel& model, const std::vector<PoseObservation>& observations) {
   const RegisteredModel& r = model.registered;
   IdentificationModel out;
   if (r.name == "h4-31c") {
-    out = makeH4VariantModel('H', model.h4, sample);
+    out = makeH4VariantModel('H', model.h4, observations);
   } else {
-    out = makeInitialModel(r.mechanism, r.nominal, sample, r.external_form);
+    out = makeInitialModel(r.mechanism, r.nominal, observations, r.external_form);
   }
-  fixGauge(out, sample);
+  fixGauge(out, observations);
   return out;
 }
 
@@ -221,7 +221,7 @@ CandidateInformation candidateInformation(const DesignModel& model, const Mounti
     const Eigen::MatrixXd Jx = m.jointJacobianWrtPose(info.model.external, ge, ee, o.cTm);
     const Eigen::MatrixXd sq = Jx * (*o.covariance) * Jx.transpose();
     const Eigen::LLT<Eigen::MatrixXd> llt(sq);
-    info.rows.push_back(llt.matrixL().solve(J.middleRows(static_cast<Eigen::Index>(j) * nq, nq)));
+    info.rows.emplace_back(llt.matrixL().solve(J.middleRows(static_cast<Eigen::Index>(j) * nq, nq)));
   }
   return info;
 }
@@ -239,7 +239,7 @@ Eigen::MatrixXd designCovariance(const CandidateInformation& info, const std::ve
   Eigen::VectorXd d = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd S = d.asDiagonal() * M * d.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
-  const Eigen::VectorXd l = eig.eigenvalues();
+  const Eigen::VectorXd& l = eig.eigenvalues();
   Eigen::VectorXd inv(l.size());
   const double cut = 1e-12 * l.maxCoeff();
   bool singular = false;
@@ -286,8 +286,8 @@ std::vector<double> predictedPositionSigma(const CandidateInformation& info, con
     }
     if (!Jg.allFinite()) continue;
     // Implicit function theorem: ∂X/∂ξg = −(∂q/∂X)⁺·∂q/∂ξg.
-    sensitivities.push_back(-(Jx.completeOrthogonalDecomposition().pseudoInverse() * Jg).topRows(3));
-    positions.push_back(bTe.translation());
+    sensitivities.emplace_back(-(Jx.completeOrthogonalDecomposition().pseudoInverse() * Jg).topRows(3));
+    positions.emplace_back(bTe.translation());
   }
   const auto n = static_cast<Eigen::Index>(sensitivities.size());
   if (n == 0) return {};

@@ -41,7 +41,7 @@ ScaledCandidates scaleCandidates(const CandidateInformation& info) {
   s.scale = (sum / static_cast<double>(std::max<std::size_t>(1, info.rows.size()))).cwiseMax(1e-300).cwiseSqrt();
   const Eigen::VectorXd inv = s.scale.cwiseInverse();
   s.rows.reserve(info.rows.size());
-  for (const Eigen::MatrixXd& A : info.rows) s.rows.push_back(A * inv.asDiagonal());
+  for (const Eigen::MatrixXd& A : info.rows) s.rows.emplace_back(A * inv.asDiagonal());
   return s;
 }
 

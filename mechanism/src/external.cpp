@@ -378,7 +378,8 @@ AxisAlignment refineAxisAlignment(const Eigen::Matrix3d& Ac0, const Eigen::Matri
 AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
   if (poses.size() < 2) throw std::invalid_argument("the rotation axis needs at least 2 poses");
   std::vector<Eigen::Matrix3d> R;
-  for (const PoseObservation& p : poses) R.push_back(toIsometry(p.cTm).linear());
+  R.reserve(poses.size());
+  for (const PoseObservation& p : poses) R.emplace_back(toIsometry(p.cTm).linear());
   const Eigen::Vector3d axis_c = principalRotationAxis(R);
   Eigen::Vector3d axis_m = Eigen::Vector3d::Zero();
   for (const Eigen::Matrix3d& r : R) axis_m += r.transpose() * axis_c;

@@ -216,6 +216,7 @@ ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::V
                                 ": use the full form");
   const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, geometric, poses);
   std::vector<PoseVector> cTm;
+  cTm.reserve(poses.size());
   for (const PoseObservation& p : poses) cTm.push_back(p.cTm);
   const Mounting m = mechanism.motionType() == MotionType::Translation
                          ? mountingFromTranslations(bTe, cTm)

@@ -94,8 +94,8 @@ ParameterSet model31FromModel12(const ParameterSet& m12, Eigen::Vector3d* origin
   return set;
 }
 
-ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d RT = T.linear();
+ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isometry3d& alignedCamera_T_base) {
+  const Eigen::Matrix3d RT = alignedCamera_T_base.linear();
   const double d = m31.value("d");
   ParameterSet set;
   std::array<Eigen::Vector3d, 4> Ppp;
@@ -105,7 +105,7 @@ ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isom
     Eigen::Vector3d P = Eigen::Vector3d::Zero();
     if (i > 0) P << m31.value(indexed("x", i)), m31.value(indexed("y", i)), m31.value(indexed("z", i));
     // P''_i = pivot in the new frame minus the constant σ_i·d·y_B term (eq. 26).
-    Ppp[s] = RT * P + T.translation() - kH4Sigma[s] * d * RT * Eigen::Vector3d::UnitY();
+    Ppp[s] = RT * P + alignedCamera_T_base.translation() - kH4Sigma[s] * d * RT * Eigen::Vector3d::UnitY();
     // Axis: R_T·Rz(ψ)·Rx(β) = Rz(ψ')·Rx(β')·Rz(γ); γ folds into the joint offset.
     const Eigen::Matrix3d M =
         RT * Eigen::AngleAxisd(m31.value(indexed("psi", i)), Eigen::Vector3d::UnitZ()) *

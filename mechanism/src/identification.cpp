@@ -155,7 +155,7 @@ std::vector<Eigen::MatrixXd> poseWhitening(const IdentificationModel& model,
     const Eigen::LLT<Eigen::MatrixXd> llt(sigma_q);
     if (llt.info() != Eigen::Success)
       throw std::runtime_error("pose '" + p.id + "': the propagated joint covariance is singular");
-    out.push_back(llt.matrixL().solve(Eigen::MatrixXd::Identity(sigma_q.rows(), sigma_q.cols())));
+    out.emplace_back(llt.matrixL().solve(Eigen::MatrixXd::Identity(sigma_q.rows(), sigma_q.cols())));
   }
   return out;
 }
@@ -377,8 +377,7 @@ void solveOnce(IdentificationResult& result, const std::vector<PoseObservation>&
 std::vector<Eigen::MatrixXd> solveWeighted(IdentificationResult& result, const std::vector<PoseObservation>& poses,
                                            const BlockExpansions& expansions, const IdentificationOptions& options) {
   if (!result.weighted) {
-    const std::vector<Eigen::MatrixXd> whitening =
-        identityWhitening(result.model, poses.size(), 1.0 / options.joint_sigma);
+    std::vector<Eigen::MatrixXd> whitening = identityWhitening(result.model, poses.size(), 1.0 / options.joint_sigma);
     solveOnce(result, poses, whitening, expansions, options);
     return whitening;
   }
@@ -520,7 +519,7 @@ bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, do
       A.rows() > detail::kLargeProblemRows
           ? Eigen::JacobiSVD<Eigen::MatrixXd>(detail::compressRows(A), Eigen::ComputeThinV)
           : Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV);
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   const double cutoff = s.size() ? s[0] * 1e-10 : 0.0;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
   bool deficient = false;

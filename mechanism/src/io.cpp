@@ -42,6 +42,7 @@ std::map<std::string, PoseCovariance> readCovarianceCsv(const std::filesystem::p
                     row_col = table.column("row");
   const std::vector<std::string> axes{"tx", "ty", "tz", "rx", "ry", "rz"};
   std::vector<std::size_t> value_cols;
+  value_cols.reserve(axes.size());
   for (const auto& axis : axes) value_cols.push_back(table.column(axis));
   std::map<std::string, PoseCovariance> covariances;
   std::map<std::string, std::set<int>> rows_seen;
@@ -126,6 +127,7 @@ std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv,
   const support::CsvTable table = support::readCsv(joints_csv);
   const std::size_t id_col = table.column("pose_id");
   std::vector<std::size_t> cols;
+  cols.reserve(joint_columns.size());
   for (const auto& name : joint_columns) cols.push_back(table.column(name));
   std::vector<JointRow> rows;
   rows.reserve(table.rows.size());
@@ -209,6 +211,7 @@ std::vector<LineRecord> readLinesCsv(const std::filesystem::path& lines_csv,
   const support::CsvTable table = support::readCsv(lines_csv);
   const std::size_t id_col = table.column("line_id");
   std::vector<std::size_t> cols;
+  cols.reserve(joint_columns.size());
   for (const auto& name : joint_columns) cols.push_back(table.column(name));
   std::vector<LineRecord> lines;
   std::map<std::string, std::size_t> index;

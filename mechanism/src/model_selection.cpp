@@ -90,6 +90,7 @@ ModelScore scoreModel(const SelectionCandidate& c, const std::vector<PoseObserva
     s.cv_se = std::sqrt(var / static_cast<double>(folds.size()));
     if (!lines.empty()) {
       std::vector<std::vector<Eigen::VectorXd>> joints;
+      joints.reserve(lines.size());
       for (const LineRecord& l : lines) joints.push_back(l.joints);
       const StraightnessResult v3 = straightnessCriterion(*fit.model.mechanism, fit.model.geometricValues(), joints);
       if (v3.ok) s.v3 = v3.v3_m;

@@ -106,6 +106,7 @@ void ParameterSet::freeAll() {
 void ParameterSet::tie(const std::vector<std::string>& names) {
   if (names.size() < 2) throw std::invalid_argument("a tie needs at least two parameters");
   std::vector<std::size_t> members;
+  members.reserve(names.size());
   for (const std::string& n : names) members.push_back(index(n));
   for (std::size_t m : members) {
     if (parameters_[m].unit != parameters_[members[0]].unit)

@@ -81,7 +81,7 @@ std::vector<std::string> measurementFlags(const PoseMeasurement& measurement) {
   if (copies > 0) flags.push_back("duplicates:" + std::to_string(copies));
   if (!measurement.integrity.moved.empty() && measurement.integrity.consistent)
     flags.push_back("moved_left_out:" + std::to_string(measurement.integrity.moved.size()));
-  if (measurement.estimate.scatter_from_residuals) flags.push_back("sigma_from_residuals");
+  if (measurement.estimate.scatter_from_residuals) flags.emplace_back("sigma_from_residuals");
   return flags;
 }
 

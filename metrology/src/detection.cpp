@@ -304,7 +304,7 @@ Detection detectChessboard(const Target& target, const cv::Mat& gray, const Dete
                     " (inner corners) not found";
     return failed;
   }
-  const Detection ordered = detail::orderGrid(target, gray, corners);
+  Detection ordered = detail::orderGrid(target, gray, corners);
   if (!ordered.found || !options.subpixel) return ordered;
   Detection refined = refineChessboard(target, gray, ordered, options);
   if (refined.reason.empty()) refined.reason = ordered.reason;

@@ -38,6 +38,7 @@ Eigen::Vector2d trackMedian(const Track& track, const std::vector<bool>& kept) {
 std::vector<double> relativeScales(const std::vector<Eigen::Matrix2d>& sample_covariance, const Eigen::Matrix2d& pooled) {
   const Eigen::Matrix2d inverse = pooled.inverse();
   std::vector<double> scales;
+  scales.reserve(sample_covariance.size());
   for (const auto& s : sample_covariance) scales.push_back(0.5 * (inverse * s).trace());
   return scales;
 }

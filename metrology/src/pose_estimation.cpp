@@ -64,12 +64,12 @@ std::vector<Eigen::Matrix2d> whiteningMatrices(const AveragedFeatures& features,
   const double floor = options.covariance_floor_px * options.covariance_floor_px;
   for (std::size_t i = 0; i < features.size(); ++i) {
     if (!features.hasScatter()) {
-      result.push_back(Eigen::Matrix2d::Identity());
+      result.emplace_back(Eigen::Matrix2d::Identity());
       continue;
     }
     const Eigen::Matrix2d covariance = features.covariance[i] + floor * Eigen::Matrix2d::Identity();
     const Eigen::Matrix2d lower = covariance.llt().matrixL();
-    result.push_back(lower.inverse());
+    result.emplace_back(lower.inverse());
   }
   return result;
 }
@@ -110,13 +110,13 @@ double refine(const calibration::Camera& camera, const std::vector<Eigen::Vector
 void jacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening,
                const double pose[6], Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics) {
-  const int n = static_cast<int>(features.size());
+  const Eigen::Index n = static_cast<Eigen::Index>(features.size());
   const int k = static_cast<int>(camera.params.size());
   jacobian_pose->setZero(2 * n, 6);
   jacobian_intrinsics->setZero(2 * n, k);
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   RowMajor jp(2, 6), jk(2, k);
-  for (int i = 0; i < n; ++i) {
+  for (Eigen::Index i = 0; i < n; ++i) {
     const auto cost = makeCost(camera, points[static_cast<std::size_t>(features.ids[static_cast<std::size_t>(i)])],
                                features.pixels[static_cast<std::size_t>(i)], whitening[static_cast<std::size_t>(i)]);
     const double* parameters[2] = {pose, camera.params.data()};

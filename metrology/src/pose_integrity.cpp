@@ -76,7 +76,7 @@ bool fitImage(const calibration::Camera& camera, const std::vector<Eigen::Vector
   for (std::size_t i = 0; i < detection.ids.size(); ++i) {
     Eigen::Vector2d pixel;
     if (!camera.project(estimate.cTm * points[static_cast<std::size_t>(detection.ids[i])], &pixel)) return false;
-    image->residuals.push_back(detection.pixels[i] - pixel);
+    image->residuals.emplace_back(detection.pixels[i] - pixel);
   }
   Eigen::MatrixXd jk;
   reprojectionJacobians(camera, points, features, estimate.cTm, &image->jacobian, &jk);
@@ -129,7 +129,7 @@ Eigen::Matrix2d observationNoise(const std::vector<ImagePose>& images, const std
     for (std::size_t i = 0; i < d.ids.size(); ++i) {
       const auto& entry = centres.at(d.ids[i]);
       if (entry.second < 2) continue;
-      deviations.push_back(image.residuals[i] - entry.first);
+      deviations.emplace_back(image.residuals[i] - entry.first);
     }
   }
   int tracked = 0;
@@ -196,7 +196,7 @@ double homogeneity(const std::vector<ImagePose>& images, const Covariances& cova
   Eigen::Matrix<double, 6, 1> weighted = Eigen::Matrix<double, 6, 1>::Zero();
   std::vector<Eigen::Matrix<double, 6, 6>> weights;
   for (const int m : members) {
-    weights.push_back(covariance[static_cast<std::size_t>(m)].fullPivLu().inverse());
+    weights.emplace_back(covariance[static_cast<std::size_t>(m)].fullPivLu().inverse());
     information += weights.back();
     weighted += weights.back() * images[static_cast<std::size_t>(m)].pose;
   }

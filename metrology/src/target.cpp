@@ -141,9 +141,9 @@ std::vector<Eigen::Vector3d> squareCorners(const std::vector<TagPlacement>& layo
   for (const TagPlacement& tag : layout) {
     const Eigen::Vector3d origin(tag.x_m, tag.y_m, 0.0);
     points.push_back(origin);
-    points.push_back(origin + Eigen::Vector3d(size, 0.0, 0.0));
-    points.push_back(origin + Eigen::Vector3d(size, size, 0.0));
-    points.push_back(origin + Eigen::Vector3d(0.0, size, 0.0));
+    points.emplace_back(origin + Eigen::Vector3d(size, 0.0, 0.0));
+    points.emplace_back(origin + Eigen::Vector3d(size, size, 0.0));
+    points.emplace_back(origin + Eigen::Vector3d(0.0, size, 0.0));
   }
   return points;
 }
@@ -198,14 +198,14 @@ int firstId(const support::YamlNode& root) {
 }
 
 std::string dictionaryName(const support::YamlNode& root) {
-  const std::string name = root.string("dictionary");
+  std::string name = root.string("dictionary");
   if (!arucoDictionary(name))
     root.at("dictionary").fail("unknown dictionary '" + name + "' (known: " + joined(arucoDictionaryNames()) + ")");
   return name;
 }
 
 std::string familyName(const support::YamlNode& root) {
-  const std::string name = root.string("family");
+  std::string name = root.string("family");
   if (!detail::createTagFamily(name))
     root.at("family").fail("unknown AprilTag family '" + name + "' (known: " + joined(detail::tagFamilyNames()) + ")");
   return name;

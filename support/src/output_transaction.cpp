@@ -39,7 +39,7 @@ void removeRaw(const char* path, int depth = 4) {
       if (std::strcmp(entry->d_name, ".") == 0 || std::strcmp(entry->d_name, "..") == 0) continue;
       const std::size_t a = std::strlen(path), b = std::strlen(entry->d_name);
       if (a + b + 2 > kPathChars) continue;
-      std::memcpy(child, path, a);
+      std::memcpy(child, path, a);  // NOLINT(bugprone-not-null-terminated-result): d_name's '\0' ends it below
       child[a] = '/';
       std::memcpy(child + a + 1, entry->d_name, b + 1);
       removeRaw(child, depth - 1);
@@ -60,7 +60,7 @@ fs::path uniqueBeside(const fs::path& final_path, const std::string& kind) {
   const fs::path parent = final_path.parent_path();
   const std::string name = final_path.filename().string();
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const fs::path candidate = parent / (".tmp-" + kind + std::to_string(device()) + "-" + name);
+    fs::path candidate = parent / (".tmp-" + kind + std::to_string(device()) + "-" + name);
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(candidate, ec))) return candidate;
   }
@@ -115,14 +115,14 @@ OutputTransaction::~OutputTransaction() {
 }
 
 fs::path OutputTransaction::stageFile(const fs::path& final_path) {
-  const fs::path temporary = uniqueBeside(final_path, "");
+  fs::path temporary = uniqueBeside(final_path, "");
   registerTemporary(temporary);
   entries_.push_back({temporary, final_path, false});
   return temporary;
 }
 
 fs::path OutputTransaction::stageFolder(const fs::path& final_path, FolderCommit mode) {
-  const fs::path temporary = uniqueBeside(final_path, "dir-");
+  fs::path temporary = uniqueBeside(final_path, "dir-");
   std::error_code ec;
   if (!final_path.parent_path().empty()) fs::create_directories(final_path.parent_path(), ec);
   registerTemporary(temporary);

@@ -16,7 +16,7 @@ namespace mire::calibration {
 // readCamera (camera_formats.hpp) also reads the other formats.
 Camera readCameraYaml(const std::filesystem::path& path);
 // The same from a YAML map already loaded (e.g. a camera inline in a simulation spec).
-Camera cameraFromYaml(const support::YamlNode& map);
+Camera cameraFromYaml(const support::YamlNode& root);
 
 // Serialises to camera.yaml text (write it with support::writeFileAtomically): plain YAML
 // with OpenCV's !!opencv-matrix nodes, so that cv::FileStorage reads it.

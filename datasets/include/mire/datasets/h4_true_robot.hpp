@@ -117,8 +117,8 @@ Eigen::Isometry3d defaultMarkerTEffector();
 class H4TrueRobot {
  public:
   explicit H4TrueRobot(H4TrueGeometry geometry,
-                       Eigen::Isometry3d base_T_camera = defaultBaseTCamera(),
-                       Eigen::Isometry3d marker_T_effector = defaultMarkerTEffector());
+                       const Eigen::Isometry3d& base_T_camera = defaultBaseTCamera(),
+                       const Eigen::Isometry3d& marker_T_effector = defaultMarkerTEffector());
 
   const H4TrueGeometry& geometry() const { return geometry_; }
   const Eigen::Isometry3d& baseTCamera() const { return base_T_camera_; }
@@ -141,12 +141,12 @@ class H4TrueRobot {
 
   // True numerical FKM (Ceres, autodiff): the actual pose X reached for encoder readings q̄,
   // starting from `guess`; nullopt when it does not converge to |residual| < 1e-10 m.
-  std::optional<H4Pose> pose(const H4Joints& joints, const H4Pose& guess) const;
+  std::optional<H4Pose> pose(const H4Joints& q, const H4Pose& guess) const;
   // Convenience: the actual 6-DoF effector pose for encoder readings q̄.
-  std::optional<Eigen::Isometry3d> baseTEffector(const H4Joints& joints, const H4Pose& guess) const;
+  std::optional<Eigen::Isometry3d> baseTEffector(const H4Joints& q, const H4Pose& guess) const;
 
   // Elbow positions B_i for joint readings q̄ (m, in B).
-  std::array<Eigen::Vector3d, 4> elbows(const H4Joints& joints) const;
+  std::array<Eigen::Vector3d, 4> elbows(const H4Joints& q) const;
 
  private:
   H4TrueGeometry geometry_;

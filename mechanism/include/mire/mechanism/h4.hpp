@@ -60,12 +60,12 @@ ParameterSet h4Model12Parameters(const H4Nominal& nominal);
 // Model 31 values equivalent to model 12 (ψ_i = α_i + π, β_i = π/2, L_i = L, l_i = l,
 // P_i = pivot_i(model 12) − pivot_1(model 12)). `origin_shift` receives pivot_1 in the
 // model-12 base frame: X(model 31) = X(model 12) − origin_shift.
-ParameterSet model31FromModel12(const ParameterSet& model12, Eigen::Vector3d* origin_shift = nullptr);
+ParameterSet model31FromModel12(const ParameterSet& m12, Eigen::Vector3d* origin_shift = nullptr);
 
 // Camera-frame model-31 values (eq. 25–26) from base-frame model-31 values and the
 // transform aligned-camera <- model-31 base frame (B' = axis-aligned camera frame). Leg
 // axes are re-expressed as Z-X-Z Euler angles; a third Euler angle folds into q0_i.
-ParameterSet model31CameraFromModel31(const ParameterSet& model31,
+ParameterSet model31CameraFromModel31(const ParameterSet& m31,
                                       const Eigen::Isometry3d& alignedCamera_T_base);
 
 // The templated IKMs (for autodiff); see detail/h4_kinematics.hpp.

@@ -133,7 +133,7 @@ struct IdentificationResult {
 // on bad input (unknown names in options, non-finite values, joint count mismatch,
 // fewer residuals than unknowns) and std::runtime_error naming the unreachable pose ids
 // when the IKM fails at the initial values.
-IdentificationResult identify(const IdentificationModel& model,
+IdentificationResult identify(const IdentificationModel& initial,
                               const std::vector<PoseObservation>& poses,
                               const IdentificationOptions& options = {});
 

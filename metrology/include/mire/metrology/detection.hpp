@@ -43,19 +43,19 @@ struct TagDetection {
 std::vector<TagDetection> detectAprilTags(const cv::Mat& gray, const std::string& family, bool refine_edges);
 
 // Detects the target in an 8-bit grey image (BGR is converted).
-Detection detectTarget(const Target& target, const cv::Mat& gray, const DetectionOptions& options = {});
+Detection detectTarget(const Target& target, const cv::Mat& image, const DetectionOptions& options = {});
 
 // Every candidate detection of the target, best first (doc/targets.md, "Repeated and foreign
 // ids"). For AprilTag targets and ArUco grids: groups of tags/markers that each fit the layout
 // (one instance per id), the largest group first, then by image area; a single-tag layout
 // gives one candidate per instance of its tag in the scene. Other types: detectTarget's result.
 // detectTarget returns the first candidate.
-std::vector<Detection> detectTargetCandidates(const Target& target, const cv::Mat& gray,
+std::vector<Detection> detectTargetCandidates(const Target& target, const cv::Mat& image,
                                               const DetectionOptions& options = {});
 
 // Cheap re-detection in another image of the same scene: refines `initial`'s features in
-// `gray` (sub-pixel), without the full search. Features that cannot be refined are dropped.
-Detection refineDetection(const Target& target, const cv::Mat& gray, const Detection& initial,
+// `image` (sub-pixel), without the full search. Features that cannot be refined are dropped.
+Detection refineDetection(const Target& target, const cv::Mat& image, const Detection& initial,
                           const DetectionOptions& options = {});
 
 }  // namespace mire::metrology

@@ -46,7 +46,7 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
 // Same from image files (any format OpenCV reads, converted to grey). An unreadable file fails
 // the pose, naming the file.
 PoseMeasurement measurePoseFromFiles(const calibration::Camera& camera, const Target& target,
-                                     const std::vector<std::filesystem::path>& images,
+                                     const std::vector<std::filesystem::path>& files,
                                      const MeasurementOptions& options = {});
 
 // The image files of one pose folder: regular, non-hidden files, sorted by name.
