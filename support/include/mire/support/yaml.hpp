@@ -38,7 +38,7 @@ struct YamlMatrix {
   int rows = 0;
   int cols = 0;
   std::vector<double> data;
-  double operator()(int r, int c) const { return data[static_cast<std::size_t>(r * cols + c)]; }
+  double operator()(int r, int c) const { return data[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)]; }
 };
 
 // One node of a loaded file, with its location (file, line) and its key path for messages.
