@@ -192,13 +192,13 @@ class TreeBuilder {
 
 }  // namespace
 
-std::vector<YamlTreePtr> parseYamlDocuments(const std::string& input, const std::string& name, YamlTreeLimits limits) {
-  Parser parser(input);
+std::vector<YamlTreePtr> parseYamlDocuments(const std::string& text, const std::string& name, YamlTreeLimits limits) {
+  Parser parser(text);
   TreeBuilder builder(name, limits);
   for (;;) {
     Event event;
     if (!yaml_parser_parse(parser.get(), &event.event)) {
-      const yaml_mark_t mark = errorMark(*parser.get(), input);
+      const yaml_mark_t mark = errorMark(*parser.get(), text);
       throw YamlError(name + ":" + std::to_string(mark.line + 1) + ": invalid YAML: " + problemText(*parser.get()) +
                       " (column " + std::to_string(mark.column + 1) + ")");
     }
