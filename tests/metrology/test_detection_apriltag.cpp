@@ -32,13 +32,14 @@ std::vector<ReferenceTag> readReference(const std::filesystem::path& path) {
   return tags;
 }
 
-// Largest corner distance between a detection and a reference, after converting the
-// detection back to AprilTag's conventions (+0.5 px; p[k] = our corner 3 − k).
+// Largest corner coordinate difference between a detection and a reference (AprilTag's own test
+// compares each coordinate within 0.1 px), after converting the detection back to AprilTag's
+// conventions (+0.5 px; p[k] = our corner 3 − k).
 double worstCornerDistance(const TagDetection& detection, const ReferenceTag& reference) {
   double worst = 0.0;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector2d ours = detection.corners[3 - k] + Eigen::Vector2d(0.5, 0.5);
-    worst = std::max(worst, (ours - Eigen::Vector2d(reference.p[k][0], reference.p[k][1])).norm());
+    worst = std::max(worst, (ours - Eigen::Vector2d(reference.p[k][0], reference.p[k][1])).cwiseAbs().maxCoeff());
   }
   return worst;
 }
@@ -65,7 +66,8 @@ TEST(DetectionAprilTag, MatchesAprilTagsReferenceDetectionsOnPhotos) {
       worst = std::max(worst, best);
     }
   }
-  // AprilTag's own test accepts 0.1 px. Measured: 44 of 47 tags within 0.1 px, worst 0.14 px.
+  // AprilTag's own test accepts 0.1 px per coordinate. Measured: 44 of 47 tags, worst 0.139 px
+  // (the same 44 with the Euclidean corner distance, worst 0.14 px).
   // One tag is OpenCV's JPEG decoder (±1 grey level against AprilTag's pjpeg on 2 % of the
   // pixels); two differ by 0.11 and 0.14 px even with pjpeg and the bare library: Debian's
   // AprilTag 3.3.0 against the build that wrote the reference (doc/targets.md, issue 11).
