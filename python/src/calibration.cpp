@@ -186,7 +186,7 @@ cal::CalibrationResult calibrateFromImages(const metrology::Target& target, cons
     }
     if (found.found) views.push_back({name, found.ids, found.pixels});
   }
-  if (images.size() == 0) throw py::value_error("calibrateFromImages: no image given");
+  if (images.empty()) throw py::value_error("calibrateFromImages: no image given");
   py::gil_scoped_release release;
   return cal::calibrateCamera(target.points(), views, width, height, options);
 }

@@ -145,7 +145,7 @@ void bindCameraFiles(py::module_& m) {
   m.def("cameraString", &calibration::cameraString, py::arg("camera"), py::arg("format"), py::arg("camera_name") = "camera");
   m.def(
       "writeCamera",
-      [](const Camera& camera, const std::filesystem::path& path, std::optional<std::string> format,
+      [](const Camera& camera, const std::filesystem::path& path, const std::optional<std::string>& format,
          const std::string& camera_name) {
         support::writeFileAtomically(path, calibration::cameraString(camera, formatOf(format, path), camera_name));
       },

@@ -112,7 +112,7 @@ void bindResults(py::module_& m) {
 }
 
 met::PoseMeasurement measureArrays(const calibration::Camera& camera, const met::Target& target, const py::list& images,
-                                   std::vector<std::string> names, const met::MeasurementOptions& options) {
+                                   const std::vector<std::string>& names, const met::MeasurementOptions& options) {
   std::vector<ByteArray> arrays;  // keep the buffers alive while the Mats point into them
   std::vector<cv::Mat> mats;
   for (std::size_t i = 0; i < images.size(); ++i) {

@@ -235,7 +235,7 @@ void bindH4AndRegistry(py::module_& m) {
 
 mech::PoseObservation makeObservation(std::string id, const mech::PoseVector& cTm, const Eigen::VectorXd& joints,
                                       std::optional<mech::PoseCovariance> covariance) {
-  return mech::PoseObservation{std::move(id), cTm, joints, covariance};
+  return mech::PoseObservation{std::move(id), cTm, joints, std::move(covariance)};
 }
 
 // Observations from arrays: ids (N), cTm (N, 6) [m, rad], joints (N, J), covariances (N, 6, 6) or None.
