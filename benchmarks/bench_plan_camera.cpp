@@ -8,7 +8,8 @@
 // measured on 10 other (not planned) candidate poses: the defaults of --pixel-sigma and
 // --systematic-px come from there.
 // Usage: bench_plan_camera [measure_camera.yaml ("" or absent: the true reference camera)]
-//                          [images_per_pose=10] [pixel_sigma=<plan default>] [systematic_px=<plan default>]
+//                          [images_per_pose=10] [pixel_sigma=<plan default>]
+//                          [systematic_px (given: the Constant model; absent or "": plan's default BoardImage model)]
 //                          [candidates=10000]
 // The images are rendered with the true reference camera; the planning and the measurement use
 // the given camera (e.g. the demo's calibrated camera.yaml, with its covariance).
@@ -92,8 +93,9 @@ struct Comparison {
 // reported/predicted.
 void measurePlannedPose(const mire::datasets::Renderer& renderer, const mire::datasets::H4CampaignSpec& spec,
                         const mire::calibration::Camera& camera, const metro::Target& target,
-                        const Eigen::Isometry3d& cTm, const Sigma6& predicted, int images, std::size_t k,
-                        Comparison* c) {
+                        const Eigen::Isometry3d& cTm, const Sigma6& predicted,
+                        const metro::PredictionOptions& prediction, std::size_t k, Comparison* c) {
+  const int images = prediction.images;
   const metro::PoseMeasurement m = renderAndMeasure(renderer, spec, camera, target, cTm, images, k);
   ++c->poses;
   if (!m.ok) {
@@ -105,11 +107,14 @@ void measurePlannedPose(const mire::datasets::Renderer& renderer, const mire::da
   const Sigma6 reported = metro::PoseEstimate::sigmas(m.estimate.covariance);
   const DetectorNoise noise = detectorNoise(m, images);
   const metro::Visibility v = metro::targetVisibility(camera, target, cTm);
+  const metro::BoardImageGeometry g = metro::boardImageGeometry(camera, target.points(), cTm);
   const double in_plane = std::atan2(cTm.linear()(1, 0), cTm.linear()(0, 0)) * 180 / kPi;
   std::printf("p%03zu  corners %d/%zu  chi2 %.1f  detector random %.4f px, systematic %.4f px  (distance %.3f m, "
-              "tilt %.1f deg, in-plane angle %.1f deg, margin %.0f px)\n",
+              "tilt %.1f deg, in-plane angle %.1f deg, margin %.0f px, square %.2f px, edge angle %.1f deg, "
+              "predicted systematic %.4f px)\n",
               k + 1, n, target.points().size(), m.estimate.reduced_chi2, noise.random_px, noise.systematic_px,
-              cTm.translation().norm(), v.tilt_deg, in_plane, v.min_margin_px);
+              cTm.translation().norm(), v.tilt_deg, in_plane, v.min_margin_px, g.square_px,
+              g.edge_angle_rad * 180 / kPi, prediction.systematicSigma(g.square_px, g.edge_angle_rad));
   std::printf("      predicted  %.4f %.4f %.4f mm  %.5f %.5f %.5f deg\n", predicted[0] * 1e3, predicted[1] * 1e3,
               predicted[2] * 1e3, predicted[3] * 180 / kPi, predicted[4] * 180 / kPi, predicted[5] * 180 / kPi);
   std::printf("      reported   %.4f %.4f %.4f mm  %.5f %.5f %.5f deg  ratio", reported[0] * 1e3, reported[1] * 1e3,
@@ -125,13 +130,35 @@ void measurePlannedPose(const mire::datasets::Renderer& renderer, const mire::da
   std::printf("  sqrt-trace t %.3f r %.3f\n", rt, rr);
 }
 
+// Least-squares fit of the BoardImage model (pose_prediction.hpp) on the calibration poses:
+// σ_sys · s / s_ref = a + b cos 4φ; printed with the fit residual, beside the 1/s-only fit (b = 0).
+void fitBoardImageModel(const std::vector<double>& systematic, const std::vector<double>& square,
+                        const std::vector<double>& angle) {
+  const double reference = metro::PredictionOptions().reference_square_px;
+  const auto n = static_cast<Eigen::Index>(systematic.size());
+  Eigen::MatrixXd a(n, 2);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    a(i, 0) = 1.0;
+    a(i, 1) = std::cos(4.0 * angle[k]);
+    y[i] = systematic[k] * square[k] / reference;
+  }
+  const Eigen::Vector2d ab = a.colPivHouseholderQr().solve(y);
+  const double mean_only = y.mean();
+  const double rms_ab = std::sqrt((a * ab - y).squaredNorm() / static_cast<double>(n));
+  const double rms_mean = std::sqrt((y.array() - mean_only).square().sum() / static_cast<double>(n));
+  std::printf("BoardImage fit at s_ref %.0f px: a %.4f px, b %.4f px (rms %.4f px); 1/s only: a %.4f px (rms %.4f px)\n",
+              reference, ab[0], ab[1], rms_ab, mean_only, rms_mean);
+}
+
 // The detector's noise measured on `count` visible candidates that are not planned (every
 // k-th one): the medians, what `--pixel-sigma` and `--systematic-px` default to.
 DetectorNoise calibrateNoise(const mire::datasets::Renderer& renderer, const mire::datasets::H4CampaignSpec& spec,
                              const mire::calibration::Camera& camera, const metro::Target& target,
                              const mech::CandidateInformation& info, const std::vector<int>& design, int images,
                              int count) {
-  std::vector<double> random, systematic;
+  std::vector<double> random, systematic, square, angle;
   const std::size_t stride = info.observations.size() / static_cast<std::size_t>(count);
   for (std::size_t j = stride / 2; j < info.observations.size() && static_cast<int>(random.size()) < count; j += stride) {
     if (std::find(design.begin(), design.end(), static_cast<int>(j)) != design.end()) continue;
@@ -139,9 +166,16 @@ DetectorNoise calibrateNoise(const mire::datasets::Renderer& renderer, const mir
         renderAndMeasure(renderer, spec, camera, target, mech::toIsometry(info.observations[j].cTm), images, 500 + j);
     if (!m.ok) continue;
     const DetectorNoise d = detectorNoise(m, images);
+    const metro::BoardImageGeometry g =
+        metro::boardImageGeometry(camera, target.points(), mech::toIsometry(info.observations[j].cTm));
     random.push_back(d.random_px);
     systematic.push_back(d.systematic_px);
+    square.push_back(g.square_px);
+    angle.push_back(g.edge_angle_rad);
+    std::printf("  calibration pose %zu: systematic %.4f px, square %.2f px, edge angle %.1f deg\n", j,
+                d.systematic_px, g.square_px, g.edge_angle_rad * 180 / kPi);
   }
+  fitBoardImageModel(systematic, square, angle);
   std::printf("detector on %zu other poses: random %.4f px per image [%.4f, %.4f], systematic %.4f px [%.4f, %.4f]\n",
               random.size(), median(random), *std::min_element(random.begin(), random.end()),
               *std::max_element(random.begin(), random.end()), median(systematic),
@@ -168,7 +202,10 @@ int main(int argc, char** argv) {
   mire::app::CameraPlanOptions options;
   options.prediction.images = argc > 2 ? std::stoi(argv[2]) : 10;
   if (argc > 3) options.prediction.pixel_sigma = std::stod(argv[3]);
-  if (argc > 4) options.prediction.systematic_px = std::stod(argv[4]);
+  if (argc > 4 && argv[4][0] != 0) {  // a constant systematic error instead of the BoardImage model
+    options.prediction.systematic_px = std::stod(argv[4]);
+    options.prediction.systematic_model = metro::SystematicModel::Constant;
+  }
   const int candidates = argc > 5 ? std::stoi(argv[5]) : 10000;
 
   const mech::DesignModel model = mech::makeDesignModel("h4-12");
@@ -197,7 +234,7 @@ int main(int argc, char** argv) {
   Comparison c;
   for (std::size_t k = 0; k < report.design.size(); ++k) {
     const auto& cTm = info.observations[static_cast<std::size_t>(report.design[k])].cTm;
-    measurePlannedPose(renderer, spec, camera, target, mech::toIsometry(cTm), predicted[k], options.prediction.images,
+    measurePlannedPose(renderer, spec, camera, target, mech::toIsometry(cTm), predicted[k], options.prediction,
                        k, &c);
   }
   std::printf("\nall corners found in %d of %d planned poses\n", c.complete, c.poses);

@@ -100,6 +100,10 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
   if (!(o.prediction.pixel_sigma >= 0.0) || !(o.prediction.systematic_px >= 0.0) ||
       !(o.prediction.featureSigma() > 0.0))
     throw UsageError("--pixel-sigma and --systematic-px must be >= 0, not both 0");
+  if (!(o.prediction.systematic_mean_px >= 0.0) || !(o.prediction.systematic_grid_px >= 0.0) ||
+      !(o.prediction.systematic_grid_px <= o.prediction.systematic_mean_px) ||
+      !(o.prediction.systematic_mean_px + o.prediction.pixel_sigma > 0.0))
+    throw UsageError("--systematic-board A,B needs 0 <= B <= A, and A or --pixel-sigma > 0");
   return in;
 }
 
@@ -202,9 +206,28 @@ Runner addPlanCommand(CLI::App& app) {
   cmd->add_option("--images-per-pose", camera.prediction.images, "images per pose (with --camera)")->capture_default_str();
   cmd->add_option("--pixel-sigma", camera.prediction.pixel_sigma, "detector noise per feature per image, px (with --camera)")
       ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--systematic-model",
+         [&camera](const std::string& name) {
+           camera.prediction.systematic_model =
+               name == "constant" ? metrology::SystematicModel::Constant : metrology::SystematicModel::BoardImage;
+         },
+         "detector systematic error: board (default: from the board's projected square size and edge angle) or "
+         "constant (--systematic-px) (with --camera)")
+      ->check(CLI::IsMember({"board", "constant"}));
   cmd->add_option("--systematic-px", camera.prediction.systematic_px,
-                  "detector systematic error per feature, px, does not average (with --camera)")
+                  "constant model: detector systematic error per feature, px, does not average (with --camera)")
       ->capture_default_str();
+  cmd->add_option_function<std::vector<double>>(
+         "--systematic-board",
+         [&camera](const std::vector<double>& ab) {
+           camera.prediction.systematic_mean_px = ab[0];
+           camera.prediction.systematic_grid_px = ab[1];
+         },
+         "board model: A,B of sigma_sys = (20 px / square px) (A + B cos 4 edge angle), px (with --camera; "
+         "default 0.0278,0.0045)")
+      ->expected(2)
+      ->delimiter(',');
   cmd->add_option("--margin-px", camera.visibility.margin_px, "features at least this far inside the image (with --camera)")
       ->capture_default_str();
   cmd->add_option("--max-tilt-deg", camera.visibility.max_tilt_deg,

@@ -76,11 +76,17 @@ std::string cameraPlanText(const CameraPlanSummary& summary) {
                 summary.visible, summary.drawn, summary.outside, options.visibility.margin_px, summary.oblique,
                 options.visibility.max_tilt_deg);
   out << line;
-  std::snprintf(line, sizeof line,
-                "pose noise: %.3g px per feature per image, %d images per pose, %.3g px systematic "
-                "(feature sigma %.3g px)\n",
-                options.prediction.pixel_sigma, options.prediction.images, options.prediction.systematic_px,
-                options.prediction.featureSigma());
+  const metrology::PredictionOptions& p = options.prediction;
+  if (p.systematic_model == metrology::SystematicModel::Constant)
+    std::snprintf(line, sizeof line,
+                  "pose noise: %.3g px per feature per image, %d images per pose, %.3g px systematic "
+                  "(feature sigma %.3g px)\n",
+                  p.pixel_sigma, p.images, p.systematic_px, p.featureSigma());
+  else
+    std::snprintf(line, sizeof line,
+                  "pose noise: %.3g px per feature per image, %d images per pose, systematic (%.3g + %.3g cos 4a) "
+                  "x %.3g px / s px (s: projected square, a: its edges' angle to the pixel rows)\n",
+                  p.pixel_sigma, p.images, p.systematic_mean_px, p.systematic_grid_px, p.reference_square_px);
   out << line << "predicted pose sigma per planned pose (tx ty tz mm, rx ry rz deg):\n";
   for (std::size_t k = 0; k < summary.sigmas.size(); ++k) {
     const Sigma6& s = summary.sigmas[k];

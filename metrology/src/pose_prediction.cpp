@@ -117,8 +117,45 @@ Visibility targetVisibility(const calibration::Camera& camera, const Target& tar
   return result;
 }
 
-double PredictionOptions::featureSigma() const {
-  return std::sqrt(pixel_sigma * pixel_sigma / std::max(1, images) + systematic_px * systematic_px);
+double PredictionOptions::systematicSigma(double square_px, double edge_angle_rad) const {
+  if (systematic_model == SystematicModel::Constant || !(square_px > 0.0)) return systematic_px;
+  const double at_reference = systematic_mean_px + systematic_grid_px * std::cos(4.0 * edge_angle_rad);
+  return std::max(0.0, at_reference) * reference_square_px / square_px;
+}
+
+double PredictionOptions::featureSigma() const { return featureSigma(systematic_px); }
+
+double PredictionOptions::featureSigma(double systematic) const {
+  return std::sqrt(pixel_sigma * pixel_sigma / std::max(1, images) + systematic * systematic);
+}
+
+BoardImageGeometry boardImageGeometry(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                                      const Eigen::Isometry3d& cTm) {
+  BoardImageGeometry geometry;
+  if (points.size() < 2) return geometry;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), edge = Eigen::Vector3d::Zero();
+  double spacing = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    centroid += points[i];
+    const double d = (points[i] - points[0]).norm();
+    if (i > 0 && d > 0.0 && d < spacing) {
+      spacing = d;
+      edge = points[i] - points[0];
+    }
+  }
+  if (!std::isfinite(spacing)) return geometry;
+  centroid /= static_cast<double>(points.size());
+  // The second side of the square: the edge turned by 90° in the board's plane (z_M = 0).
+  const Eigen::Vector3d other(-edge.y(), edge.x(), 0.0);
+  Eigen::Vector2d centre, along, across;
+  if (!camera.project(cTm * centroid, &centre) || !camera.project(cTm * (centroid + edge), &along) ||
+      !camera.project(cTm * (centroid + other), &across))
+    return geometry;
+  const Eigen::Vector2d u = along - centre, v = across - centre;
+  geometry.square_px = std::sqrt(std::abs(u.x() * v.y() - u.y() * v.x()));
+  geometry.edge_angle_rad = std::atan2(u.y(), u.x());
+  geometry.valid = geometry.square_px > 0.0;
+  return geometry;
 }
 
 // estimatePose's precision (pose_estimation.hpp, step 3) at noise-free features: the whitened
@@ -126,7 +163,10 @@ double PredictionOptions::featureSigma() const {
 PosePrediction predictPoseCovariance(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                                      const Eigen::Isometry3d& cTm, const PredictionOptions& options) {
   PosePrediction prediction;
-  const double variance = std::pow(options.featureSigma(), 2);
+  const BoardImageGeometry board = boardImageGeometry(camera, points, cTm);
+  prediction.systematic_px = board.valid ? options.systematicSigma(board.square_px, board.edge_angle_rad)
+                                         : options.systematic_px;
+  const double variance = std::pow(options.featureSigma(prediction.systematic_px), 2);
   AveragedFeatures features;
   for (std::size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector2d pixel;

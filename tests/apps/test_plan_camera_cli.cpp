@@ -56,6 +56,9 @@ TEST(PlanCameraCli, DemoCameraFillsVisibilityAndPoseSigma) {
   const nlohmann::json doc = nlohmann::json::parse(slurp(d / "report" / "report.json"));
   const auto& camera = doc.at("camera");
   EXPECT_EQ(camera.at("images_per_pose").get<int>(), 3);
+  EXPECT_EQ(camera.at("systematic_model").get<std::string>(), "board");
+  EXPECT_DOUBLE_EQ(camera.at("systematic_mean_px").get<double>(), 0.0278);
+  EXPECT_DOUBLE_EQ(camera.at("systematic_grid_px").get<double>(), 0.0045);
   EXPECT_EQ(camera.at("candidates_drawn").get<int>(), 1000);
   EXPECT_EQ(camera.at("candidates_visible").get<int>() + camera.at("excluded_outside").get<int>() +
                 camera.at("excluded_oblique").get<int>(),
@@ -92,6 +95,9 @@ TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
   err = slurp(d / "stderr.txt");
   EXPECT_NE(err.find("300 outside the image"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
+  // The board model's A,B must give a systematic error >= 0 (B <= A).
+  EXPECT_EQ(runMire(dir, base + " --systematic-board 0.01,0.02"), 2);
+  EXPECT_NE(slurp(d / "stderr.txt").find("--systematic-board"), std::string::npos);
   // --camera needs --target.
   EXPECT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
                              " --count 15 -o " + (d / "plan.csv").string() + " --camera " +

@@ -109,6 +109,7 @@ TEST(PosePrediction, EqualsEstimatePoseOnExactFeatures) {
   options.pixel_sigma = 0.1;
   options.images = 4;
   options.systematic_px = 0.02;
+  options.systematic_model = metro::SystematicModel::Constant;
   const metro::PosePrediction p = metro::predictPoseCovariance(camera, board.points(), cTm, options);
   ASSERT_TRUE(p.valid) << p.reason;
 
@@ -140,6 +141,8 @@ TEST(PosePrediction, MatchesTheMonteCarloSpreadOfEstimatePose) {
   metro::PredictionOptions options;
   options.pixel_sigma = 0.1;
   options.images = 5;
+  options.systematic_px = 0.0;  // the simulated corners carry random noise only
+  options.systematic_model = metro::SystematicModel::Constant;
   const metro::PosePrediction p = metro::predictPoseCovariance(camera, board.points(), cTm, options);
   ASSERT_TRUE(p.valid) << p.reason;
   const Vector6d sigma = p.covariance.diagonal().cwiseSqrt();
@@ -164,6 +167,45 @@ TEST(PosePrediction, MatchesTheMonteCarloSpreadOfEstimatePose) {
     EXPECT_GE(z, 0.8) << "component " << i;
     EXPECT_LE(z, 1.25) << "component " << i;
   }
+}
+
+// The BoardImage model of σ_sys (pose_prediction.hpp): the projected square measured from the
+// board (16 mm at 0.8 m through the reference camera: f·0.016/0.8 px), σ_sys inversely
+// proportional to it (twice the distance: twice σ_sys), larger with the edges along the pixel
+// rows than at 45°, and the covariance whitened by it (the Constant model with the same σ_sys
+// gives the same covariance).
+TEST(PosePrediction, SystematicErrorFollowsTheBoardsImage) {
+  const auto camera = mire::datasets::referenceCamera();
+  const metro::Target board = demoBoard();
+  const Eigen::Isometry3d near = boardPose(board, 0.8, 0.0), far = boardPose(board, 1.6, 0.0);
+  const metro::BoardImageGeometry g = metro::boardImageGeometry(camera, board.points(), near);
+  ASSERT_TRUE(g.valid);
+  EXPECT_NEAR(g.square_px, camera.params[0] * 0.016 / 0.8, 0.02 * g.square_px);
+  EXPECT_NEAR(std::abs(std::cos(2.0 * g.edge_angle_rad)), 1.0, 1e-3);  // edges along the rows
+
+  const metro::PredictionOptions options;  // BoardImage by default
+  const metro::PosePrediction p_near = metro::predictPoseCovariance(camera, board.points(), near, options);
+  const metro::PosePrediction p_far = metro::predictPoseCovariance(camera, board.points(), far, options);
+  ASSERT_TRUE(p_near.valid && p_far.valid);
+  EXPECT_NEAR(p_near.systematic_px,
+              (options.systematic_mean_px + options.systematic_grid_px) * options.reference_square_px / g.square_px,
+              1e-6 * p_near.systematic_px);
+  EXPECT_NEAR(p_far.systematic_px / p_near.systematic_px, 2.0, 0.05);
+
+  Eigen::Isometry3d turned = near;
+  turned.linear() = Eigen::AngleAxisd(kPi / 4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const metro::PosePrediction p_turned = metro::predictPoseCovariance(camera, board.points(), turned, options);
+  ASSERT_TRUE(p_turned.valid);
+  EXPECT_NEAR(p_turned.systematic_px,
+              (options.systematic_mean_px - options.systematic_grid_px) * options.reference_square_px / g.square_px,
+              0.02 * p_turned.systematic_px);
+
+  metro::PredictionOptions constant = options;
+  constant.systematic_model = metro::SystematicModel::Constant;
+  constant.systematic_px = p_near.systematic_px;
+  const metro::PosePrediction p_constant = metro::predictPoseCovariance(camera, board.points(), near, constant);
+  EXPECT_NEAR(p_constant.systematic_px, p_near.systematic_px, 1e-15);
+  EXPECT_TRUE(p_constant.covariance.isApprox(p_near.covariance, 1e-12));
 }
 
 }  // namespace

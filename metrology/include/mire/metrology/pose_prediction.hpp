@@ -48,15 +48,46 @@ struct Visibility {
 Visibility targetVisibility(const calibration::Camera& camera, const Target& target, const Eigen::Isometry3d& cTm,
                             const VisibilityOptions& options = {});
 
+// How the detector's systematic error σ_sys is predicted per pose.
+//   Constant:  σ_sys = systematic_px at every pose.
+//   BoardImage (default): σ_sys = (reference_square_px / s) · (a + b · cos 4φ), s the projected
+//     square size in pixels at the board's centre, φ the angle of the board's edges to the pixel
+//     rows (boardImageGeometry). Why (doc/plan-and-select.md, "--camera"): the corner model's
+//     sub-pixel bias comes from the lens blur and the pixels' integration, whose extent is fixed
+//     in pixels, so it is a fixed fraction of the blurred saddle's width and grows as the squares
+//     shrink (1/s, i.e. with the distance); it is largest when the edges lie along the pixel rows
+//     and columns (each edge sampled at the same sub-pixel phase along its length, so the
+//     sampling bias does not average out: φ = 0°, cos 4φ = 1) and smallest at 45° (cos 4φ = −1).
+enum class SystematicModel { Constant, BoardImage };
+
 // Defaults: mire's chessboard detector on the demo's rendered images (reference camera, blur
 // 0.6 px, read noise 1.5 grey levels + shot noise), measured by benchmarks/bench_plan_camera on
-// 10 poses: random 0.0139 px, systematic 0.0313 px (medians; doc/plan-and-select.md).
+// 10 poses that are not planned (doc/plan-and-select.md): random 0.0139 px; systematic 0.0313 px
+// (median, Constant), or the BoardImage fit a, b below.
 struct PredictionOptions {
   double pixel_sigma = 0.014;     // σ_px: random detector noise per feature per image and axis [px]
   int images = 10;                // images per pose (paper §5)
-  double systematic_px = 0.031;   // σ_sys: per feature and axis, does not average [px]
-  double featureSigma() const;    // σ_f = sqrt(σ_px² / images + σ_sys²)
+  SystematicModel systematic_model = SystematicModel::BoardImage;
+  double systematic_px = 0.031;   // Constant: σ_sys per feature and axis, does not average [px]
+  double reference_square_px = 20.0;      // BoardImage: s at which σ_sys = a + b cos 4φ [px]
+  double systematic_mean_px = 0.0278;     // BoardImage: a [px]
+  double systematic_grid_px = 0.0045;     // BoardImage: b [px]
+  // σ_sys at a pose whose squares are `square_px` wide at edge angle `edge_angle_rad`.
+  double systematicSigma(double square_px, double edge_angle_rad) const;
+  double featureSigma() const;    // σ_f = sqrt(σ_px² / images + σ_sys²), σ_sys = systematic_px
+  double featureSigma(double systematic) const;  // the same with the given σ_sys
 };
+
+// The board as the image shows it at its centre: the feature spacing (nearest neighbour of the
+// first feature, e.g. a chessboard's square) projected, s = √(area of the projected square), and
+// the angle of the projected edge (first feature → its nearest neighbour) to the pixel rows.
+struct BoardImageGeometry {
+  bool valid = false;
+  double square_px = 0.0;
+  double edge_angle_rad = 0.0;
+};
+BoardImageGeometry boardImageGeometry(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                                      const Eigen::Isometry3d& cTm);
 
 struct PosePrediction {
   bool valid = false;
@@ -64,6 +95,7 @@ struct PosePrediction {
   Matrix6d covariance_noise = Matrix6d::Zero();       // (a)
   Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b), zero without a camera covariance
   Matrix6d covariance = Matrix6d::Zero();             // (a) + (b), order tx ty tz rx ry rz
+  double systematic_px = 0.0;                         // σ_sys used at this pose
 };
 
 // The covariance estimatePose would report for features at the projections of `points`
