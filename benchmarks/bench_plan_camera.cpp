@@ -5,8 +5,8 @@
 // as `mire measure` does (metrology::measurePose); then (1) every corner of every planned pose
 // is found, (2) the σ `measure` reports against the σ the plan predicted, per component and
 // per √trace (translation, rotation). First the detector's random and systematic error is
-// measured on 10 other (not planned) candidate poses: the defaults of --pixel-sigma and
-// --systematic-px come from there.
+// measured on 10 other (not planned) candidate poses: the defaults of --pixel-sigma,
+// --systematic-px and the board model's A,B (--systematic-board) come from there.
 // Usage: bench_plan_camera [measure_camera.yaml ("" or absent: the true reference camera)]
 //                          [images_per_pose=10] [pixel_sigma=<plan default>]
 //                          [systematic_px (given: the Constant model; absent or "": plan's default BoardImage model)]
