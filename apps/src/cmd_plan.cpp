@@ -8,14 +8,18 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "commands.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 #include "kinematics_files.hpp"
+#include "plan_camera.hpp"
 #include "plan_inputs.hpp"
 #include "report_json.hpp"
+#include "mire/calibration/camera_formats.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
@@ -31,6 +35,7 @@ struct PlanArguments {
   std::string model, nominal, workspace, output, externals, camera, target, criterion = "D", report;
   int count = 15, candidates = 10000;
   unsigned seed = 1;
+  CameraPlanOptions camera_options;
   std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
@@ -42,8 +47,8 @@ mech::DesignCriterion parseCriterion(const std::string& text) {
 }
 
 // plan.csv: pose_id, the effector pose, the joints through the nominal IKM, visibility
-// ("unchecked" without --camera).
-std::string planCsv(const mech::CandidateInformation& info, const std::vector<int>& design) {
+// ("unchecked" without --camera; "yes" with it: invisible candidates are never chosen).
+std::string planCsv(const mech::CandidateInformation& info, const std::vector<int>& design, bool camera) {
   const mech::Mechanism& m = *info.model.mechanism;
   std::ostringstream out;
   out << "pose_id";
@@ -58,7 +63,7 @@ std::string planCsv(const mech::CandidateInformation& info, const std::vector<in
     for (Eigen::Index c = 0; c < info.poses[j].size(); ++c) out << ',' << support::formatNumber(info.poses[j][c]);
     for (Eigen::Index c = 0; c < info.observations[j].joints.size(); ++c)
       out << ',' << support::formatNumber(info.observations[j].joints[c]);
-    out << ",unchecked\n";
+    out << (camera ? ",yes\n" : ",unchecked\n");
   }
   return out.str();
 }
@@ -77,19 +82,66 @@ std::string sigmaCsv(const mech::DesignReport& r) {
   return out.str();
 }
 
+// The camera and the target of --camera/--target (both or neither), validated.
+struct CameraInputs {
+  calibration::Camera camera;
+  std::optional<metrology::Target> target;
+};
+CameraInputs readCameraInputs(const PlanArguments& args) {
+  CameraInputs in;
+  if (args.camera.empty()) return in;
+  in.camera = calibration::readCamera(args.camera);
+  in.target = metrology::Target::fromFile(args.target);
+  const CameraPlanOptions& o = args.camera_options;
+  if (!(o.visibility.margin_px >= 0.0)) throw UsageError("--margin-px must be >= 0");
+  if (!(o.visibility.max_tilt_deg > 0.0 && o.visibility.max_tilt_deg <= 90.0))
+    throw UsageError("--max-tilt-deg must be in (0, 90]");
+  if (o.prediction.images < 1) throw UsageError("--images-per-pose must be >= 1");
+  if (!(o.prediction.pixel_sigma >= 0.0) || !(o.prediction.systematic_px >= 0.0) ||
+      !(o.prediction.featureSigma() > 0.0))
+    throw UsageError("--pixel-sigma and --systematic-px must be >= 0, not both 0");
+  if (!(o.prediction.systematic_mean_px >= 0.0) || !(o.prediction.systematic_grid_px >= 0.0) ||
+      !(o.prediction.systematic_grid_px <= o.prediction.systematic_mean_px) ||
+      !(o.prediction.systematic_mean_px + o.prediction.pixel_sigma > 0.0))
+    throw UsageError("--systematic-board A,B needs 0 <= B <= A, and A or --pixel-sigma > 0");
+  return in;
+}
+
+// Without a camera: the candidates as drawn. With one: the visible ones (counted in
+// `summary`), or an error (exit 1) when fewer than --count remain.
+std::vector<Eigen::VectorXd> plannableCandidates(const PlanArguments& args, const CameraInputs& in,
+                                                 const mech::Mechanism& m, const mech::MountingGuess& mounting,
+                                                 std::vector<Eigen::VectorXd> poses, CameraPlanSummary* summary) {
+  if (!in.target) return poses;
+  CameraCandidates seen = visibleCandidates(m, mounting, in.camera, *in.target, poses, args.camera_options);
+  if (static_cast<int>(seen.visible.size()) < args.count)
+    throw std::runtime_error(
+        "--camera " + args.camera + ": only " + std::to_string(seen.visible.size()) + " of " +
+        std::to_string(poses.size()) + " candidate poses show the whole target (" + std::to_string(seen.outside) +
+        " outside the image or its margin, " + std::to_string(seen.oblique) + " too oblique; first: " +
+        seen.example_reason + "), fewer than --count " + std::to_string(args.count) +
+        ": check the mounting guess (--externals), the workspace, --margin-px, --max-tilt-deg");
+  summary->options = args.camera_options;
+  summary->drawn = poses.size();
+  summary->visible = seen.visible.size();
+  summary->outside = seen.outside;
+  summary->oblique = seen.oblique;
+  return std::move(seen.visible);
+}
+
 int runPlan(const PlanArguments& args) {
-  if (!args.camera.empty() || !args.target.empty()) {
-    std::cerr << "mire plan: --camera/--target (visibility and camera-weighted poses) are not implemented yet\n";
-    return kUsage;
-  }
+  if (args.camera.empty() != args.target.empty()) throw UsageError("--camera and --target go together");
   const mech::DesignCriterion criterion = parseCriterion(args.criterion);
   CommandPaths paths{{{args.workspace, "--workspace"}}, {}, {{args.output, "-o"}}, {}};
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
   if (!args.externals.empty()) paths.input_files.push_back({args.externals, "--externals"});
+  if (!args.camera.empty()) paths.input_files.push_back({args.camera, "--camera"});
+  if (!args.target.empty()) paths.input_files.push_back({args.target, "--target"});
   if (!args.report.empty()) paths.output_folders.push_back({args.report, "--report"});
   checkCommandPaths(paths);
   if (args.count < 1) throw UsageError("--count must be >= 1");
   if (args.candidates < args.count) throw UsageError("--candidates must be >= --count");
+  const CameraInputs camera = readCameraInputs(args);
 
   const mech::DesignModel model = readDesignModel(args.model, args.nominal);
   const mech::Mechanism& m = *model.registered.mechanism;
@@ -100,16 +152,27 @@ int runPlan(const PlanArguments& args) {
   options.criterion = criterion;
   options.count = args.count;
   options.seed = args.seed;
-  const auto poses = mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed);
-  const mech::CandidateInformation info = mech::candidateInformation(model, mounting, poses, options);
+  CameraPlanSummary camera_summary;
+  const auto poses = plannableCandidates(
+      args, camera, m, mounting,
+      mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed),
+      &camera_summary);
+  const mech::CandidateInformation info =
+      mech::candidateInformation(model, mounting, poses, options,
+                                 camera.target ? cameraCovarianceProvider(camera.camera, *camera.target,
+                                                                          args.camera_options)
+                                               : mech::PoseCovarianceProvider{});
   const mech::DesignReport report = mech::planExperiment(info, options);
-
+  if (camera.target)
+    camera_summary.sigmas = plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);
+  const std::string camera_text = camera.target ? cameraPlanText(camera_summary) : std::string();
   const std::string text = "model " + args.model + ": " + std::to_string(poses.size()) + " candidate poses, " +
                            std::to_string(info.free_names.size()) + " free parameters (" +
-                           std::to_string(info.geometric_free) + " geometric)\n" + mech::designReportText(report);
+                           std::to_string(info.geometric_free) + " geometric)\n" + camera_text +
+                           mech::designReportText(report);
   // All or nothing (doc/robustness.md): plan.csv, then the report.
   support::OutputTransaction outputs;
-  support::writeFileAtomically(outputs.stageFile(args.output), planCsv(info, report.design));
+  support::writeFileAtomically(outputs.stageFile(args.output), planCsv(info, report.design, camera.target.has_value()));
   if (!args.report.empty()) {
     const fs::path dir = outputs.stageFolder(args.report);
     support::writeFileAtomically(dir / "plan_report.txt", text);
@@ -117,7 +180,7 @@ int runPlan(const PlanArguments& args) {
     PlanReportSettings settings{{args.command_line, paths.input_files, paths.output_files}, args.model,
                                 args.candidates, args.seed};
     settings.provenance.outputs.push_back({args.report, "--report"});
-    writePlanReportJson(dir / "report.json", settings, info, report);
+    writePlanReportJson(dir / "report.json", settings, info, report, camera.target ? &camera_summary : nullptr);
   }
   outputs.commit();
   std::cout << text << "wrote " << args.output << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv")
@@ -137,8 +200,39 @@ Runner addPlanCommand(CLI::App& app) {
   cmd->add_option("--count", args->count, "number of poses to choose")->required();
   cmd->add_option("-o,--output", args->output, "plan.csv")->required();
   cmd->add_option("--externals", args->externals, "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM)");
-  cmd->add_option("--camera", args->camera, "camera.yaml (visibility, pose covariance)");
+  cmd->add_option("--camera", args->camera, "camera.yaml: exclude poses where the target is not seen whole, weight by the predicted pose covariance");
   cmd->add_option("--target", args->target, "target.yaml (with --camera)");
+  CameraPlanOptions& camera = args->camera_options;
+  cmd->add_option("--images-per-pose", camera.prediction.images, "images per pose (with --camera)")->capture_default_str();
+  cmd->add_option("--pixel-sigma", camera.prediction.pixel_sigma, "detector noise per feature per image, px (with --camera)")
+      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--systematic-model",
+         [&camera](const std::string& name) {
+           camera.prediction.systematic_model =
+               name == "constant" ? metrology::SystematicModel::Constant : metrology::SystematicModel::BoardImage;
+         },
+         "detector systematic error: board (default: from the board's projected square size and edge angle) or "
+         "constant (--systematic-px) (with --camera)")
+      ->check(CLI::IsMember({"board", "constant"}));
+  cmd->add_option("--systematic-px", camera.prediction.systematic_px,
+                  "constant model: detector systematic error per feature, px, does not average (with --camera)")
+      ->capture_default_str();
+  cmd->add_option_function<std::vector<double>>(
+         "--systematic-board",
+         [&camera](const std::vector<double>& ab) {
+           camera.prediction.systematic_mean_px = ab[0];
+           camera.prediction.systematic_grid_px = ab[1];
+         },
+         "board model: A,B of sigma_sys = (20 px / square px) (A + B cos 4 edge angle), px (with --camera; "
+         "default 0.0278,0.0045)")
+      ->expected(2)
+      ->delimiter(',');
+  cmd->add_option("--margin-px", camera.visibility.margin_px, "features at least this far inside the image (with --camera)")
+      ->capture_default_str();
+  cmd->add_option("--max-tilt-deg", camera.visibility.max_tilt_deg,
+                  "largest angle between the target normal and the line of sight (with --camera)")
+      ->capture_default_str();
   cmd->add_option("--criterion", args->criterion, "D (Ds-optimal, default), A or E")->capture_default_str();
   cmd->add_option("--candidates", args->candidates, "candidate poses drawn in the workspace")->capture_default_str();
   cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")->capture_default_str();

@@ -3,6 +3,7 @@
 // whole candidate set (as plan_sigma.csv, at full precision), the plan's full predicted
 // covariance (the inverse of its Fisher information) and the predicted position σ.
 #include "kinematics_files.hpp"
+#include "plan_camera.hpp"
 #include "report_json.hpp"
 
 namespace mire::app {
@@ -55,10 +56,46 @@ Json summaryJson(const mech::DesignReport& r) {
   return out;
 }
 
+// With --camera: the visibility limits and counts, the pose noise assumed and the predicted
+// σ of cTm per planned pose (SI: m, rad), in plan.csv's order.
+Json cameraJson(const CameraPlanSummary& c) {
+  const CameraPlanOptions& o = c.options;
+  Json sigmas = Json::array();
+  const char* keys[6] = {"sigma_tx_m", "sigma_ty_m", "sigma_tz_m", "sigma_rx_rad", "sigma_ry_rad", "sigma_rz_rad"};
+  char id[32];
+  for (std::size_t k = 0; k < c.sigmas.size(); ++k) {
+    std::snprintf(id, sizeof id, "p%03zu", k + 1);
+    Json item{{"pose_id", id}};
+    for (int i = 0; i < 6; ++i) setNumber(item, keys[i], c.sigmas[k][i], "the pose is not observable from the target");
+    sigmas.push_back(item);
+  }
+  return {{"margin_px", o.visibility.margin_px},
+          {"max_tilt_deg", o.visibility.max_tilt_deg},
+          {"pixel_sigma_px", o.prediction.pixel_sigma},
+          {"images_per_pose", o.prediction.images},
+          {"systematic_model",
+           o.prediction.systematic_model == metrology::SystematicModel::Constant ? "constant" : "board"},
+          {"systematic_px", o.prediction.systematic_px},
+          {"systematic_reference_square_px", o.prediction.reference_square_px},
+          {"systematic_mean_px", o.prediction.systematic_mean_px},
+          {"systematic_grid_px", o.prediction.systematic_grid_px},
+          {"candidates_drawn", c.drawn},
+          {"candidates_visible", c.visible},
+          {"excluded_outside", c.outside},
+          {"excluded_oblique", c.oblique},
+          {"predicted_pose_sigma", sigmas}};
+}
+
 }  // namespace
 
 void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
                          const mech::CandidateInformation& info, const mech::DesignReport& report) {
+  writePlanReportJson(path, settings, info, report, nullptr);
+}
+
+void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
+                         const mech::CandidateInformation& info, const mech::DesignReport& report,
+                         const CameraPlanSummary* camera) {
   Json doc = reportHeader("plan", settings.provenance);
   doc["model"] = settings.model;
   doc["criterion"] = mech::designCriterionName(report.criterion);
@@ -77,6 +114,7 @@ void writePlanReportJson(const std::filesystem::path& path, const PlanReportSett
     doc["covariance_plan_null_reason"] = "the plan's information matrix is singular";
   }
   doc["summary"] = summaryJson(report);
+  if (camera != nullptr) doc["camera"] = cameraJson(*camera);
   writeReportJson(path, doc);
 }
 

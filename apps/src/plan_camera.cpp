@@ -1,0 +1,100 @@
+#include "plan_camera.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "mire/mechanism/pose.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace mech = mire::mechanism;
+using Sigma6 = Eigen::Matrix<double, 6, 1>;
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
+
+Eigen::Isometry3d plannedCameraTMarker(const mech::Mechanism& mechanism, const mech::MountingGuess& mounting,
+                                       const Eigen::VectorXd& pose) {
+  return mounting.bTc.inverse() * mechanism.poseToTransform(pose) * mounting.mTe.inverse();
+}
+
+CameraCandidates visibleCandidates(const mech::Mechanism& mechanism, const mech::MountingGuess& mounting,
+                                   const calibration::Camera& camera, const metrology::Target& target,
+                                   const std::vector<Eigen::VectorXd>& poses, const CameraPlanOptions& options) {
+  CameraCandidates result;
+  for (const Eigen::VectorXd& pose : poses) {
+    const metrology::Visibility v =
+        metrology::targetVisibility(camera, target, plannedCameraTMarker(mechanism, mounting, pose), options.visibility);
+    if (v.visible) {
+      result.visible.push_back(pose);
+      continue;
+    }
+    // The tilt is only tested once the target is inside the image.
+    const bool oblique = v.tilt_deg > options.visibility.max_tilt_deg;
+    ++(oblique ? result.oblique : result.outside);
+    if (result.example_reason.empty()) result.example_reason = v.reason;
+  }
+  return result;
+}
+
+mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera& camera,
+                                                      const metrology::Target& target,
+                                                      const CameraPlanOptions& options) {
+  return [camera, points = target.points(), prediction = options.prediction](
+             const mech::PoseVector& cTm) -> std::optional<mech::PoseCovariance> {
+    const metrology::PosePrediction p =
+        metrology::predictPoseCovariance(camera, points, mech::toIsometry(cTm), prediction);
+    if (!p.valid) return std::nullopt;
+    return mech::PoseCovariance(p.covariance);
+  };
+}
+
+std::vector<Sigma6> plannedPoseSigmas(const mech::CandidateInformation& info, const std::vector<int>& design,
+                                      const calibration::Camera& camera, const metrology::Target& target,
+                                      const CameraPlanOptions& options) {
+  std::vector<Sigma6> sigmas;
+  for (const int j : design) {
+    const mech::PoseVector& cTm = info.observations[static_cast<std::size_t>(j)].cTm;
+    const metrology::PosePrediction p =
+        metrology::predictPoseCovariance(camera, target.points(), mech::toIsometry(cTm), options.prediction);
+    sigmas.push_back(p.valid ? Sigma6(p.covariance.diagonal().cwiseMax(0.0).cwiseSqrt())
+                             : Sigma6::Constant(std::numeric_limits<double>::quiet_NaN()));
+  }
+  return sigmas;
+}
+
+std::string cameraPlanText(const CameraPlanSummary& summary) {
+  const CameraPlanOptions& options = summary.options;
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "camera: %zu of %zu candidates visible (%d outside the image or its %.3g px margin, %d tilted "
+                "beyond %.3g deg)\n",
+                summary.visible, summary.drawn, summary.outside, options.visibility.margin_px, summary.oblique,
+                options.visibility.max_tilt_deg);
+  out << line;
+  const metrology::PredictionOptions& p = options.prediction;
+  if (p.systematic_model == metrology::SystematicModel::Constant)
+    std::snprintf(line, sizeof line,
+                  "pose noise: %.3g px per feature per image, %d images per pose, %.3g px systematic "
+                  "(feature sigma %.3g px)\n",
+                  p.pixel_sigma, p.images, p.systematic_px, p.featureSigma());
+  else
+    std::snprintf(line, sizeof line,
+                  "pose noise: %.3g px per feature per image, %d images per pose, systematic (%.3g + %.3g cos 4a) "
+                  "x %.3g px / s px (s: projected square, a: its edges' angle to the pixel rows)\n",
+                  p.pixel_sigma, p.images, p.systematic_mean_px, p.systematic_grid_px, p.reference_square_px);
+  out << line << "predicted pose sigma per planned pose (tx ty tz mm, rx ry rz deg):\n";
+  for (std::size_t k = 0; k < summary.sigmas.size(); ++k) {
+    const Sigma6& s = summary.sigmas[k];
+    std::snprintf(line, sizeof line, "  p%03zu  %.4f %.4f %.4f  %.5f %.5f %.5f\n", k + 1, s[0] * 1e3, s[1] * 1e3,
+                  s[2] * 1e3, s[3] * 180.0 / kPi, s[4] * 180.0 / kPi, s[5] * 180.0 / kPi);
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace mire::app

@@ -1,0 +1,71 @@
+#pragma once
+// `mire plan --camera camera.yaml --target target.yaml` (doc/plan-and-select.md, "--camera"):
+// the candidates where the target would not be seen whole, or too obliquely, are excluded
+// before the design is chosen, and every remaining candidate is weighted by the pose
+// covariance `measure` will deliver there (metrology/pose_prediction.hpp).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mire/calibration/camera_model.hpp"
+#include "mire/mechanism/experiment_design.hpp"
+#include "mire/metrology/pose_prediction.hpp"
+#include "mire/metrology/target.hpp"
+
+namespace mire::app {
+
+struct CameraPlanOptions {
+  metrology::VisibilityOptions visibility;
+  metrology::PredictionOptions prediction;
+};
+
+// The candidates split by what the camera sees.
+struct CameraCandidates {
+  std::vector<Eigen::VectorXd> visible;  // mechanism pose components, in the input's order
+  int outside = 0;                       // a feature or the board's outline not (well) inside the image
+  int oblique = 0;                       // tilt beyond the limit
+  std::string example_reason;            // the first exclusion's reason, for messages
+};
+
+// cTm = bTc⁻¹ · bTe · mTe⁻¹ at a mechanism pose, with the nominal geometry and the mounting guess.
+Eigen::Isometry3d plannedCameraTMarker(const mechanism::Mechanism& mechanism, const mechanism::MountingGuess& mounting,
+                                       const Eigen::VectorXd& pose);
+
+CameraCandidates visibleCandidates(const mechanism::Mechanism& mechanism, const mechanism::MountingGuess& mounting,
+                                   const calibration::Camera& camera, const metrology::Target& target,
+                                   const std::vector<Eigen::VectorXd>& poses, const CameraPlanOptions& options);
+
+// The per-candidate covariance of cTm for mechanism::candidateInformation.
+mechanism::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera& camera,
+                                                           const metrology::Target& target,
+                                                           const CameraPlanOptions& options);
+
+using PoseSigma = Eigen::Matrix<double, 6, 1>;
+
+// What `mire plan` reports on the camera.
+struct CameraPlanSummary {
+  CameraPlanOptions options;
+  std::size_t drawn = 0;           // candidates drawn in the workspace
+  std::size_t visible = 0;         // of them, visible
+  int outside = 0, oblique = 0;    // excluded
+  std::vector<PoseSigma> sigmas;   // per planned pose
+};
+
+// Predicted σ of cTm at each planned pose: tx ty tz [m], rx ry rz [rad] (total, as poses.csv's
+// sigma_ columns); NaN when the pose is not observable.
+std::vector<PoseSigma> plannedPoseSigmas(const mechanism::CandidateInformation& info,
+                                                           const std::vector<int>& design,
+                                                           const calibration::Camera& camera,
+                                                           const metrology::Target& target,
+                                                           const CameraPlanOptions& options);
+
+// The report's lines on the camera: the exclusions and the predicted σ per planned pose (mm, deg).
+std::string cameraPlanText(const CameraPlanSummary& summary);
+
+struct PlanReportSettings;
+// report.json of `mire plan` (plan_report_json.cpp) with the `camera` section (null: none).
+void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
+                         const mechanism::CandidateInformation& info, const mechanism::DesignReport& report,
+                         const CameraPlanSummary* camera);
+
+}  // namespace mire::app

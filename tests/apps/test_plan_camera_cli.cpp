@@ -1,0 +1,109 @@
+// `mire plan --camera --target` through the binary (doc/plan-and-select.md, "--camera"): the
+// demo's camera and target, the visibility column, the predicted pose σ per planned pose in the
+// report and report.json; too few visible candidates fail naming the reason (exit 1, nothing
+// written).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "mire/support/csv.hpp"
+#include "test_support.hpp"
+
+namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+int runMire(const test::TempDir& dir, const std::string& args) {
+  return test::runCommand(test::mireBinary().string() + " " + args + " > " + (dir.path() / "stdout.txt").string() +
+                          " 2> " + (dir.path() / "stderr.txt").string());
+}
+
+const char* kH4Workspace = "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\n";
+
+std::string cameraArgs() {
+  const fs::path specs = test::sourceDir() / "datasets/specs";
+  return " --camera " + (specs / "reference_camera.yaml").string() + " --target " + (specs / "target_h4.yaml").string();
+}
+
+TEST(PlanCameraCli, DemoCameraFillsVisibilityAndPoseSigma) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  write(d / "workspace.yaml", kH4Workspace);
+  ASSERT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+                             " --count 15 --candidates 1000 --images-per-pose 3 -o " + (d / "plan.csv").string() +
+                             " --report " + (d / "report").string() + cameraArgs()),
+            0)
+      << slurp(d / "stderr.txt");
+  const support::CsvTable plan = support::readCsv(d / "plan.csv");
+  ASSERT_EQ(plan.rows.size(), 15u);
+  for (const auto& row : plan.rows) EXPECT_EQ(row[plan.column("visible")], "yes");
+  const std::string out = slurp(d / "stdout.txt");
+  EXPECT_NE(out.find("candidates visible"), std::string::npos) << out;
+  EXPECT_NE(out.find("predicted pose sigma per planned pose"), std::string::npos) << out;
+
+  const nlohmann::json doc = nlohmann::json::parse(slurp(d / "report" / "report.json"));
+  const auto& camera = doc.at("camera");
+  EXPECT_EQ(camera.at("images_per_pose").get<int>(), 3);
+  EXPECT_EQ(camera.at("systematic_model").get<std::string>(), "board");
+  EXPECT_DOUBLE_EQ(camera.at("systematic_mean_px").get<double>(), 0.0278);
+  EXPECT_DOUBLE_EQ(camera.at("systematic_grid_px").get<double>(), 0.0045);
+  EXPECT_EQ(camera.at("candidates_drawn").get<int>(), 1000);
+  EXPECT_EQ(camera.at("candidates_visible").get<int>() + camera.at("excluded_outside").get<int>() +
+                camera.at("excluded_oblique").get<int>(),
+            1000);
+  ASSERT_EQ(camera.at("predicted_pose_sigma").size(), 15u);
+  for (const auto& pose : camera.at("predicted_pose_sigma")) {
+    // The reference camera (no covariance) 0.8–0.95 m away, the default detector noise (σ_f
+    // 0.032 px over 3 images): tens of µm in depth, hundredths of a degree.
+    const double tz = pose.at("sigma_tz_m").get<double>(), rx = pose.at("sigma_rx_rad").get<double>();
+    EXPECT_GT(tz, 1e-6);
+    EXPECT_LT(tz, 1e-3);
+    EXPECT_GT(rx, 1e-6);
+    EXPECT_LT(rx, 3e-3);
+  }
+}
+
+TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  write(d / "workspace.yaml", kH4Workspace);
+  const std::string base = "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+                           " --count 15 --candidates 300 -o " + (d / "plan.csv").string() + cameraArgs();
+  // No target is seen square on: a limit of 0.01° leaves only too oblique candidates.
+  EXPECT_EQ(runMire(dir, base + " --max-tilt-deg 0.01"), 1);
+  std::string err = slurp(d / "stderr.txt");
+  EXPECT_NE(err.find("300 too oblique"), std::string::npos) << err;
+  EXPECT_NE(err.find("reference_camera.yaml"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(d / "plan.csv"));
+  // The camera 1 m to the side of the workspace: the board is never in the image.
+  write(d / "mounting.yaml",
+        "tx_CB: -1.0\nty_CB: 0\ntz_CB: 1.5\nrx_CB: 0\nry_CB: 0\nrz_CB: 0\n"
+        "tx_EM: 0\nty_EM: 0\ntz_EM: 0\nrx_EM: 3.141592653589793\nry_EM: 0\nrz_EM: 0\n");
+  EXPECT_EQ(runMire(dir, base + " --externals " + (d / "mounting.yaml").string()), 1);
+  err = slurp(d / "stderr.txt");
+  EXPECT_NE(err.find("300 outside the image"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(d / "plan.csv"));
+  // The board model's A,B must give a systematic error >= 0 (B <= A).
+  EXPECT_EQ(runMire(dir, base + " --systematic-board 0.01,0.02"), 2);
+  EXPECT_NE(slurp(d / "stderr.txt").find("--systematic-board"), std::string::npos);
+  // --camera needs --target.
+  EXPECT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+                             " --count 15 -o " + (d / "plan.csv").string() + " --camera " +
+                             (test::sourceDir() / "datasets/specs/reference_camera.yaml").string()),
+            2);
+}
+
+}  // namespace
+}  // namespace mire::app
