@@ -104,19 +104,20 @@ std::string joinIds(const std::vector<std::string>& ids) {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// Evaluates whitened residuals and their Jacobian w.r.t. the ambient parameters
-// [ξg | ξe] for every pose (rows 4j..4j+3).
-void evaluateAll(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
-                 const std::vector<Eigen::MatrixXd>& whitening, Eigen::VectorXd* residuals,
-                 Eigen::MatrixXd* jacobian) {
+// Evaluates whitened residuals and their Jacobian w.r.t. the ambient parameters [ξg | ξe]
+// for poses [first, first + count) (rows 4(j − first)..4(j − first)+3); appends the ids of
+// the poses the IKM cannot reach.
+void evaluateRange(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                   const std::vector<Eigen::MatrixXd>& whitening, std::size_t first, std::size_t count,
+                   Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian, std::vector<std::string>* unreachable) {
   const int J = model.mechanism->jointCount();
   const int G = model.geometricCount();
   const int E = model.external.size();
   const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
-  residuals->resize(static_cast<Eigen::Index>(poses.size()) * J);
+  residuals->resize(static_cast<Eigen::Index>(count) * J);
   if (jacobian) jacobian->resize(residuals->size(), G + E);
-  std::vector<std::string> unreachable;
-  for (std::size_t j = 0; j < poses.size(); ++j) {
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t j = first + k;
     const auto cost = model.mechanism->makeJointResidual(model.external, poses[j].cTm,
                                                          poses[j].joints, whitening[j]);
     const double* parameters[2] = {g.data(), e.data()};
@@ -124,18 +125,30 @@ void evaluateAll(const IdentificationModel& model, const std::vector<PoseObserva
     double* jacobians[2] = {jg.data(), je.data()};
     Eigen::VectorXd r(J);
     if (!cost->Evaluate(parameters, r.data(), jacobian ? jacobians : nullptr)) {
-      unreachable.push_back(poses[j].id);
+      unreachable->push_back(poses[j].id);
       continue;
     }
-    const Eigen::Index row = static_cast<Eigen::Index>(j) * J;
+    const Eigen::Index row = static_cast<Eigen::Index>(k) * J;
     residuals->segment(row, J) = r;
     if (jacobian) {
       jacobian->block(row, 0, J, G) = jg;
       jacobian->block(row, G, J, E) = je;
     }
   }
+}
+
+void throwIfUnreachable(const std::vector<std::string>& unreachable) {
   if (!unreachable.empty())
     throw std::runtime_error("the IKM has no solution (a leg cannot reach the pose) for pose(s) " + joinIds(unreachable));
+}
+
+// The same for every pose.
+void evaluateAll(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                 const std::vector<Eigen::MatrixXd>& whitening, Eigen::VectorXd* residuals,
+                 Eigen::MatrixXd* jacobian) {
+  std::vector<std::string> unreachable;
+  evaluateRange(model, poses, whitening, 0, poses.size(), residuals, jacobian, &unreachable);
+  throwIfUnreachable(unreachable);
 }
 
 std::vector<Eigen::MatrixXd> identityWhitening(const IdentificationModel& model, std::size_t n,
@@ -402,6 +415,24 @@ struct SolutionJacobian {
   Eigen::MatrixXd radians;   // W⁻¹ · Jw · expansion
 };
 
+// Per-pose residuals (rad, and their χ²) and the RMS joint residual from the whitened r.
+void fillPoseResiduals(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                       const Eigen::VectorXd& r) {
+  const int J = result.model.mechanism->jointCount();
+  result.poses.resize(poses.size());
+  double sum_sq_rad = 0.0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    const Eigen::Index row = static_cast<Eigen::Index>(j) * J;
+    const Eigen::MatrixXd& W = result.whitening[j];
+    PoseResidual& pr = result.poses[j];
+    pr.id = poses[j].id;
+    pr.residual = W.triangularView<Eigen::Lower>().solve(r.segment(row, J));
+    pr.chi2 = r.segment(row, J).squaredNorm();
+    sum_sq_rad += pr.residual.squaredNorm();
+  }
+  result.rms_joint_residual = std::sqrt(sum_sq_rad / static_cast<double>(r.size()));
+}
+
 SolutionJacobian residualsAtSolution(IdentificationResult& result, const std::vector<PoseObservation>& poses,
                                      const Eigen::MatrixXd& expansion) {
   const int J = result.model.mechanism->jointCount();
@@ -410,19 +441,12 @@ SolutionJacobian residualsAtSolution(IdentificationResult& result, const std::ve
   evaluateAll(result.model, poses, result.whitening, &out.r, &Jw);
   out.whitened = Jw.lazyProduct(expansion);
   out.radians.resize(out.whitened.rows(), out.whitened.cols());
-  result.poses.resize(poses.size());
-  double sum_sq_rad = 0.0;
   for (std::size_t j = 0; j < poses.size(); ++j) {
     const Eigen::Index row = static_cast<Eigen::Index>(j) * J;
-    const Eigen::MatrixXd& W = result.whitening[j];
-    out.radians.middleRows(row, J) = W.triangularView<Eigen::Lower>().solve(out.whitened.middleRows(row, J));
-    PoseResidual& pr = result.poses[j];
-    pr.id = poses[j].id;
-    pr.residual = W.triangularView<Eigen::Lower>().solve(out.r.segment(row, J));
-    pr.chi2 = out.r.segment(row, J).squaredNorm();
-    sum_sq_rad += pr.residual.squaredNorm();
+    out.radians.middleRows(row, J) =
+        result.whitening[j].triangularView<Eigen::Lower>().solve(out.whitened.middleRows(row, J));
   }
-  result.rms_joint_residual = std::sqrt(sum_sq_rad / static_cast<double>(out.r.size()));
+  fillPoseResiduals(result, poses, out.r);
   return out;
 }
 
@@ -484,41 +508,52 @@ struct KeptSystem {
   const Eigen::MatrixXd& A(const SolutionJacobian& solution) const { return whole ? solution.whitened : own; }
 };
 
-KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>& keep, const PriorRows& prior,
-                      int J, std::size_t free_count, std::size_t outlier_count) {
-  Eigen::Index kept_rows = 0;
-  for (bool k : keep) kept_rows += k ? J : 0;
-  if (kept_rows + prior.rows.rows() <= static_cast<Eigen::Index>(free_count))
+// Rows of the kept poses (the priors' not counted) and their χ² with the priors'.
+struct KeptRows {
+  Eigen::Index rows = 0;
+  double chi2 = 0.0;
+};
+
+KeptRows keptRows(const Eigen::VectorXd& r, const std::vector<bool>& keep, const PriorRows& prior, int J,
+                  std::size_t free_count, std::size_t outlier_count) {
+  KeptRows out;
+  for (bool k : keep) out.rows += k ? J : 0;
+  if (out.rows + prior.rows.rows() <= static_cast<Eigen::Index>(free_count))
     throw std::runtime_error("identification: " + std::to_string(outlier_count) + " of " +
                              std::to_string(keep.size()) + " poses are outliers; the others cannot determine the " +
                              std::to_string(free_count) + " free parameters (check the poses file)");
-  KeptSystem out;
-  out.whole = kept_rows == solution.whitened.rows() && prior.rows.rows() == 0;
-  const bool whole = out.whole;
-  if (!whole) out.own.resize(kept_rows + prior.rows.rows(), solution.whitened.cols());
   out.chi2 = prior.chi2;
+  for (std::size_t j = 0; j < keep.size(); ++j)
+    if (keep[j]) out.chi2 += r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
+  return out;
+}
+
+KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>& keep, const PriorRows& prior,
+                      int J, std::size_t free_count, std::size_t outlier_count) {
+  const KeptRows kept = keptRows(solution.r, keep, prior, J, free_count, outlier_count);
+  KeptSystem out;
+  out.whole = kept.rows == solution.whitened.rows() && prior.rows.rows() == 0;
+  out.chi2 = kept.chi2;
+  if (out.whole) return out;
+  out.own.resize(kept.rows + prior.rows.rows(), solution.whitened.cols());
   Eigen::Index row = 0;
   for (std::size_t j = 0; j < keep.size(); ++j) {
     if (!keep[j]) continue;
-    if (!whole) out.own.middleRows(row, J) = solution.whitened.middleRows(static_cast<Eigen::Index>(j) * J, J);
-    out.chi2 += solution.r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
+    out.own.middleRows(row, J) = solution.whitened.middleRows(static_cast<Eigen::Index>(j) * J, J);
     row += J;
   }
-  if (!whole) out.own.bottomRows(prior.rows.rows()) = prior.rows;
+  out.own.bottomRows(prior.rows.rows()) = prior.rows;
   return out;
 }
 
 // Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
 // Returns whether AᵀA is rank deficient.
-bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, double chi2_kept,
-                      const IdentificationOptions& options) {
-  const int dof_kept = static_cast<int>(A.rows()) - static_cast<int>(result.model.parameters.freeCount());
+// Same from the SVD of A (or of R with RᵀR = AᵀA); `rows` = A's row count.
+bool covarianceFromSvd(IdentificationResult& result, const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, Eigen::Index rows,
+                       double chi2_kept, const IdentificationOptions& options) {
+  const int dof_kept = static_cast<int>(rows) - static_cast<int>(result.model.parameters.freeCount());
   const double scale2 = chi2_kept / std::max(1, dof_kept);
   result.residual_scale = result.weighted ? std::sqrt(scale2) : std::sqrt(scale2) * options.joint_sigma;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd =
-      A.rows() > detail::kLargeProblemRows
-          ? Eigen::JacobiSVD<Eigen::MatrixXd>(detail::compressRows(A), Eigen::ComputeThinV)
-          : Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV);
   const Eigen::VectorXd& s = svd.singularValues();
   const double cutoff = s.size() ? s[0] * 1e-10 : 0.0;
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
@@ -537,16 +572,26 @@ bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, do
   return deficient;
 }
 
+bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, double chi2_kept,
+                      const IdentificationOptions& options) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd =
+      A.rows() > detail::kLargeProblemRows
+          ? Eigen::JacobiSVD<Eigen::MatrixXd>(detail::compressRows(A), Eigen::ComputeThinV)
+          : Eigen::JacobiSVD<Eigen::MatrixXd>(A, Eigen::ComputeThinV);
+  return covarianceFromSvd(result, svd, A.rows(), chi2_kept, options);
+}
+
 // The axis alignment was estimated from the same orientations: add its uncertainty,
 // Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).
-void addAlignmentCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                            const std::vector<bool>& keep, const Eigen::MatrixXd& A) {
-  result.alignment_covariance = Eigen::MatrixXd::Zero(result.covariance.rows(), result.covariance.cols());
+// ∂r/∂δ of the kept rows (`rows`: the kept poses' rows, then zero rows for the priors); an
+// empty matrix when the alignment is not estimated (Full form) or exact.
+Eigen::MatrixXd alignmentResidualSensitivity(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                             const std::vector<bool>& keep, Eigen::Index rows) {
   const AxisAlignment& alignment = result.model.external.alignment();
-  if (result.model.external.form() == ExternalForm::Full || alignment.covariance.isZero()) return;
+  if (result.model.external.form() == ExternalForm::Full || alignment.covariance.isZero()) return {};
   const int J = result.model.mechanism->jointCount();
   constexpr double kStep = 1e-6;  // rad
-  Eigen::MatrixXd dr = Eigen::MatrixXd::Zero(A.rows(), 4);
+  Eigen::MatrixXd dr = Eigen::MatrixXd::Zero(rows, 4);
   for (int k = 0; k < 4; ++k) {
     Eigen::VectorXd rp, rm;
     IdentificationModel shifted = result.model;
@@ -564,12 +609,26 @@ void addAlignmentCovariance(IdentificationResult& result, const std::vector<Pose
       out_row += J;
     }
   }
-  const Eigen::MatrixXd At_dr = A.transpose().lazyProduct(dr);
+  return dr;
+}
+
+// Σξ += S·Σδ·Sᵀ with S = −(AᵀA)⁻¹·Aᵀ·∂r/∂δ, from Aᵀ·∂r/∂δ (empty: no alignment term).
+void addAlignmentCovariance(IdentificationResult& result, const Eigen::MatrixXd& At_dr) {
+  result.alignment_covariance = Eigen::MatrixXd::Zero(result.covariance.rows(), result.covariance.cols());
+  if (At_dr.size() == 0) return;
   const Eigen::MatrixXd S = -result.information_inverse.lazyProduct(At_dr);
-  const Eigen::MatrixXd S_cov = S.lazyProduct(alignment.covariance);
+  const Eigen::MatrixXd S_cov = S.lazyProduct(result.model.external.alignment().covariance);
   result.alignment_covariance = S_cov.lazyProduct(S.transpose());
   result.alignment_sensitivity = S;
   result.covariance += result.alignment_covariance;
+}
+
+// The axis alignment was estimated from the same orientations: add its uncertainty
+// (central differences on the tilts).
+void addAlignmentCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                            const std::vector<bool>& keep, const Eigen::MatrixXd& A) {
+  const Eigen::MatrixXd dr = alignmentResidualSensitivity(result, poses, keep, A.rows());
+  addAlignmentCovariance(result, dr.size() == 0 ? Eigen::MatrixXd() : Eigen::MatrixXd(A.transpose().lazyProduct(dr)));
 }
 
 // σ per parameter (tied ones share their leader's); ∞ for the members of an unidentifiable
@@ -593,6 +652,90 @@ void fillSigma(IdentificationResult& result, bool deficient) {
   }
 }
 
+// Large problems (large_problem.hpp): the Jacobian at the solution is never stored N×P. A pass
+// over the residuals gives the per-pose residuals and the outliers, then one pass over the
+// Jacobian in 2 048-row blocks feeds the row compressions of the kept whitened system and of
+// the unwhitened Jacobian (the same blocks as compressRows of the whole matrices: the same
+// R, bit for bit) and accumulates Aᵀ·∂r/∂δ.
+struct StreamedSystem {
+  detail::RowCompressor information;  // of A (kept poses' whitened rows, then the priors')
+  detail::RowCompressor radians;      // of the unwhitened Jacobian, every pose
+  Eigen::MatrixXd At_dr;
+};
+
+void streamJacobian(StreamedSystem& out, const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                    const Eigen::MatrixXd& expansion, const std::vector<bool>& keep, const Eigen::MatrixXd& dr,
+                    bool with_radians) {
+  const int J = result.model.mechanism->jointCount();
+  const std::size_t block = std::max<std::size_t>(1, detail::RowCompressor::kBlock / J);
+  Eigen::Index kept_row = 0;
+  for (std::size_t first = 0; first < poses.size(); first += block) {
+    const std::size_t count = std::min(block, poses.size() - first);
+    Eigen::VectorXd r;
+    Eigen::MatrixXd Jw;
+    std::vector<std::string> unreachable;
+    evaluateRange(result.model, poses, result.whitening, first, count, &r, &Jw, &unreachable);
+    throwIfUnreachable(unreachable);
+    const Eigen::MatrixXd whitened = Jw.lazyProduct(expansion);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t j = first + k;
+      const auto rows = whitened.middleRows(static_cast<Eigen::Index>(k) * J, J);
+      if (with_radians) {
+        const Eigen::MatrixXd radians = result.whitening[j].triangularView<Eigen::Lower>().solve(rows);
+        out.radians.add(radians);
+      }
+      if (!keep[j]) continue;
+      out.information.add(rows);
+      if (dr.size() > 0) out.At_dr += rows.transpose().lazyProduct(dr.middleRows(kept_row, J));
+      kept_row += J;
+    }
+  }
+}
+
+// Outliers, covariance, alignment uncertainty and identifiability; returns whether the
+// system is rank deficient.
+bool postprocessStreamed(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                         const Eigen::MatrixXd& expansion, const PriorRows& prior, const IdentificationOptions& options) {
+  const int J = result.model.mechanism->jointCount();
+  Eigen::VectorXd r;
+  evaluateAll(result.model, poses, result.whitening, &r, nullptr);
+  fillPoseResiduals(result, poses, r);
+  const std::vector<bool> keep = flagOutliers(result, r, prior, options);
+  const KeptRows kept = keptRows(r, keep, prior, J, result.model.parameters.freeCount(), result.outliers.size());
+  const Eigen::MatrixXd dr = alignmentResidualSensitivity(result, poses, keep, kept.rows);
+  StreamedSystem system{detail::RowCompressor(expansion.cols()), detail::RowCompressor(expansion.cols()),
+                        Eigen::MatrixXd::Zero(expansion.cols(), dr.cols())};
+  streamJacobian(system, result, poses, expansion, keep, dr, options.compute_identifiability);
+  system.information.add(prior.rows);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(system.information.result(), Eigen::ComputeThinV);
+  bool deficient = covarianceFromSvd(result, svd, kept.rows + prior.rows.rows(), kept.chi2, options);
+  addAlignmentCovariance(result, dr.size() == 0 ? Eigen::MatrixXd() : system.At_dr);
+  result.free_names = result.model.parameters.freeNames();
+  if (options.compute_identifiability) {
+    result.identifiability = analyzeJacobian(system.radians.result(), result.free_names, options.identifiability);
+    deficient = deficient || !result.identifiability.fullRank();
+  }
+  return deficient;
+}
+
+// The same with the whole Jacobian in memory (every demo and test).
+bool postprocessDirect(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                       const Eigen::MatrixXd& expansion, const PriorRows& prior, const IdentificationOptions& options) {
+  const SolutionJacobian solution = residualsAtSolution(result, poses, expansion);
+  const std::vector<bool> keep = flagOutliers(result, solution.r, prior, options);
+  const KeptSystem kept = keptSystem(solution, keep, prior, result.model.mechanism->jointCount(),
+                                     result.model.parameters.freeCount(), result.outliers.size());
+  const Eigen::MatrixXd& A = kept.A(solution);
+  bool deficient = covarianceOfKept(result, A, kept.chi2, options);
+  addAlignmentCovariance(result, poses, keep, A);
+  result.free_names = result.model.parameters.freeNames();
+  if (options.compute_identifiability) {
+    result.identifiability = analyzeJacobian(solution.radians, result.free_names, options.identifiability);
+    deficient = deficient || !result.identifiability.fullRank();
+  }
+  return deficient;
+}
+
 }  // namespace
 
 // Preprocess (checks, free set, weights) / minimise (Ceres) / postprocess (outliers,
@@ -611,19 +754,11 @@ IdentificationResult identify(const IdentificationModel& initial,
 
   result.whitening = solveWeighted(result, poses, expansions, options);
 
-  const SolutionJacobian solution = residualsAtSolution(result, poses, expansions.all);
   const PriorRows prior = priorRows(result.model.parameters, options.priors);
-  const std::vector<bool> keep = flagOutliers(result, solution.r, prior, options);
-  const KeptSystem kept = keptSystem(solution, keep, prior, initial.mechanism->jointCount(),
-                                     result.model.parameters.freeCount(), result.outliers.size());
-  const Eigen::MatrixXd& A = kept.A(solution);
-  bool deficient = covarianceOfKept(result, A, kept.chi2, options);
-  addAlignmentCovariance(result, poses, keep, A);
-  result.free_names = result.model.parameters.freeNames();
-  if (options.compute_identifiability) {
-    result.identifiability = analyzeJacobian(solution.radians, result.free_names, options.identifiability);
-    deficient = deficient || !result.identifiability.fullRank();
-  }
+  const auto rows = static_cast<Eigen::Index>(poses.size()) * initial.mechanism->jointCount();
+  const bool deficient = rows > detail::kLargeProblemRows
+                             ? postprocessStreamed(result, poses, expansions.all, prior, options)
+                             : postprocessDirect(result, poses, expansions.all, prior, options);
   fillSigma(result, deficient);
   result.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;

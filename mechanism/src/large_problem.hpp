@@ -15,21 +15,50 @@ namespace mire::mechanism::detail {
 
 constexpr Eigen::Index kLargeProblemRows = 20000;
 
-// R (at most P×P, upper triangular) with RᵀR = AᵀA: Householder QR of row blocks stacked
-// under the running R (tall-skinny QR), one pass over A in cache-sized blocks.
-inline Eigen::MatrixXd compressRows(const Eigen::MatrixXd& A) {
-  const Eigen::Index n = A.cols();
-  constexpr Eigen::Index kBlock = 2048;
-  Eigen::MatrixXd stack(kBlock + n, n);
-  Eigen::Index kept = 0;  // rows of the running R at the top of `stack`
-  for (Eigen::Index start = 0; start < A.rows(); start += kBlock) {
-    const Eigen::Index rows = std::min(kBlock, A.rows() - start);
-    stack.middleRows(kept, rows) = A.middleRows(start, rows);
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(stack.topRows(kept + rows));
-    kept = std::min(n, kept + rows);
-    stack.topRows(kept) = qr.matrixQR().topRows(kept).triangularView<Eigen::Upper>();
+// R (at most P×P, upper triangular) with RᵀR = AᵀA of the rows added so far: Householder QR
+// of row blocks stacked under the running R (tall-skinny QR), one pass in cache-sized blocks.
+// Rows may come a few at a time (one pose's residuals): they are buffered into the same
+// kBlock-row blocks as a whole matrix would be, so streaming and compressRows(A) agree bit
+// for bit.
+class RowCompressor {
+ public:
+  static constexpr Eigen::Index kBlock = 2048;
+  explicit RowCompressor(Eigen::Index cols) : stack_(kBlock + cols, cols) {}
+
+  template <class Rows>
+  void add(const Eigen::MatrixBase<Rows>& rows) {
+    for (Eigen::Index done = 0; done < rows.rows();) {
+      const Eigen::Index take = std::min(kBlock - pending_, rows.rows() - done);
+      stack_.middleRows(kept_ + pending_, take) = rows.middleRows(done, take);
+      pending_ += take;
+      done += take;
+      if (pending_ == kBlock) compress();
+    }
   }
-  return stack.topRows(kept);
+
+  // R of every row added (at most cols × cols).
+  Eigen::MatrixXd result() {
+    if (pending_ > 0) compress();
+    return stack_.topRows(kept_);
+  }
+
+ private:
+  void compress() {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(stack_.topRows(kept_ + pending_));
+    kept_ = std::min(stack_.cols(), kept_ + pending_);
+    pending_ = 0;
+    stack_.topRows(kept_) = qr.matrixQR().topRows(kept_).triangularView<Eigen::Upper>();
+  }
+
+  Eigen::MatrixXd stack_;
+  Eigen::Index kept_ = 0;     // rows of the running R at the top of `stack_`
+  Eigen::Index pending_ = 0;  // rows added below it since the last compression
+};
+
+inline Eigen::MatrixXd compressRows(const Eigen::MatrixXd& A) {
+  RowCompressor compressor(A.cols());
+  compressor.add(A);
+  return compressor.result();
 }
 
 }  // namespace mire::mechanism::detail
