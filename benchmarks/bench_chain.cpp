@@ -80,7 +80,6 @@ struct Study {
   Samples z_before, z_after, abs_error;    // identified parameter: error/σ, |error| (display units)
   Samples z_corrected;                     // the same refitted with the calibration error removed, σ before
   Samples z_corrected_unscaled;            // the same against √diag (AᵀA)⁻¹ (no misfit scaling)
-  Samples z_after_unscaled;                // error / √diag((AᵀA)⁻¹ + G Σ_k Gᵀ)
   Samples sigma_fit, sigma_alignment, sigma_shared;  // σ components (display units)
   std::map<std::string, std::string> unit; // display unit per parameter
   std::vector<std::string> names;          // identified parameters in order
@@ -196,11 +195,11 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
     const double unscaled2 = before.information_inverse(f, f);
     study.z_corrected[name].push_back(corrected_error / before.sigma[static_cast<Eigen::Index>(i)]);
     study.z_corrected_unscaled[name].push_back(corrected_error / std::sqrt(unscaled2));
-    study.z_after_unscaled[name].push_back(error[f] / std::sqrt(unscaled2 + after.shared_covariance(f, f)));
     study.abs_error[name].push_back(std::abs(mech::toDisplay(p[i].unit, error[f])));
     study.unit[name] = mech::displayUnitName(p[i].unit);
-    const double alignment2 = before.alignment_covariance.size() ? before.alignment_covariance(f, f) : 0.0;
-    study.sigma_fit[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(before.covariance(f, f) - alignment2)));
+    const double alignment2 = after.alignment_covariance.size() ? after.alignment_covariance(f, f) : 0.0;
+    const double fit2 = after.covariance(f, f) - alignment2 - after.shared_covariance(f, f);
+    study.sigma_fit[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(std::max(0.0, fit2))));
     study.sigma_alignment[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(std::max(0.0, alignment2))));
     study.sigma_shared[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(after.shared_covariance(f, f))));
   }
@@ -259,31 +258,29 @@ void printStages(const Study& s) {
 
 void printIdentification(const Study& s) {
   std::printf("\nStage 3, identification model 12 (variant D): error/sigma over %d chains (%d failed)\n", s.chains, s.failed);
-  std::printf("  %-8s %-4s | %-17s | %-17s | %-17s | %-17s | %s\n", "param", "unit", "without shared", "with shared",
-              "with, unscaled", "no calib: sc, unsc", "median |error|");
-  std::printf("  %-8s %-4s | %8s %8s | %8s %8s | %8s %8s | %8s %8s |\n", "", "", "std", "RMS", "std", "RMS", "std", "RMS",
-              "RMS", "RMS");
+  std::printf("  %-8s %-4s | %-17s | %-17s | %-17s | %s\n", "param", "unit", "without shared", "with shared",
+              "no calib: sc, unsc", "median |error|");
+  std::printf("  %-8s %-4s | %8s %8s | %8s %8s | %8s %8s |\n", "", "", "std", "RMS", "std", "RMS", "RMS", "RMS");
   int inside_before = 0, inside_after = 0;
   for (const auto& name : s.names) {
     const auto& b = s.z_before.at(name);
     const auto& a = s.z_after.at(name);
     inside_before += stddev(b) >= 0.8 && stddev(b) <= 1.25;
     inside_after += stddev(a) >= 0.8 && stddev(a) <= 1.25;
-    const auto& u = s.z_after_unscaled.at(name);
-    std::printf("  %-8s %-4s | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %.4g\n", name.c_str(),
-                s.unit.at(name).c_str(), stddev(b), rms(b), stddev(a), rms(a), stddev(u), rms(u),
-                rms(s.z_corrected.at(name)), rms(s.z_corrected_unscaled.at(name)), median(s.abs_error.at(name)));
+    std::printf("  %-8s %-4s | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %.4g\n", name.c_str(), s.unit.at(name).c_str(),
+                stddev(b), rms(b), stddev(a), rms(a), rms(s.z_corrected.at(name)), rms(s.z_corrected_unscaled.at(name)),
+                median(s.abs_error.at(name)));
   }
-  std::printf("\n  median sigma components (display units): fit (AtA^-1 x scale) | axis alignment | shared; "
-              "std of the error\n");
+  std::printf("\n  median sigma components with the shared term (display units): fit | axis alignment | "
+              "shared; RMS error\n");
   for (const auto& name : s.names) {
     std::vector<double> errors;
     for (std::size_t c = 0; c < s.z_after.at(name).size(); ++c) errors.push_back(s.abs_error.at(name)[c]);
     std::printf("  %-8s %10.4g %10.4g %10.4g | RMS |error| %10.4g\n", name.c_str(), median(s.sigma_fit.at(name)),
                 median(s.sigma_alignment.at(name)), median(s.sigma_shared.at(name)), rms(errors));
   }
-  std::printf("  unscaled: sigma without the misfit scaling chi2/dof; no calib: refitted on poses with the true "
-              "calibration error removed (cTm - D dk), sigma without the shared term (scaled, unscaled)\n");
+  std::printf("  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
+              "without the shared term: as printed (sc) and (A^T A)^-1 without the misfit scaling (unsc)\n");
   std::printf("  std(error/sigma) in [0.8, 1.25]: %d of %zu without the shared term, %d of %zu with it\n", inside_before,
               s.names.size(), inside_after, s.names.size());
   std::printf("  identification Mahalanobis chi2 / p: mean %.2f without, %.2f with (1 if honest)\n",
