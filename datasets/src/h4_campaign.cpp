@@ -175,7 +175,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   const calibration::Camera camera = calibration::readCamera(camera_file);
   const metrology::Target target = metrology::Target::fromFile(target_file);
 
-  const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.seed);
+  const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.robot_seed.value_or(spec.seed));
   H4Campaign campaign{H4TrueRobot(geometry, defaultBaseTCamera(), markerTEffectorFor(target)),
                       camera, protocolPoses(spec.grid), {}, straightLineMotions(spec.grid, spec.line_points),
                       directory};

@@ -2,6 +2,7 @@
 // and the calibration's shared term (identification_covariance.hpp, doc/uncertainty.md).
 #include "mire/mechanism/identification_covariance.hpp"
 
+#include "mire/mechanism/external.hpp"
 #include "mire/support/csv.hpp"
 
 #include <Eigen/Cholesky>
@@ -186,6 +187,88 @@ Eigen::MatrixXd refitSensitivity(const IdentificationResult& result, const std::
   return columns;
 }
 
+// The fit's own term when the pose covariances include the shared part D_j Σ_k D_jᵀ: the
+// weights W_j whiten Σ_j, but the error that varies from pose to pose has only the
+// independent part, so the estimator's covariance is the sandwich
+//   H⁻¹ Aᵀ (I − M) A H⁻¹ = H⁻¹ − H⁻¹ B H⁻¹,  B = Σ_j A_jᵀ M_j A_j,  M_j = (W_j J_p,j D_j) Σ_k (…)ᵀ
+// (the shared part is added once, as shared, by G Σ_k Gᵀ). For the same reason χ² is expected
+// below its dof, E[χ²] = n − tr M − p + tr(H⁻¹ B): the misfit test compares χ² with that.
+struct FitTerm {
+  Eigen::MatrixXd covariance;
+  double chi2 = 0.0, expected_chi2 = 0.0;
+  int dof = 0;
+};
+
+FitTerm independentFitTerm(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                           const SharedPoseTerm& shared) {
+  const IdentificationModel& model = result.model;
+  const int J = model.mechanism->jointCount();
+  const Eigen::MatrixXd J_rad = identificationJacobian(model, poses);
+  const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
+  const Eigen::MatrixXd& H_inv = result.information_inverse;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(H_inv.rows(), H_inv.cols());
+  FitTerm fit;
+  double trace_m = 0.0;
+  int rows = 0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    if (j < result.poses.size() && !result.poses[j].used) continue;
+    const Eigen::MatrixXd& W = result.whitening.at(j);
+    const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    const Eigen::MatrixXd Jp = model.mechanism->jointJacobianWrtPose(model.external, g, e, poses[j].cTm);
+    const Eigen::MatrixXd WJD = W * (Jp * shared.sensitivity.at(poses[j].id));
+    const Eigen::MatrixXd M = WJD * shared.covariance * WJD.transpose();
+    B += A_j.transpose() * M * A_j;
+    trace_m += M.trace();
+    fit.chi2 += (W * result.poses.at(j).residual).squaredNorm();
+    rows += J;
+  }
+  const auto p = static_cast<int>(H_inv.rows());
+  fit.covariance = H_inv - H_inv * B * H_inv;
+  fit.dof = rows - p;
+  fit.expected_chi2 = static_cast<double>(rows) - trace_m - p + (H_inv * B).trace();
+  return fit;
+}
+
+// Replaces the fit's term (H⁻¹ × covariance_scale2) by the sandwich above, scaled when χ² lies
+// outside the band around its expected value (only when the fit was scaled at all).
+void replaceFitTerm(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                    const SharedPoseTerm& shared) {
+  if (!result.weighted || result.whitening.size() < poses.size()) return;
+  const FitTerm fit = independentFitTerm(result, poses, shared);
+  if (fit.dof < 1 || !(fit.expected_chi2 > 0.0)) return;
+  const double scale2 = result.covariance_scale2 == 1.0
+                            ? 1.0
+                            : misfitScale2(fit.chi2 * fit.dof / fit.expected_chi2, fit.dof, 1e-3);
+  result.covariance += fit.covariance * scale2 - result.information_inverse * result.covariance_scale2;
+  result.covariance_scale2 = scale2;
+  result.covariance_method = scale2 == 1.0 ? "measured" : "residual-scaled";
+}
+
+// The axis-alignment term (identification.cpp) takes the tilts' covariance from the full pose
+// covariances, as if their shared part D_j Σ_k D_jᵀ were independent per pose. The refits above
+// re-estimate the alignment from the shifted orientations, so they already carry that part,
+// as shared: the tilts' covariance is recomputed from the independent part Σ_j − D_j Σ_k D_jᵀ
+// alone (doc/uncertainty.md, "Rendered-image chain study").
+void replaceAlignmentTerm(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                          const SharedPoseTerm& shared) {
+  const Eigen::MatrixXd& S = result.alignment_sensitivity;
+  if (S.size() == 0 || result.alignment_covariance.size() == 0) return;
+  std::vector<PoseObservation> independent = poses;
+  for (PoseObservation& p : independent) {
+    if (!p.covariance) return;
+    *p.covariance -= shared.poseCovariance(p.id);
+  }
+  AxisAlignment alignment = estimateAxisAlignment(independent);
+  // The same tilt frames as the model's alignment (its axis may have been flipped along θ).
+  if (alignment.camera.col(2).dot(result.model.external.alignment().camera.col(2)) < 0.0) {
+    const Eigen::Matrix4d G = Eigen::Vector4d(1.0, -1.0, 1.0, -1.0).asDiagonal();
+    alignment.covariance = G * alignment.covariance * G;
+  }
+  const Eigen::MatrixXd term = S * alignment.covariance * S.transpose();
+  result.covariance += term - result.alignment_covariance;
+  result.alignment_covariance = term;
+}
+
 }  // namespace
 
 void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
@@ -198,10 +281,12 @@ void addSharedTermCovariance(IdentificationResult& result, const std::vector<Pos
   if (refit) {
     const Eigen::MatrixXd columns = refitSensitivity(result, poses, shared, refit);
     result.shared_covariance = columns * columns.transpose();
+    replaceAlignmentTerm(result, poses, shared);
   } else {
     const Eigen::MatrixXd G = analyticSensitivity(result, poses, shared);
     result.shared_covariance = G * shared.covariance * G.transpose();
   }
+  replaceFitTerm(result, poses, shared);
   result.covariance += result.shared_covariance;
   result.covariance_method += " + shared calibration term";
   const std::vector<std::size_t> free_indices = model.parameters.freeIndices();

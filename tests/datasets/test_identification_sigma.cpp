@@ -193,9 +193,10 @@ TEST(IdentificationSigma, SharedTermPropagationRestoresCoverage) {
     std::printf("  %-8s RMS(error/sigma): shared term propagated %.3f, poses independent %.3f\n", name.c_str(),
                 rms(with[name]), rms(without[name]));
     // 30 campaigns: an RMS of error/σ has a sampling spread of about ±0.13 (1/√60) around 1.
-    // Measured: h 0.73 (σ too large) ... L 1.32.
-    EXPECT_GT(rms(with[name]), 0.6) << name;
-    EXPECT_LT(rms(with[name]), 1.4) << name;
+    // Measured: h 0.75 (σ too large) ... L 1.14 (L was 1.32 before the fit's term counted the
+    // shared part once: doc/uncertainty.md, "Rendered-image chain study").
+    EXPECT_GT(rms(with[name]), 0.7) << name;
+    EXPECT_LT(rms(with[name]), 1.25) << name;
     worst_without = std::max(worst_without, rms(without[name]));
   }
   EXPECT_GT(worst_without, 1.5);  // treating the poses as independent is overconfident

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct H4CampaignSpec {
   RenderOptions render;
   NoiseOptions noise;
   std::uint64_t seed = 2004;
+  // The true robot's draw (its errors); unset: `seed`. Set, it keeps one robot while `seed`
+  // renews the images and encoder noise (benchmarks/bench_chain.cpp).
+  std::optional<std::uint64_t> robot_seed;
   // The images are read back once by the pipeline: stored PNG, 10x cheaper to write and 7x
   // to read than compressed, for twice the disk space (png.hpp).
   PngEncoding png = PngEncoding::Stored;
