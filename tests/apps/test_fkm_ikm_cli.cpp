@@ -17,18 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-int runMire(const test::TempDir& dir, const std::string& args) {
-  return test::runCommand(test::mireBinary().string() + " " + args + " > " + (dir.path() / "stdout.txt").string() +
-                          " 2> " + (dir.path() / "stderr.txt").string());
-}
-
 // Identify on the protocol, predict cTm on 20 held-out poses: RMS error vs predicted σ.
 void identifyThenPredict(const std::string& model) {
   test::TempDir dir;
@@ -37,19 +25,19 @@ void identifyThenPredict(const std::string& model) {
   datasets::writeCampaignFiles(c, dir.path(), 0, train);
   datasets::writeCampaignFiles(c, dir.path(), train, 20, "held_poses.csv", "held_joints.csv");
   const fs::path d = dir.path();
-  ASSERT_EQ(runMire(dir, "identify --model " + model + " --poses " + (d / "poses.csv").string() + " --joints " +
+  ASSERT_EQ(test::runMireIn(dir, "identify --model " + model + " --poses " + (d / "poses.csv").string() + " --joints " +
                              (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
             0)
-      << slurp(d / "stderr.txt");
-  const std::string out = slurp(d / "stdout.txt");
+      << test::readText(d / "stderr.txt");
+  const std::string out = test::readText(d / "stdout.txt");
   if (model.rfind("h4-", 0) != 0) {
     EXPECT_NE(out.find("gauge"), std::string::npos) << out;  // the analysis names what is held
   }
   ASSERT_TRUE(fs::exists(d / "id_covariance.csv"));
-  ASSERT_EQ(runMire(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
+  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
                              " --frame camera -o " + (d / "pred.csv").string()),
             0)
-      << slurp(d / "stderr.txt");
+      << test::readText(d / "stderr.txt");
   const support::CsvTable table = support::readCsv(d / "pred.csv");
   ASSERT_EQ(table.rows.size(), 20u);
   double err2 = 0, sig2 = 0;
@@ -70,10 +58,10 @@ void identifyThenPredict(const std::string& model) {
   EXPECT_TRUE(fs::exists(d / "pred_covariance.csv"));
 
   // ikm of the base-frame FKM poses gives the joints back; a far pose is named unreachable.
-  ASSERT_EQ(runMire(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
+  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
                              " -o " + (d / "effector.csv").string()),
             0)
-      << slurp(d / "stderr.txt");
+      << test::readText(d / "stderr.txt");
   // A far pose: no IKM solution (revolute arms), or legs past their strokes (hexapod).
   const bool can_fail = true;
   if (can_fail) {
@@ -83,12 +71,12 @@ void identifyThenPredict(const std::string& model) {
     for (std::size_t k = 0; k < 2 * P; ++k) app << (k == 2 ? ",-5" : ",0");
     app << "\n";
   }
-  EXPECT_EQ(runMire(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " + (d / "effector.csv").string() +
+  EXPECT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " + (d / "effector.csv").string() +
                              " -o " + (d / "commands.csv").string()),
             can_fail ? 3 : 0);
   if (can_fail) {
     const std::string expected = model == "gough-stewart" ? "'far' is outside the stroke of joint(s) 1 (" : "'far' is unreachable";
-    EXPECT_NE(slurp(d / "stderr.txt").find(expected), std::string::npos) << slurp(d / "stderr.txt");
+    EXPECT_NE(test::readText(d / "stderr.txt").find(expected), std::string::npos) << test::readText(d / "stderr.txt");
   }
   const support::CsvTable commands = support::readCsv(d / "commands.csv");
   const support::CsvTable held = support::readCsv(d / "held_joints.csv");
@@ -107,10 +95,10 @@ TEST(FkmIkmCli, UnknownModelIsNamed) {
   const datasets::Campaign c = datasets::simulateCampaign("delta", 12);
   datasets::writeCampaignFiles(c, dir.path(), 0, c.poses.size());
   const fs::path d = dir.path();
-  EXPECT_NE(runMire(dir, "identify --model delta3 --poses " + (d / "poses.csv").string() + " --joints " +
+  EXPECT_NE(test::runMireIn(dir, "identify --model delta3 --poses " + (d / "poses.csv").string() + " --joints " +
                              (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
             0);
-  EXPECT_NE(slurp(d / "stderr.txt").find("gough-stewart"), std::string::npos) << slurp(d / "stderr.txt");
+  EXPECT_NE(test::readText(d / "stderr.txt").find("gough-stewart"), std::string::npos) << test::readText(d / "stderr.txt");
   EXPECT_FALSE(fs::exists(d / "id.yaml"));
 }
 

@@ -15,13 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // A defect-free true robot (so the identified values can be compared with the truth).
 struct CliCampaign {
   test::TempDir dir;
@@ -45,7 +38,7 @@ struct CliCampaign {
                                 " > " + (d / "stdout.txt").string() + " 2> " + (d / "stderr.txt").string();
     const int status = test::runCommand(command);
     if (code) *code = status;
-    return slurp(d / "stderr.txt");
+    return test::readText(d / "stderr.txt");
   }
 };
 
@@ -56,7 +49,7 @@ TEST(IdentifyCli, HappyPathWritesIdentifiedParametersAndReport) {
                                     (c.dir.path() / "report").string(),
                                 "poses.csv", "joints.csv", &code);
   ASSERT_EQ(code, 0) << err;
-  const std::string out = slurp(c.dir.path() / "stdout.txt");
+  const std::string out = test::readText(c.dir.path() / "stdout.txt");
   EXPECT_NE(out.find("joint residual RMS"), std::string::npos) << out;
   EXPECT_NE(out.find("straightness V3"), std::string::npos) << out;
   EXPECT_NE(out.find("15 poses"), std::string::npos) << out;
@@ -84,7 +77,7 @@ TEST(IdentifyCli, HappyPathWritesIdentifiedParametersAndReport) {
 
 TEST(IdentifyCli, PoseWithoutJoints) {
   const CliCampaign c;
-  std::string joints = slurp(c.dir.path() / "joints.csv");
+  std::string joints = test::readText(c.dir.path() / "joints.csv");
   joints.erase(joints.find("\n5,") + 1, joints.find('\n', joints.find("\n5,") + 1) - joints.find("\n5,"));
   std::ofstream(c.dir.path() / "joints_missing.csv") << joints;
   int code = 0;
@@ -96,7 +89,7 @@ TEST(IdentifyCli, PoseWithoutJoints) {
 
 TEST(IdentifyCli, DuplicateId) {
   const CliCampaign c;
-  std::string joints = slurp(c.dir.path() / "joints.csv");
+  std::string joints = test::readText(c.dir.path() / "joints.csv");
   const auto start = joints.find("\n7,") + 1;
   joints += joints.substr(start, joints.find('\n', start) - start + 1);
   std::ofstream(c.dir.path() / "joints_dup.csv") << joints;
@@ -109,7 +102,7 @@ TEST(IdentifyCli, DuplicateId) {
 
 TEST(IdentifyCli, NonFiniteValue) {
   const CliCampaign c;
-  std::string poses = slurp(c.dir.path() / "poses.csv");
+  std::string poses = test::readText(c.dir.path() / "poses.csv");
   const auto row = poses.find("\n3,10,10,") + 9;
   poses.replace(row, poses.find(',', row) - row, "nan");
   std::ofstream(c.dir.path() / "poses_nan.csv") << poses;

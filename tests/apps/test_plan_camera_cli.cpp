@@ -16,20 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-
-int runMire(const test::TempDir& dir, const std::string& args) {
-  return test::runCommand(test::mireBinary().string() + " " + args + " > " + (dir.path() / "stdout.txt").string() +
-                          " 2> " + (dir.path() / "stderr.txt").string());
-}
-
 const char* kH4Workspace = "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\n";
 
 std::string cameraArgs() {
@@ -40,20 +26,20 @@ std::string cameraArgs() {
 TEST(PlanCameraCli, DemoCameraFillsVisibilityAndPoseSigma) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  write(d / "workspace.yaml", kH4Workspace);
-  ASSERT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+  test::writeText(d / "workspace.yaml", kH4Workspace);
+  ASSERT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
                              " --count 15 --candidates 1000 --images-per-pose 3 -o " + (d / "plan.csv").string() +
                              " --report " + (d / "report").string() + cameraArgs()),
             0)
-      << slurp(d / "stderr.txt");
+      << test::readText(d / "stderr.txt");
   const support::CsvTable plan = support::readCsv(d / "plan.csv");
   ASSERT_EQ(plan.rows.size(), 15u);
   for (const auto& row : plan.rows) EXPECT_EQ(row[plan.column("visible")], "yes");
-  const std::string out = slurp(d / "stdout.txt");
+  const std::string out = test::readText(d / "stdout.txt");
   EXPECT_NE(out.find("candidates visible"), std::string::npos) << out;
   EXPECT_NE(out.find("predicted pose sigma per planned pose"), std::string::npos) << out;
 
-  const nlohmann::json doc = nlohmann::json::parse(slurp(d / "report" / "report.json"));
+  const nlohmann::json doc = nlohmann::json::parse(test::readText(d / "report" / "report.json"));
   const auto& camera = doc.at("camera");
   EXPECT_EQ(camera.at("images_per_pose").get<int>(), 3);
   EXPECT_EQ(camera.at("systematic_model").get<std::string>(), "board");
@@ -78,28 +64,28 @@ TEST(PlanCameraCli, DemoCameraFillsVisibilityAndPoseSigma) {
 TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  write(d / "workspace.yaml", kH4Workspace);
+  test::writeText(d / "workspace.yaml", kH4Workspace);
   const std::string base = "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
                            " --count 15 --candidates 300 -o " + (d / "plan.csv").string() + cameraArgs();
   // No target is seen square on: a limit of 0.01° leaves only too oblique candidates.
-  EXPECT_EQ(runMire(dir, base + " --max-tilt-deg 0.01"), 1);
-  std::string err = slurp(d / "stderr.txt");
+  EXPECT_EQ(test::runMireIn(dir, base + " --max-tilt-deg 0.01"), 1);
+  std::string err = test::readText(d / "stderr.txt");
   EXPECT_NE(err.find("300 too oblique"), std::string::npos) << err;
   EXPECT_NE(err.find("reference_camera.yaml"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
   // The camera 1 m to the side of the workspace: the board is never in the image.
-  write(d / "mounting.yaml",
+  test::writeText(d / "mounting.yaml",
         "tx_CB: -1.0\nty_CB: 0\ntz_CB: 1.5\nrx_CB: 0\nry_CB: 0\nrz_CB: 0\n"
         "tx_EM: 0\nty_EM: 0\ntz_EM: 0\nrx_EM: 3.141592653589793\nry_EM: 0\nrz_EM: 0\n");
-  EXPECT_EQ(runMire(dir, base + " --externals " + (d / "mounting.yaml").string()), 1);
-  err = slurp(d / "stderr.txt");
+  EXPECT_EQ(test::runMireIn(dir, base + " --externals " + (d / "mounting.yaml").string()), 1);
+  err = test::readText(d / "stderr.txt");
   EXPECT_NE(err.find("300 outside the image"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
   // The board model's A,B must give a systematic error >= 0 (B <= A).
-  EXPECT_EQ(runMire(dir, base + " --systematic-board 0.01,0.02"), 2);
-  EXPECT_NE(slurp(d / "stderr.txt").find("--systematic-board"), std::string::npos);
+  EXPECT_EQ(test::runMireIn(dir, base + " --systematic-board 0.01,0.02"), 2);
+  EXPECT_NE(test::readText(d / "stderr.txt").find("--systematic-board"), std::string::npos);
   // --camera needs --target.
-  EXPECT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+  EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
                              " --count 15 -o " + (d / "plan.csv").string() + " --camera " +
                              (test::sourceDir() / "datasets/specs/reference_camera.yaml").string()),
             2);

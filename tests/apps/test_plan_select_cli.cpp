@@ -15,33 +15,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-
-int runMire(const test::TempDir& dir, const std::string& args) {
-  return test::runCommand(test::mireBinary().string() + " " + args + " > " + (dir.path() / "stdout.txt").string() +
-                          " 2> " + (dir.path() / "stderr.txt").string());
-}
-
 const char* kH4Workspace = "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\njoint_margin_deg: 1\n";
 
 TEST(PlanCli, WritesThePlanAndTheReport) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  write(d / "workspace.yaml", kH4Workspace);
+  test::writeText(d / "workspace.yaml", kH4Workspace);
   const std::string nominal = (test::sourceDir() / "datasets/specs/h4_nominal.yaml").string();
-  ASSERT_EQ(runMire(dir, "plan --model h4-12 --nominal " + nominal + " --workspace " + (d / "workspace.yaml").string() +
+  ASSERT_EQ(test::runMireIn(dir, "plan --model h4-12 --nominal " + nominal + " --workspace " + (d / "workspace.yaml").string() +
                              " --count 15 --candidates 2000 -o " + (d / "plan.csv").string() + " --report " +
                              (d / "report").string()),
             0)
-      << slurp(d / "stderr.txt");
-  std::istringstream plan(slurp(d / "plan.csv"));
+      << test::readText(d / "stderr.txt");
+  std::istringstream plan(test::readText(d / "plan.csv"));
   std::string line;
   std::getline(plan, line);
   EXPECT_EQ(line, "pose_id,x_m,y_m,z_m,theta_rad,q1_rad,q2_rad,q3_rad,q4_rad,visible");
@@ -51,7 +37,7 @@ TEST(PlanCli, WritesThePlanAndTheReport) {
     EXPECT_EQ(line.rfind(rows < 10 ? "p00" : "p01", 0), 0u) << line;
   }
   EXPECT_EQ(rows, 15);
-  const std::string out = slurp(d / "stdout.txt");
+  const std::string out = test::readText(d / "stdout.txt");
   EXPECT_NE(out.find("median sigma ratio plan/random"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(d / "report" / "plan_report.txt"));
   EXPECT_TRUE(fs::exists(d / "report" / "plan_sigma.csv"));
@@ -60,20 +46,20 @@ TEST(PlanCli, WritesThePlanAndTheReport) {
 TEST(PlanCli, BadWorkspaceIsNamedAndNothingIsWritten) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  write(d / "workspace.yaml", "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_dg: [-20, 20]\n");
-  EXPECT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() + " --count 15 -o " +
+  test::writeText(d / "workspace.yaml", "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_dg: [-20, 20]\n");
+  EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() + " --count 15 -o " +
                              (d / "plan.csv").string()),
             1);
-  const std::string err = slurp(d / "stderr.txt");
+  const std::string err = test::readText(d / "stderr.txt");
   EXPECT_NE(err.find("workspace.yaml:4"), std::string::npos) << err;
   EXPECT_NE(err.find("theta_dg"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
   // Too few poses for the parameters.
-  write(d / "workspace.yaml", kH4Workspace);
-  EXPECT_EQ(runMire(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+  test::writeText(d / "workspace.yaml", kH4Workspace);
+  EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
                              " --count 3 --candidates 200 -o " + (d / "plan.csv").string()),
             1);
-  EXPECT_NE(slurp(d / "stderr.txt").find("poses are needed"), std::string::npos);
+  EXPECT_NE(test::readText(d / "stderr.txt").find("poses are needed"), std::string::npos);
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
 }
 
@@ -82,21 +68,21 @@ TEST(SelectCli, LastLineIsTheRecommendation) {
   const fs::path d = dir.path();
   const datasets::Campaign c = datasets::simulateCampaign("h4-12", 21);
   datasets::writeCampaignFiles(c, d, 0, c.poses.size());
-  ASSERT_EQ(runMire(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
+  ASSERT_EQ(test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
                              " --models h4-12:C,D,h4-31c:H --folds 5 --report " + (d / "report").string()),
             0)
-      << slurp(d / "stderr.txt");
-  const std::string out = slurp(d / "stdout.txt");
+      << test::readText(d / "stderr.txt");
+  const std::string out = test::readText(d / "stdout.txt");
   const auto last = out.rfind("recommended: ");
   ASSERT_NE(last, std::string::npos) << out;
   const std::string rec = out.substr(last);
   EXPECT_TRUE(rec == "recommended: C\n" || rec == "recommended: D\n") << out;
   EXPECT_TRUE(fs::exists(d / "report" / "select_scores.csv"));
   EXPECT_TRUE(fs::exists(d / "report" / "select_cv.png"));
-  EXPECT_EQ(runMire(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
+  EXPECT_EQ(test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
                              " --models h4-12:E"),
             1);
-  EXPECT_NE(slurp(d / "stderr.txt").find("does not belong to h4-12"), std::string::npos);
+  EXPECT_NE(test::readText(d / "stderr.txt").find("does not belong to h4-12"), std::string::npos);
 }
 
 }  // namespace

@@ -56,6 +56,8 @@ int runCommand(const std::string& command);
 
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 namespace mire::test {
 // Runs a shell command with stderr merged into stdout; returns the output and sets the exit code.
@@ -68,6 +70,24 @@ inline std::string captureCommand(const std::string& command, int* exit_code) {
   const int status = pclose(pipe);
   *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return output;
+}
+}  // namespace mire::test
+
+namespace mire::test {
+// The whole text of a file ("" when it cannot be read).
+inline std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+inline void writeText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// Runs `mire <args>` with its output in dir/stdout.txt and dir/stderr.txt; returns the exit code.
+inline int runMireIn(const TempDir& dir, const std::string& args) {
+  return runCommand(mireBinary().string() + " " + args + " > " + (dir.path() / "stdout.txt").string() + " 2> " +
+                    (dir.path() / "stderr.txt").string());
 }
 }  // namespace mire::test
 
