@@ -173,7 +173,7 @@ PosePrediction predictPoseCovariance(const calibration::Camera& camera, const st
     if (!camera.project(cTm * points[i], &pixel)) continue;
     features.ids.push_back(static_cast<int>(i));
     features.pixels.push_back(pixel);
-    features.covariance.push_back(variance * Eigen::Matrix2d::Identity());
+    features.covariance.emplace_back(variance * Eigen::Matrix2d::Identity());
     features.observations.push_back(options.images);
   }
   features.images_used = features.images_total = options.images;
