@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/identification.hpp"
+
 namespace mire::app {
 
 struct DemoOptions {
@@ -65,6 +68,17 @@ struct DemoParameterScore {
   double si_estimate = 0, si_sigma = 0, si_truth = 0;
 };
 
+// `mire plan` and `mire select` on the demo (doc/plan-and-select.md).
+struct DemoExperimentDesign {
+  int plan_candidates = 0;
+  double plan_sigma_ratio = 0.0;         // median geometric σ, 15 planned / 15 random poses
+  double plan_position_sigma_m = 0.0;    // predicted positioning σ after identification, plan
+  double random_position_sigma_m = 0.0;  // the same, median over random sets
+  int folds = 0;
+  std::string selection_table;           // as `mire select` prints it
+  std::string recommended;
+};
+
 struct DemoResults {
   std::vector<StageTiming> timings;
   DemoCalibration calibration;
@@ -76,6 +90,7 @@ struct DemoResults {
   std::vector<DemoPoseCount> pose_counts;
   int pose_count_repeats = 0;
   std::array<double, 4> square_before_mm{}, square_after_mm{};
+  DemoExperimentDesign design;
   std::vector<DemoParameterScore> identified;  // variant D on all poses
   Eigen::MatrixXd identified_covariance;       // of `identified` (that order), SI
   std::string sigma_method;                    // which σ identify printed (and why)
@@ -86,6 +101,10 @@ struct DemoResults {
 
 // Runs the whole demo into options.output; returns the results (also written as report.md).
 DemoResults runDemo(const DemoOptions& options);
+
+// Plan (15 of the protocol volume's candidates) and select (variants A–H on `poses`).
+DemoExperimentDesign experimentDesignStage(const DemoOptions& options, const mechanism::H4Nominal& nominal,
+                                           const std::vector<mechanism::PoseObservation>& poses);
 
 // Writes report.md, report.json and the figures; returns the files written (relative names).
 std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& results);

@@ -307,6 +307,7 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
   }
   progress.finish();
   poseCountStudy(options, data, initial, results);
+  results.design = experimentDesignStage(options, data.nominal, poses);
 
   // Square test (paper §6.4): the controller runs model 12 with nominal, then identified (D,
   // all poses) parameters; the TRUE robot draws the square.
@@ -353,7 +354,7 @@ DemoResults runDemo(const DemoOptions& options) {
   stage("measure 81 target poses from images", [&] {
     measureStage(*campaign, camera, target, output / "poses.csv", results.measurement);
   });
-  stage("identify (variants A-H, pose-count study, V1-V3, square test)",
+  stage("identify (variants A-H, pose-count study, plan and select, V1-V3, square test)",
         [&] { identifyStage(options, *campaign, output, results); });
   results.files = writeDemoReport(options, results);
   return results;
