@@ -110,6 +110,12 @@ void writeDemoReportJson(const std::filesystem::path& path, const ReportProvenan
   doc["variant_sets"] = r.variant_sets;
   doc["pose_counts"] = poseCountsJson(r);
   doc["pose_count_repeats"] = r.pose_count_repeats;
+  doc["plan_and_select"] = {{"plan_candidates", r.design.plan_candidates},
+                            {"plan_median_sigma_ratio_vs_random", r.design.plan_sigma_ratio},
+                            {"plan_position_sigma_m", r.design.plan_position_sigma_m},
+                            {"random_position_sigma_m", r.design.random_position_sigma_m},
+                            {"select_folds", r.design.folds},
+                            {"select_recommended", r.design.recommended}};
   doc["identified"] = identifiedJson(r);
   doc["square_test"] = {{"side_error_nominal_mm", numberArray(std::vector<double>(r.square_before_mm.begin(), r.square_before_mm.end()))},
                         {"side_error_identified_mm", numberArray(std::vector<double>(r.square_after_mm.begin(), r.square_after_mm.end()))}};
