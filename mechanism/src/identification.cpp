@@ -79,23 +79,6 @@ class PriorCost final : public ceres::CostFunction {
   double mean_, sigma_;
 };
 
-// Upper quantile of the standard normal distribution, by bisection on erfc.
-double normalUpperQuantile(double p) {
-  double lo = -10.0, hi = 10.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
-// χ² quantile with k dof exceeded with probability p (Wilson–Hilferty).
-double chi2UpperQuantile(int k, double p) {
-  const double z = normalUpperQuantile(p);
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
-}
-
 std::string joinIds(const std::vector<std::string>& ids) {
   std::string out;
   for (const std::string& id : ids) out += (out.empty() ? "" : ", ") + id;
@@ -478,7 +461,7 @@ std::vector<bool> flagOutliers(IdentificationResult& result, const Eigen::Vector
                                const IdentificationOptions& options) {
   const int J = result.model.mechanism->jointCount();
   const auto free_count = static_cast<int>(result.model.parameters.freeCount());
-  const double threshold = chi2UpperQuantile(J, options.outlier_probability);
+  const double threshold = chi2Quantile(J, options.outlier_probability);
   result.dof = static_cast<int>(r.size() + prior.rows.rows()) - free_count;
   result.chi2 = r.squaredNorm();
   const double scale2_all = (result.chi2 + prior.chi2) / std::max(1, result.dof);
