@@ -11,13 +11,6 @@
 namespace mire {
 namespace {
 
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
 void writeText(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
@@ -47,7 +40,7 @@ TEST(ConvertCli, ChainThroughEveryFormatKeepsTheCamera) {
   EXPECT_EQ(calibration::readCamera(dir.path() / "camera.xml").fx(), reference.fx());
   out = convert("--camera " + kReference.string() + " -o " + (dir.path() / "camera.cameramodel").string(), &code);
   ASSERT_EQ(code, 0) << out;
-  EXPECT_NE(slurp(dir.path() / "camera.cameramodel").find("LENSMODEL_OPENCV5"), std::string::npos);
+  EXPECT_NE(test::readText(dir.path() / "camera.cameramodel").find("LENSMODEL_OPENCV5"), std::string::npos);
 }
 
 TEST(ConvertCli, ErrorsExitOneNameTheFileAndWriteNothing) {
@@ -59,7 +52,7 @@ TEST(ConvertCli, ErrorsExitOneNameTheFileAndWriteNothing) {
     std::string arguments;
     std::string needle;
   };
-  const std::string good = slurp(kReference);
+  const std::string good = test::readText(kReference);
   std::string bad_key = good;
   bad_key.replace(bad_key.find("image_height"), 12, "image_heigth");
   const std::vector<Case> cases{
@@ -77,7 +70,7 @@ TEST(ConvertCli, ErrorsExitOneNameTheFileAndWriteNothing) {
     EXPECT_EQ(code, 1) << out;
     EXPECT_NE(out.find(c.needle), std::string::npos) << "expected '" << c.needle << "' in: " << out;
     EXPECT_FALSE(std::filesystem::exists(output)) << out;
-    EXPECT_EQ(slurp(input), c.text);
+    EXPECT_EQ(test::readText(input), c.text);
   }
   int code = -1;
   const std::string out = convert("--camera " + kReference.string() + " -o " + kReference.string(), &code);

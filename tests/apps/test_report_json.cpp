@@ -26,14 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-Json readJson(const fs::path& path) { return Json::parse(slurp(path)); }
+Json readJson(const fs::path& path) { return Json::parse(test::readText(path)); }
 
 // mire with `args`; stdout and stderr into `log`. Returns the exit code.
 int runMire(const std::string& args, const fs::path& log) {
@@ -71,17 +64,17 @@ void expectCovariance(const Json& covariance, const std::vector<double>& sigma, 
 // and their report.json are byte-identical.
 void expectDeterministic(const std::string& args, const fs::path& report_json, const fs::path& log) {
   ASSERT_TRUE(fs::exists(report_json));
-  const std::string first = slurp(report_json);
+  const std::string first = test::readText(report_json);
   fs::remove(report_json);
-  ASSERT_EQ(runMire(args, log), 0) << slurp(log);
-  EXPECT_TRUE(slurp(report_json) == first) << report_json << " differs between two identical runs";
+  ASSERT_EQ(runMire(args, log), 0) << test::readText(log);
+  EXPECT_TRUE(test::readText(report_json) == first) << report_json << " differs between two identical runs";
 }
 
 // The demo's report.json against camera.yaml and identified_D.yaml; `first_json`: the same
 // command's report.json from a first run.
 void checkDemo(const fs::path& demo, const fs::path& first_json) {
   const fs::path json_path = demo / "report.json";
-  EXPECT_TRUE(slurp(json_path) == slurp(first_json)) << "two identical demo runs gave different report.json";
+  EXPECT_TRUE(test::readText(json_path) == test::readText(first_json)) << "two identical demo runs gave different report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
   EXPECT_EQ(doc.at("report"), "demo");
@@ -126,7 +119,7 @@ void checkIdentify(const fs::path& demo, const fs::path& out) {
                            (demo / "campaign/joints.csv").string() + " --lines " +
                            (demo / "campaign/lines.csv").string() + " -o " + (out / "id.yaml").string() +
                            " --report " + (out / "report").string();
-  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
+  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << test::readText(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
@@ -165,22 +158,22 @@ TEST(ReportJson, IdentifyFailingOrClashingRunsWriteNoReportJson) {
                         (out / "failed").string(),
                     out / "log.txt"),
             1)
-      << slurp(out / "log.txt");
+      << test::readText(out / "log.txt");
   EXPECT_FALSE(fs::exists(out / "failed"));
   EXPECT_FALSE(fs::exists(out / "id.yaml"));
   // -o is report.json.
   EXPECT_EQ(runMire(inputs + " -o " + (out / "report/report.json").string() + " --report " + (out / "report").string(),
                     out / "log.txt"),
             2);
-  EXPECT_NE(slurp(out / "log.txt").find("would overwrite each other"), std::string::npos) << slurp(out / "log.txt");
+  EXPECT_NE(test::readText(out / "log.txt").find("would overwrite each other"), std::string::npos) << test::readText(out / "log.txt");
   // An input is report.json.
   std::ofstream(out / "report/report.json") << "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n";
   EXPECT_EQ(runMire(inputs + " --lines " + (out / "report/report.json").string() + " -o " + (out / "id.yaml").string() +
                         " --report " + (out / "report").string(),
                     out / "log.txt"),
             2);
-  EXPECT_NE(slurp(out / "log.txt").find("holds the input"), std::string::npos) << slurp(out / "log.txt");
-  EXPECT_EQ(slurp(out / "report/report.json"), "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n");  // untouched
+  EXPECT_NE(test::readText(out / "log.txt").find("holds the input"), std::string::npos) << test::readText(out / "log.txt");
+  EXPECT_EQ(test::readText(out / "report/report.json"), "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n");  // untouched
   EXPECT_FALSE(fs::exists(out / "id.yaml"));
 }
 
@@ -191,7 +184,7 @@ void checkCalibrate(const fs::path& demo, const fs::path& out) {
   const std::string args = "calibrate --target " + (demo / "campaign/target.yaml").string() + " --images " +
                            (demo / "campaign/calibration/images").string() + " --model opencv5 --threads 1 -o " +
                            (out / "camera.yaml").string() + " --report " + (out / "report").string();
-  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
+  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << test::readText(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
@@ -240,7 +233,7 @@ TEST(ReportJson, PlanMatchesPlanCsvAndSigmaCsv) {
   const std::string args = "plan --model h4-12 --workspace " + (out / "workspace.yaml").string() +
                            " --count 15 --candidates 2000 -o " + (out / "plan.csv").string() + " --report " +
                            (out / "report").string();
-  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
+  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << test::readText(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
@@ -273,7 +266,7 @@ void checkSelect(const fs::path& demo, const fs::path& out) {
   const std::string args = "select --poses " + (demo / "poses.csv").string() + " --joints " +
                            (demo / "campaign/joints.csv").string() + " --models h4-12:C,D --folds 3 --report " +
                            (out / "report").string();
-  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << slurp(out / "log.txt");
+  ASSERT_EQ(runMire(args, out / "log.txt"), 0) << test::readText(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
@@ -290,7 +283,7 @@ void checkSelect(const fs::path& demo, const fs::path& out) {
     EXPECT_NE(s.at("v3_m_null_reason").get<std::string>().find("--lines"), std::string::npos);
     EXPECT_EQ(scores.rows[r][scores.column("recommended")] == "1", s["label"] == doc.at("recommended"));
   }
-  const std::string log = slurp(out / "log.txt");
+  const std::string log = test::readText(out / "log.txt");
   EXPECT_NE(log.find("recommended: " + doc["recommended"].get<std::string>()), std::string::npos) << log;
   expectDeterministic(args, json_path, out / "log.txt");
 }
@@ -301,9 +294,9 @@ void checkSelect(const fs::path& demo, const fs::path& out) {
 TEST(ReportJson, DemoAndTheCommandsOnItsFiles) {
   test::TempDir dir;
   const fs::path demo = dir.path() / "demo";
-  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << slurp(dir.path() / "demo.log");
+  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << test::readText(dir.path() / "demo.log");
   fs::copy_file(demo / "report.json", dir.path() / "demo_first.json");
-  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << slurp(dir.path() / "demo.log");
+  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << test::readText(dir.path() / "demo.log");
   {
     SCOPED_TRACE("demo");
     checkDemo(demo, dir.path() / "demo_first.json");
@@ -321,8 +314,8 @@ TEST(ReportJsonDemo, OutputThatIsAFileIsRefusedBeforeAnyWork) {
   test::TempDir dir;
   std::ofstream(dir.path() / "report.json") << "{}";
   EXPECT_EQ(runMire("demo --quick -o " + (dir.path() / "report.json").string(), dir.path() / "log.txt"), 1);
-  EXPECT_NE(slurp(dir.path() / "log.txt").find("exists and is not a folder"), std::string::npos);
-  EXPECT_EQ(slurp(dir.path() / "report.json"), "{}");
+  EXPECT_NE(test::readText(dir.path() / "log.txt").find("exists and is not a folder"), std::string::npos);
+  EXPECT_EQ(test::readText(dir.path() / "report.json"), "{}");
 }
 
 // The policy for non-finite numbers: null plus a reason when the writer knows why; any other
@@ -342,7 +335,7 @@ TEST(ReportJsonPolicy, NonFiniteIsNullWithReasonOrFailsTheReport) {
 
   test::TempDir dir;
   writeReportJson(dir.path() / "ok.json", object);
-  EXPECT_EQ(Json::parse(slurp(dir.path() / "ok.json")), object);
+  EXPECT_EQ(Json::parse(test::readText(dir.path() / "ok.json")), object);
   EXPECT_TRUE(pythonLoads(dir.path() / "ok.json"));
   Json bad{{"values", {{"x", 1.0}}}};
   bad["values"]["x"] = NAN;  // bypassing setNumber

@@ -74,9 +74,9 @@ inline std::string captureCommand(const std::string& command, int* exit_code) {
 }  // namespace mire::test
 
 namespace mire::test {
-// The whole text of a file ("" when it cannot be read).
+// The whole content of a file, byte for byte ("" when it cannot be read).
 inline std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   std::stringstream text;
   text << in.rdbuf();
   return text.str();

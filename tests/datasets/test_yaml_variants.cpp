@@ -21,13 +21,6 @@ namespace fs = std::filesystem;
 
 fs::path specsDir() { return test::sourceDir() / "datasets/specs"; }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
 std::string variant(const std::string& kind, const std::string& text) {
   if (kind == "Plain") return text;
   if (kind == "OpenCvHeader") return "%YAML:1.0\n---\n" + text;
@@ -61,7 +54,7 @@ class YamlVariant : public ::testing::TestWithParam<std::string> {
     for (const char* file : {"reference_camera.yaml", "target_chessboard.yaml"})
       fs::copy_file(specsDir() / file, dir_.path() / file, fs::copy_options::overwrite_existing);
     const fs::path path = dir_.path() / ("variant_" + name);
-    std::ofstream(path, std::ios::binary) << variant(GetParam(), slurp(specsDir() / name));
+    std::ofstream(path, std::ios::binary) << variant(GetParam(), test::readText(specsDir() / name));
     return path;
   }
   test::TempDir dir_;

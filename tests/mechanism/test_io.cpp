@@ -13,10 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void write(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
-
 const char* kHeader =
     "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,"
     "sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px,extra\n";
@@ -32,7 +28,7 @@ std::string errorOf(const std::function<void()>& f) {
 
 TEST(PosesCsv, ReadsColumnsAndDiagonalCovariance) {
   test::TempDir dir;
-  write(dir.path() / "poses.csv", std::string(kHeader) +
+  test::writeText(dir.path() / "poses.csv", std::string(kHeader) +
                                       "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,7\n"
                                       "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0,0,0,0,0,0,0.1,7\n");
   const auto rows = readPosesCsv(dir.path() / "poses.csv");
@@ -48,7 +44,7 @@ TEST(PosesCsv, ReadsColumnsAndDiagonalCovariance) {
 
 TEST(PosesCsv, SideFileCovariance) {
   test::TempDir dir;
-  write(dir.path() / "poses.csv", std::string(kHeader) + "7,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
+  test::writeText(dir.path() / "poses.csv", std::string(kHeader) + "7,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   std::string side = "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
   const char* axes[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
   for (const char* part : {"noise", "total"})
@@ -57,7 +53,7 @@ TEST(PosesCsv, SideFileCovariance) {
       for (int c = 0; c < 6; ++c) side += r == c ? (part[0] == 't' ? ",2e-8" : ",1e-8") : (r + c == 5 ? ",1e-9" : ",0");
       side += "\n";
     }
-  write(defaultCovariancePath(dir.path() / "poses.csv"), side);
+  test::writeText(defaultCovariancePath(dir.path() / "poses.csv"), side);
   EXPECT_EQ(defaultCovariancePath(dir.path() / "poses.csv").filename(), "poses_covariance.csv");
   const auto rows = readPosesCsv(dir.path() / "poses.csv", defaultCovariancePath(dir.path() / "poses.csv"));
   ASSERT_TRUE(rows[0].observation.covariance.has_value());
@@ -68,30 +64,30 @@ TEST(PosesCsv, SideFileCovariance) {
 TEST(PosesCsv, ErrorsNameFileAndLine) {
   test::TempDir dir;
   const auto p = dir.path() / "poses.csv";
-  write(p, std::string(kHeader) + "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
+  test::writeText(p, std::string(kHeader) + "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
                                   "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   std::string e = errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("poses.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("duplicate pose_id 'a'"), std::string::npos) << e;
-  write(p, std::string(kHeader) + "a,10,10,0.1,nan,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
+  test::writeText(p, std::string(kHeader) + "a,10,10,0.1,nan,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   e = errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("poses.csv:2"), std::string::npos) << e;
   EXPECT_NE(e.find("ty_m"), std::string::npos) << e;
-  write(p, "pose_id,tx_m\na,1\n");
+  test::writeText(p, "pose_id,tx_m\na,1\n");
   e = errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("missing column"), std::string::npos) << e;
 }
 
 TEST(Observations, PoseWithoutJointsIsAnError) {
   test::TempDir dir;
-  write(dir.path() / "poses.csv", std::string(kHeader) +
+  test::writeText(dir.path() / "poses.csv", std::string(kHeader) +
                                       "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
                                       "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
-  write(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nz,0,0,0,0\n");
+  test::writeText(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nz,0,0,0,0\n");
   const std::string e = errorOf([&] { readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv"); });
   EXPECT_NE(e.find("poses.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("pose 'b' has no joints"), std::string::npos) << e;
-  write(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nb,0,0,0,0\nz,0,0,0,0\n");
+  test::writeText(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nb,0,0,0,0\nz,0,0,0,0\n");
   const auto set = readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv");
   ASSERT_EQ(set.poses.size(), 2U);
   EXPECT_DOUBLE_EQ(set.poses[0].joints[3], 0.4);
@@ -110,7 +106,7 @@ TEST(JointsAndLines, RoundTrip) {
   const auto lines = readLinesCsv(dir.path() / "lines.csv");
   ASSERT_EQ(lines.size(), 2U);
   EXPECT_EQ(lines[1].joints[2], q[1]);
-  write(dir.path() / "bad.csv", "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n1,0,0,0,0\n1,0,0,0,0\n");
+  test::writeText(dir.path() / "bad.csv", "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n1,0,0,0,0\n1,0,0,0,0\n");
   EXPECT_NE(errorOf([&] { readLinesCsv(dir.path() / "bad.csv"); }).find("at least 3"), std::string::npos);
 }
 
@@ -130,23 +126,23 @@ TEST(ParameterFile, WriteReadRoundTripAndErrors) {
   applyParameterFile(file, back);
   EXPECT_EQ(back.values(), parameters.values());
 
-  write(path, "R: 0.22\nfoo: 1\n");
+  test::writeText(path, "R: 0.22\nfoo: 1\n");
   std::string e = errorOf([&] {
     ParameterSet p = h4Model12Parameters(H4Nominal{});
     applyParameterFile(readParameterFile(path), p);
   });
   EXPECT_NE(e.find("p.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("unknown parameter name 'foo'"), std::string::npos) << e;
-  write(path, "R: 0.22\nL: .nan\n");
+  test::writeText(path, "R: 0.22\nL: .nan\n");
   e = errorOf([&] {
     ParameterSet p = h4Model12Parameters(H4Nominal{});
     applyParameterFile(readParameterFile(path), p);
   });
   EXPECT_NE(e.find("p.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("not a finite number"), std::string::npos) << e;
-  write(path, "R: 0.22\nR: 0.23\n");
+  test::writeText(path, "R: 0.22\nR: 0.23\n");
   EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("p.yaml:2: key 'R' appears twice"), std::string::npos);
-  write(path, "just text\n");
+  test::writeText(path, "just text\n");
   EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("p.yaml:1"), std::string::npos);
 }
 

@@ -3,23 +3,13 @@
 #include "test_support.hpp"
 
 #include <fstream>
-#include <sstream>
-
-namespace {
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-}  // namespace
 
 TEST(AtomicFile, ReplacesContentsAndLeavesNoTemporary) {
   mire::test::TempDir dir;
   const auto path = dir.path() / "out.txt";
   mire::support::writeFileAtomically(path, "first");
   mire::support::writeFileAtomically(path, "second");
-  EXPECT_EQ(slurp(path), "second");
+  EXPECT_EQ(mire::test::readText(path), "second");
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir.path())) { (void)entry; ++files; }
   EXPECT_EQ(files, 1);
@@ -31,7 +21,7 @@ TEST(AtomicFile, FailingWriterKeepsPreviousFile) {
   mire::support::writeFileAtomically(path, "kept");
   EXPECT_THROW(mire::support::writeAtomically(path, [](const std::filesystem::path&) { return false; }),
                std::runtime_error);
-  EXPECT_EQ(slurp(path), "kept");
+  EXPECT_EQ(mire::test::readText(path), "kept");
 }
 
 TEST(Csv, ReportsFileLineAndColumn) {
