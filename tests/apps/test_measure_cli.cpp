@@ -8,6 +8,7 @@
 #include "mire/support/csv.hpp"
 #include "mire/support/atomic_file.hpp"
 
+#include "chessboard_views.hpp"
 #include "test_support.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -20,34 +21,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
-mire::metrology::Target board() {
-  mire::metrology::TargetSpec spec;
-  spec.cols = 9;
-  spec.rows = 6;
-  spec.square_size_m = 0.03;
-  return mire::metrology::Target(spec);
-}
-
-Eigen::Isometry3d poseAt(double x, double y, double z, double angle_deg) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = (Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()) *
-                   Eigen::AngleAxisd(angle_deg * M_PI / 180, Eigen::Vector3d::UnitZ()))
-                      .toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(x, y, z) - pose.linear() * Eigen::Vector3d(0.12, 0.075, 0);
-  return pose;
-}
-
 // Writes camera.yaml, target.yaml and poses/<id>/ folders: two good poses, then bad ones.
 struct Campaign {
   explicit Campaign(const fs::path& root) : root(root) {
     const auto camera = mire::datasets::referenceCamera();
     mire::support::writeFileAtomically(root / "camera.yaml", mire::calibration::cameraYamlString(camera));
-    mire::support::writeFileAtomically(root / "target.yaml", board().yamlString());
-    const mire::datasets::Renderer renderer(camera, board());
+    mire::support::writeFileAtomically(root / "target.yaml", mire::test::chessboard9x6().yamlString());
+    const mire::datasets::Renderer renderer(camera, mire::test::chessboard9x6());
     int seed = 1;
-    for (const auto& [id, pose] : {std::pair{std::string("good1"), poseAt(0.0, 0.0, 0.6, 5)},
-                                   std::pair{std::string("good2"), poseAt(0.05, -0.03, 0.7, -10)}}) {
+    for (const auto& [id, pose] : {std::pair{std::string("good1"), mire::test::tiltedBoardPose(0.0, 0.0, 0.6, 5)},
+                                   std::pair{std::string("good2"), mire::test::tiltedBoardPose(0.05, -0.03, 0.7, -10)}}) {
       const auto rendering = renderer.render(pose);
       fs::create_directories(root / "poses" / id);
       for (int i = 0; i < 3; ++i)
@@ -112,7 +95,7 @@ TEST(MeasureCli, BadPoseFoldersAreReportedAndTheOthersWritten) {
   EXPECT_EQ(table.number(0, table.column("images_used")), 3);
   EXPECT_EQ(table.number(0, table.column("images_total")), 3);
   // Against the truth (rendered): within a millimetre / a tenth of a degree.
-  const Eigen::Isometry3d truth = poseAt(0.0, 0.0, 0.6, 5);
+  const Eigen::Isometry3d truth = mire::test::tiltedBoardPose(0.0, 0.0, 0.6, 5);
   EXPECT_LT((records[0].observation.cTm.head<3>() - truth.translation()).norm(), 1e-3);
   EXPECT_LT((records[0].observation.cTm.tail<3>() - mire::metrology::rotationVector(truth.linear())).norm(),
             0.1 * M_PI / 180);
@@ -122,7 +105,7 @@ TEST(MeasureCli, NoPoseMeasuredExitsOneAndWritesNothing) {
   mire::test::TempDir dir;
   const auto camera = mire::datasets::referenceCamera();
   mire::support::writeFileAtomically(dir.path() / "camera.yaml", mire::calibration::cameraYamlString(camera));
-  mire::support::writeFileAtomically(dir.path() / "target.yaml", board().yamlString());
+  mire::support::writeFileAtomically(dir.path() / "target.yaml", mire::test::chessboard9x6().yamlString());
   fs::create_directories(dir.path() / "poses" / "blank");
   cv::imwrite((dir.path() / "poses" / "blank" / "a.png").string(), cv::Mat(768, 1024, CV_8UC1, cv::Scalar(128)));
   int code = -1;

@@ -8,6 +8,7 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 
+#include "chessboard_views.hpp"
 #include "test_support.hpp"
 
 #include <opencv2/imgcodecs.hpp>
@@ -15,23 +16,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-mire::metrology::Target board() {
-  mire::metrology::TargetSpec spec;
-  spec.cols = 9;
-  spec.rows = 6;
-  spec.square_size_m = 0.03;
-  return mire::metrology::Target(spec);
-}
-
-Eigen::Isometry3d poseAt(double x, double y, double z, double angle_deg) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = (Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()) *
-                   Eigen::AngleAxisd(angle_deg * M_PI / 180, Eigen::Vector3d::UnitZ()))
-                      .toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(x, y, z) - pose.linear() * Eigen::Vector3d(0.12, 0.075, 0);
-  return pose;
-}
 
 void writeImage(const fs::path& path, const cv::Mat& image) {
   fs::create_directories(path.parent_path());
@@ -44,17 +28,17 @@ struct Campaign {
   explicit Campaign(const fs::path& root) : root(root) {
     const auto camera = mire::datasets::referenceCamera();
     mire::support::writeFileAtomically(root / "camera.yaml", mire::calibration::cameraYamlString(camera));
-    mire::support::writeFileAtomically(root / "target.yaml", board().yamlString());
-    const mire::datasets::Renderer renderer(camera, board());
+    mire::support::writeFileAtomically(root / "target.yaml", mire::test::chessboard9x6().yamlString());
+    const mire::datasets::Renderer renderer(camera, mire::test::chessboard9x6());
     const mire::datasets::NoiseOptions noise{1.5, 20.0};
     std::uint64_t seed = 1;
     for (int p = 0; p < 5; ++p) {
-      const auto rendering = renderer.render(poseAt(0.02 * p - 0.04, 0.01 * p, 0.6 + 0.02 * p, 8.0 * p - 16));
+      const auto rendering = renderer.render(mire::test::tiltedBoardPose(0.02 * p - 0.04, 0.01 * p, 0.6 + 0.02 * p, 8.0 * p - 16));
       for (int i = 0; i < 3; ++i)
         writeImage(root / "poses" / ("static" + std::to_string(p)) / ("img" + std::to_string(i) + ".png"),
                    mire::datasets::addNoise(rendering.radiance, noise, seed++));
     }
-    const Eigen::Isometry3d still = poseAt(0.01, 0.0, 0.65, 3);
+    const Eigen::Isometry3d still = mire::test::tiltedBoardPose(0.01, 0.0, 0.65, 3);
     Eigen::Isometry3d moved = still;
     moved.translation().x() += 1e-3;
     const auto a = renderer.render(still), b = renderer.render(moved);

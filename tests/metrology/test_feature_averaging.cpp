@@ -6,20 +6,13 @@
 #include "mire/support/csv.hpp"
 #include "mire/metrology/target.hpp"
 
+#include "chessboard_views.hpp"
 #include "test_support.hpp"
 
 #include <fstream>
 #include <random>
 
 namespace {
-
-mire::metrology::Target board() {
-  mire::metrology::TargetSpec spec;
-  spec.cols = 9;
-  spec.rows = 6;
-  spec.square_size_m = 0.03;
-  return mire::metrology::Target(spec);
-}
 
 std::vector<mire::metrology::Detection> noisyImages(double sigma, int images, std::uint64_t seed,
                                                     Eigen::Isometry3d* truth = nullptr) {
@@ -29,8 +22,8 @@ std::vector<mire::metrology::Detection> noisyImages(double sigma, int images, st
   geometry.target_centre_m = Eigen::Vector3d(0.12, 0.075, 0);
   const Eigen::Isometry3d pose = mire::datasets::drawCampaignPose(geometry, rng);
   if (truth != nullptr) *truth = pose;
-  const auto exact = mire::datasets::exactDetection(camera, board().points(), pose);
-  return mire::datasets::noisyDetections(exact, std::vector<double>(board().points().size(), sigma), images, rng);
+  const auto exact = mire::datasets::exactDetection(camera, mire::test::chessboard9x6().points(), pose);
+  return mire::datasets::noisyDetections(exact, std::vector<double>(mire::test::chessboard9x6().points().size(), sigma), images, rng);
 }
 
 }  // namespace
@@ -40,7 +33,7 @@ TEST(FeatureAveraging, MeanAndCovarianceOfTheMean) {
   const auto averaged = mire::metrology::averageDetections(images);
   EXPECT_EQ(averaged.images_total, 10);
   EXPECT_EQ(averaged.images_used, 10);
-  EXPECT_EQ(averaged.size(), board().points().size());
+  EXPECT_EQ(averaged.size(), mire::test::chessboard9x6().points().size());
   // Pooled single-observation variance ≈ 0.04 px² (σ = 0.2 px), dof = 54 × 9.
   EXPECT_NEAR(averaged.pooled_covariance(0, 0), 0.04, 0.008);
   EXPECT_NEAR(averaged.pooled_covariance(1, 1), 0.04, 0.008);
@@ -77,7 +70,7 @@ TEST(FeatureAveraging, SingleImageFallsBackOnTheFitResiduals) {
   const auto images = noisyImages(0.2, 1, 6, &truth);
   const auto averaged = mire::metrology::averageDetections(images);
   EXPECT_FALSE(averaged.hasScatter());
-  const auto estimate = mire::metrology::estimatePose(mire::datasets::referenceCamera(), board().points(), averaged);
+  const auto estimate = mire::metrology::estimatePose(mire::datasets::referenceCamera(), mire::test::chessboard9x6().points(), averaged);
   ASSERT_TRUE(estimate.valid) << estimate.reason;
   EXPECT_TRUE(estimate.scatter_from_residuals);
   EXPECT_NEAR(estimate.rms_px, 0.2 * std::sqrt(2.0), 0.08);
@@ -93,7 +86,7 @@ TEST(PosesCsv, HeaderIsExactlyTheBriefsAndRoundTrips) {
   camera.covariance = Eigen::MatrixXd::Identity(9, 9) * 1e-8;
   camera.covariance.topLeftCorner(4, 4) = Eigen::Matrix4d::Identity() * 0.25;
   const auto estimate =
-      mire::metrology::estimatePose(camera, board().points(), mire::metrology::averageDetections(images));
+      mire::metrology::estimatePose(camera, mire::test::chessboard9x6().points(), mire::metrology::averageDetections(images));
   ASSERT_TRUE(estimate.valid);
   EXPECT_GT(estimate.covariance_intrinsics(0, 0), 0.0);
   const std::vector<mire::metrology::MeasuredPose> poses = {{"p01", 10, 10, estimate}, {"p02", 9, 10, estimate}};

@@ -4,6 +4,7 @@
 #include "mire/datasets/render.hpp"
 #include "mire/metrology/campaign_screening.hpp"
 #include "mire/metrology/pose_measurement.hpp"
+#include "chessboard_views.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -14,14 +15,6 @@
 namespace {
 
 using mire::metrology::PoseMeasurement;
-
-mire::metrology::Target board() {
-  mire::metrology::TargetSpec spec;
-  spec.cols = 9;
-  spec.rows = 6;
-  spec.square_size_m = 0.03;
-  return mire::metrology::Target(spec);
-}
 
 // Realistic optics as in the demo campaign (H4CampaignSpec::reference): slight defocus, read
 // and shot noise.
@@ -115,7 +108,7 @@ TEST(PoseIntegrity, ChiSquare6Quantile) {
 // keep-largest the 6 are kept and the 4 listed. A 5 + 5 mix fails even with keep-largest.
 TEST(PoseIntegrity, MixOfTwoViewsFailsOrSplitsNamingTheImages) {
   const auto camera = mire::datasets::referenceCamera();
-  const auto target = board();
+  const auto target = mire::test::chessboard9x6();
   const mire::datasets::Renderer renderer(camera, target, softOptics());
   const Eigen::Isometry3d pose = nominalPose(11);
   const std::vector<Motion> motions = {
@@ -165,7 +158,7 @@ TEST(PoseIntegrity, MixOfTwoViewsFailsOrSplitsNamingTheImages) {
 // Genuinely static poses with realistic noise: never failed, no image left out.
 TEST(PoseIntegrity, StaticPosesWithRealisticNoiseAreNotFlagged) {
   const auto camera = mire::datasets::referenceCamera();
-  const auto target = board();
+  const auto target = mire::test::chessboard9x6();
   const mire::datasets::Renderer renderer(camera, target, softOptics());
   const auto names = imageNames(10);
   for (int p = 0; p < 6; ++p) {
@@ -190,7 +183,7 @@ TEST(PoseIntegrity, StaticPosesWithRealisticNoiseAreNotFlagged) {
 // residuals with reduced_chi2 = 1, and the same rule as a single image.
 TEST(PoseIntegrity, IdenticalFramesCountOnceWithTheOneImageSigma) {
   const auto camera = mire::datasets::referenceCamera();
-  const auto target = board();
+  const auto target = mire::test::chessboard9x6();
   const mire::datasets::Renderer renderer(camera, target, softOptics());
   const Eigen::Isometry3d pose = nominalPose(31);
   const cv::Mat frame = mire::datasets::addNoise(renderer.render(pose).radiance, kSensorNoise, 3);
@@ -230,7 +223,7 @@ TEST(PoseIntegrity, IdenticalFramesCountOnceWithTheOneImageSigma) {
 // stays accurate and is rightly not flagged (doc/measure-integrity.md).
 TEST(CampaignScreening, DownscaledPoseIsFlaggedBlurredPoseStaysAccurate) {
   const auto camera = mire::datasets::referenceCamera();
-  const auto target = board();
+  const auto target = mire::test::chessboard9x6();
   const mire::datasets::Renderer sharp(camera, target, softOptics());
   const mire::datasets::Renderer blurred(camera, target, softOptics(3.0));
   constexpr int kBlurred = 3, kDownscaled = 7;
