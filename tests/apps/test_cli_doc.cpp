@@ -42,12 +42,7 @@ Help parseHelp(const std::string& text) {
   return help;
 }
 
-std::string readFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+using mire::test::readText;
 
 // The section of the Markdown whose heading starts with "`mire <command>`": from that heading to
 // the next heading of the same or a higher level. Empty when there is no such heading.
@@ -136,7 +131,7 @@ TEST(CliDoc, ParsesCli11Help) {
 }
 
 TEST(CliDoc, EverySubcommandAndOptionOfTheHelpIsInDocCli) {
-  const std::string doc = readFile(mire::test::sourceDir() / "doc" / "cli.md");
+  const std::string doc = readText(mire::test::sourceDir() / "doc" / "cli.md");
   ASSERT_FALSE(doc.empty()) << "doc/cli.md is missing";
   std::vector<std::pair<std::string, Help>> commands;
   collectCommands("", helpOf(""), &commands);

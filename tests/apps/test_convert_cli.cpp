@@ -11,10 +11,7 @@
 namespace mire {
 namespace {
 
-void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
+using test::writeText;
 
 std::string convert(const std::string& arguments, int* code) {
   return test::captureCommand(test::mireBinary().string() + " convert " + arguments, code);

@@ -11,10 +11,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using mire::test::writeText;
 
 // An inline camera (the reference camera at a quarter of its size), a small chessboard.
 void writeTinySpec(const fs::path& dir, const std::string& extra) {

@@ -22,10 +22,7 @@ const std::filesystem::path kCameraFiles = "datasets/external/camera-files";
 // user's pyenv that may come first on PATH).
 const char* kPython = "/usr/bin/python3";
 
-void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
+using test::writeText;
 
 bool pythonHas(const std::string& module) {
   return test::runCommand(std::string(kPython) + " -c 'import " + module + "' >/dev/null 2>&1") == 0;

@@ -10,18 +10,10 @@
 namespace mire::calibration {
 namespace {
 
-void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using test::writeText;
 
 std::string loadError(const std::filesystem::path& path) {
-  try {
-    readCameraYaml(path);
-  } catch (const std::runtime_error& error) {
-    return error.what();
-  }
-  return "";
+  return test::runtimeErrorOf([&] { readCameraYaml(path); });
 }
 
 Camera cameraWithCovariance(int count) {

@@ -58,6 +58,7 @@ int runCommand(const std::string& command);
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace mire::test {
 // Runs a shell command with stderr merged into stdout; returns the output and sets the exit code.
@@ -82,7 +83,20 @@ inline std::string readText(const std::filesystem::path& path) {
   return text.str();
 }
 
-inline void writeText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+inline void writeText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// The message of the std::runtime_error that `work()` throws, or "" when it throws none.
+template <class Work>
+std::string runtimeErrorOf(const Work& work) {
+  try {
+    work();
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  return "";
+}
 
 // Runs `mire <args>` with its output in dir/stdout.txt and dir/stderr.txt; returns the exit code.
 inline int runMireIn(const TempDir& dir, const std::string& args) {

@@ -10,19 +10,11 @@
 namespace mire::metrology {
 namespace {
 
-void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-}
+using test::writeText;
 
 // The message of the runtime_error thrown by Target::fromFile, or "" if none.
 std::string loadError(const std::filesystem::path& path) {
-  try {
-    Target::fromFile(path);
-  } catch (const std::runtime_error& error) {
-    return error.what();
-  }
-  return "";
+  return test::runtimeErrorOf([&] { Target::fromFile(path); });
 }
 
 TEST(Target, ChessboardAndCircleLayouts) {

@@ -13,18 +13,10 @@
 namespace mire::metrology {
 namespace {
 
-void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
+using test::writeText;
 
 std::string loadError(const std::filesystem::path& path) {
-  try {
-    Target::fromFile(path);
-  } catch (const std::runtime_error& error) {
-    return error.what();
-  }
-  return "";
+  return test::runtimeErrorOf([&] { Target::fromFile(path); });
 }
 
 TEST(TargetLayouts, CharucoFeaturesAreOpenCVsChessboardCorners) {
