@@ -237,13 +237,12 @@ bool estimatePrecision(const calibration::Camera& camera, const std::vector<Eige
   Eigen::MatrixXd jp, jk;
   jacobians(camera, points, features, whitening, best.pose, &jp, &jk);
   jp = toTranslationFirst(jp);
-  const Matrix6d information = jp.transpose() * jp;
-  const Eigen::FullPivLU<Matrix6d> lu(information);
-  if (!lu.isInvertible()) {
+  const PosePrecision precision = posePrecision(camera, jp, jk);
+  if (!precision.observable) {
     estimate->reason = "the pose is not observable from these features (singular information matrix)";
     return false;
   }
-  Matrix6d noise = lu.inverse();
+  Matrix6d noise = precision.information_inverse;
   if (!features.hasScatter()) {
     // No multi-image scatter: the residuals estimate an isotropic pixel noise (unit weights),
     // σ² = Σ r² / (2N − 6), floored. reduced_chi2 is then computed with that covariance, the
@@ -258,12 +257,8 @@ bool estimatePrecision(const calibration::Camera& camera, const std::vector<Eige
   const bool inflate = options.inflate_by_residuals && !estimate->scatter_from_residuals;
   estimate->covariance_noise =
       estimate->covariance_pixel_noise * (inflate ? std::max(1.0, estimate->reduced_chi2) : 1.0);
-  if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
-    const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
-    const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();
-    estimate->covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
-    estimate->intrinsics_sensitivity = sensitivity;
-  }
+  estimate->covariance_intrinsics = precision.covariance_intrinsics;
+  estimate->intrinsics_sensitivity = precision.intrinsics_sensitivity;
   estimate->covariance = estimate->covariance_noise + estimate->covariance_intrinsics;
   return true;
 }
@@ -272,6 +267,23 @@ bool estimatePrecision(const calibration::Camera& camera, const std::vector<Eige
 
 Eigen::Matrix<double, 6, 1> PoseEstimate::sigmas(const Matrix6d& covariance) {
   return covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+}
+
+PosePrecision posePrecision(const calibration::Camera& camera, const Eigen::MatrixXd& jacobian_pose,
+                            const Eigen::MatrixXd& jacobian_intrinsics) {
+  PosePrecision precision;
+  const Matrix6d information = jacobian_pose.transpose() * jacobian_pose;
+  const Eigen::FullPivLU<Matrix6d> lu(information);
+  if (!lu.isInvertible()) return precision;
+  precision.observable = true;
+  precision.information_inverse = lu.inverse();
+  if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
+    precision.intrinsics_sensitivity = -lu.solve(Eigen::MatrixXd(jacobian_pose.transpose() * jacobian_intrinsics));
+    const Matrix6d intrinsics =
+        precision.intrinsics_sensitivity * camera.covariance * precision.intrinsics_sensitivity.transpose();
+    precision.covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
+  }
+  return precision;
 }
 
 void reprojectionJacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,

@@ -3,8 +3,6 @@
 #include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/pose_estimation.hpp"
 
-#include <Eigen/LU>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -185,19 +183,14 @@ PosePrediction predictPoseCovariance(const calibration::Camera& camera, const st
   }
   Eigen::MatrixXd jp, jk;
   reprojectionJacobians(camera, points, features, cTm, &jp, &jk);
-  const Matrix6d information = jp.transpose() * jp;
-  const Eigen::FullPivLU<Matrix6d> lu(information);
-  if (!lu.isInvertible()) {
+  const PosePrecision precision = posePrecision(camera, jp, jk);
+  if (!precision.observable) {
     prediction.reason = "the pose is not observable from these features (singular information matrix)";
     return prediction;
   }
-  const Matrix6d noise = lu.inverse();
+  const Matrix6d& noise = precision.information_inverse;
   prediction.covariance_noise = 0.5 * (noise + noise.transpose());
-  if (camera.covariance.rows() == static_cast<Eigen::Index>(camera.params.size()) && camera.covariance.size() > 0) {
-    const Eigen::MatrixXd sensitivity = -lu.solve(Eigen::MatrixXd(jp.transpose() * jk));
-    const Matrix6d intrinsics = sensitivity * camera.covariance * sensitivity.transpose();
-    prediction.covariance_intrinsics = 0.5 * (intrinsics + intrinsics.transpose());
-  }
+  prediction.covariance_intrinsics = precision.covariance_intrinsics;
   prediction.covariance = prediction.covariance_noise + prediction.covariance_intrinsics;
   prediction.valid = true;
   return prediction;

@@ -86,4 +86,17 @@ void reprojectionJacobians(const calibration::Camera& camera, const std::vector<
                            Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics,
                            const PoseOptions& options = {});
 
+// Step 3 of estimatePose from whitened Jacobians at the pose (J_p 2N×6, J_k 2N×params, as
+// reprojectionJacobians gives them): the inverse Fisher information (J_pᵀ J_p)⁻¹ and, when the
+// camera carries a covariance, the intrinsics part A Σ_k Aᵀ with A = −(J_pᵀ J_p)⁻¹ J_pᵀ J_k.
+// estimatePose and the planner's predictPoseCovariance share it.
+struct PosePrecision {
+  bool observable = false;                            // false: J_pᵀ J_p is singular
+  Matrix6d information_inverse = Matrix6d::Zero();    // (J_pᵀ J_p)⁻¹, as computed (not symmetrised)
+  Matrix6d covariance_intrinsics = Matrix6d::Zero();  // symmetrised; zero without a camera covariance
+  Eigen::MatrixXd intrinsics_sensitivity;             // A; empty without a camera covariance
+};
+PosePrecision posePrecision(const calibration::Camera& camera, const Eigen::MatrixXd& jacobian_pose,
+                            const Eigen::MatrixXd& jacobian_intrinsics);
+
 }  // namespace mire::metrology
