@@ -6,12 +6,12 @@
 #include <sstream>
 
 #include "mire/mechanism/pose.hpp"
+#include "mire/metrology/pose_estimation.hpp"
 
 namespace mire::app {
 namespace {
 
 namespace mech = mire::mechanism;
-using Sigma6 = Eigen::Matrix<double, 6, 1>;
 constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
@@ -52,16 +52,16 @@ mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera&
   };
 }
 
-std::vector<Sigma6> plannedPoseSigmas(const mech::CandidateInformation& info, const std::vector<int>& design,
+std::vector<PoseSigma> plannedPoseSigmas(const mech::CandidateInformation& info, const std::vector<int>& design,
                                       const calibration::Camera& camera, const metrology::Target& target,
                                       const CameraPlanOptions& options) {
-  std::vector<Sigma6> sigmas;
+  std::vector<PoseSigma> sigmas;
   for (const int j : design) {
     const mech::PoseVector& cTm = info.observations[static_cast<std::size_t>(j)].cTm;
     const metrology::PosePrediction p =
         metrology::predictPoseCovariance(camera, target.points(), mech::toIsometry(cTm), options.prediction);
-    sigmas.push_back(p.valid ? Sigma6(p.covariance.diagonal().cwiseMax(0.0).cwiseSqrt())
-                             : Sigma6::Constant(std::numeric_limits<double>::quiet_NaN()));
+    sigmas.push_back(p.valid ? metrology::PoseEstimate::sigmas(p.covariance)
+                             : PoseSigma::Constant(std::numeric_limits<double>::quiet_NaN()));
   }
   return sigmas;
 }
@@ -89,7 +89,7 @@ std::string cameraPlanText(const CameraPlanSummary& summary) {
                   p.pixel_sigma, p.images, p.systematic_mean_px, p.systematic_grid_px, p.reference_square_px);
   out << line << "predicted pose sigma per planned pose (tx ty tz mm, rx ry rz deg):\n";
   for (std::size_t k = 0; k < summary.sigmas.size(); ++k) {
-    const Sigma6& s = summary.sigmas[k];
+    const PoseSigma& s = summary.sigmas[k];
     std::snprintf(line, sizeof line, "  p%03zu  %.4f %.4f %.4f  %.5f %.5f %.5f\n", k + 1, s[0] * 1e3, s[1] * 1e3,
                   s[2] * 1e3, s[3] * 180.0 / kPi, s[4] * 180.0 / kPi, s[5] * 180.0 / kPi);
     out << line;

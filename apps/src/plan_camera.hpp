@@ -53,11 +53,9 @@ struct CameraPlanSummary {
 
 // Predicted σ of cTm at each planned pose: tx ty tz [m], rx ry rz [rad] (total, as poses.csv's
 // sigma_ columns); NaN when the pose is not observable.
-std::vector<PoseSigma> plannedPoseSigmas(const mechanism::CandidateInformation& info,
-                                                           const std::vector<int>& design,
-                                                           const calibration::Camera& camera,
-                                                           const metrology::Target& target,
-                                                           const CameraPlanOptions& options);
+std::vector<PoseSigma> plannedPoseSigmas(const mechanism::CandidateInformation& info, const std::vector<int>& design,
+                                         const calibration::Camera& camera, const metrology::Target& target,
+                                         const CameraPlanOptions& options);
 
 // The report's lines on the camera: the exclusions and the predicted σ per planned pose (mm, deg).
 std::string cameraPlanText(const CameraPlanSummary& summary);
