@@ -129,8 +129,7 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
     const auto& m = pose.measurement;
     if (!m.ok) continue;
     measured.emplace_back(pose.pose_id, m.features.images_used, pose.images_total, m.estimate);
-    const auto index = std::find(campaign.pose_ids.begin(), campaign.pose_ids.end(), pose.pose_id) - campaign.pose_ids.begin();
-    const Eigen::Isometry3d truth = campaign.robot.cameraTMarker(campaign.poses.at(static_cast<std::size_t>(index)));
+    const Eigen::Isometry3d truth = campaign.trueCameraTMarker(pose.pose_id);
     Eigen::Matrix<double, 6, 1> error;
     error << m.estimate.translation - truth.translation(),
         m.estimate.rotation_vector - metrology::rotationVector(truth.linear());

@@ -7,6 +7,7 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/yaml.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 #include <sstream>
@@ -190,6 +191,11 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
                                geometryYaml(geometry) + isometryYaml("bTc", campaign.robot.baseTCamera()) +
                                    isometryYaml("mTe", campaign.robot.markerTEffector()));
   return campaign;
+}
+
+Eigen::Isometry3d H4Campaign::trueCameraTMarker(const std::string& pose_id) const {
+  const auto index = std::find(pose_ids.begin(), pose_ids.end(), pose_id) - pose_ids.begin();
+  return robot.cameraTMarker(poses.at(static_cast<std::size_t>(index)));
 }
 
 }  // namespace mire::datasets

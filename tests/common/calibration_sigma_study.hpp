@@ -12,6 +12,8 @@
 #include "mire/metrology/detection.hpp"
 #include "mire/metrology/target.hpp"
 
+#include "chessboard_views.hpp"
+
 #include <opencv2/core/utility.hpp>
 
 #include <cmath>
@@ -30,13 +32,7 @@ struct SigmaStudySet {
   double rms_px = 0.0;
 };
 
-inline metrology::Target demoTarget() {
-  metrology::TargetSpec spec;
-  spec.cols = 12;
-  spec.rows = 9;
-  spec.square_size_m = 0.016;
-  return metrology::Target(spec);
-}
+inline metrology::Target demoTarget() { return chessboard(12, 9, 0.016); }
 
 // One calibration set: `views` rendered views drawn with `seed` (poses and noise).
 inline SigmaStudySet runSigmaStudySet(int views, std::uint64_t seed) {

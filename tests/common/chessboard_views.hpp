@@ -9,13 +9,16 @@
 
 namespace mire::test {
 
-inline metrology::Target chessboard9x6() {
+// A chessboard of cols × rows inner corners and squares of `square_m` metres.
+inline metrology::Target chessboard(int cols, int rows, double square_m) {
   metrology::TargetSpec spec;
-  spec.cols = 9;
-  spec.rows = 6;
-  spec.square_size_m = 0.03;
+  spec.cols = cols;
+  spec.rows = rows;
+  spec.square_size_m = square_m;
   return metrology::Target(spec);
 }
+
+inline metrology::Target chessboard9x6() { return chessboard(9, 6, 0.03); }
 
 inline Eigen::Isometry3d tiltedBoardPose(double x, double y, double z, double angle_deg) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

@@ -58,6 +58,8 @@ struct H4Campaign {
   std::filesystem::path pose_images() const { return directory / "poses"; }
   std::filesystem::path joints_file() const { return directory / "joints.csv"; }
   std::filesystem::path lines_file() const { return directory / "lines.csv"; }
+  // The true cTm at the pose named `pose_id` (scoring); std::out_of_range for an unknown id.
+  Eigen::Isometry3d trueCameraTMarker(const std::string& pose_id) const;
 };
 
 // Generates the campaign under `directory` (created; existing files are replaced atomically).
