@@ -692,7 +692,7 @@ bool postprocessStreamed(IdentificationResult& result, const std::vector<PoseObs
   system.information.add(prior.rows);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(system.information.result(), Eigen::ComputeThinV);
   bool deficient = covarianceFromSvd(result, svd, kept.rows + prior.rows.rows(), kept.chi2, options);
-  addAlignmentCovariance(result, dr.size() == 0 ? Eigen::MatrixXd() : system.At_dr);
+  addAlignmentCovariance(result, system.At_dr);  // P×0 when there is no alignment term
   result.free_names = result.model.parameters.freeNames();
   if (options.compute_identifiability) {
     result.identifiability = analyzeJacobian(system.radians.result(), result.free_names, options.identifiability);
