@@ -37,6 +37,7 @@ void writeAtomically(const fs::path& path, const std::function<bool(const fs::pa
     fs::remove(temporary, ignored);
     throw;
   }
+  const auto hold = holdInterruptCleanup();  // the rename and the unregistration, together
   std::error_code ec;
   if (!written || !fs::exists(temporary)) {
     fs::remove(temporary, ec);

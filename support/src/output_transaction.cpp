@@ -1,58 +1,79 @@
 #include "mire/support/output_transaction.hpp"
 
-#include <dirent.h>
+#include <fcntl.h>
+#include <pthread.h>
 #include <unistd.h>
 
-#include <array>
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <csignal>
-#include <cstring>
+#include <cstdlib>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <system_error>
+#include <thread>
 
 namespace mire::support {
 namespace fs = std::filesystem;
 
 namespace {
 
-// The interrupt handler may only call async-signal-safe functions, so the temporaries live in
-// fixed slots of plain characters (the one process-wide state here: a signal handler has no
-// other way to reach them).
-constexpr std::size_t kSlots = 256, kPathChars = 4096;
-struct Slot {
-  std::atomic<bool> used{false};
-  char path[kPathChars] = {};
+// The temporaries the interrupt cleanup must remove. The cleanup runs in an ordinary thread
+// (sigwait, below), not in a signal handler: a handler interrupting a thread inside malloc
+// cannot safely open a folder. The mutex is recursive so that a commit can hold it across its
+// renames and still unregister.
+struct TemporaryRegistry {
+  std::recursive_mutex mutex;
+  std::vector<fs::path> paths;
 };
-std::array<Slot, kSlots>& slots() {
-  static std::array<Slot, kSlots> table;
+TemporaryRegistry& registry() {
+  static TemporaryRegistry table;  // the one process-wide state here: the signal thread's
   return table;
 }
 
-// Removes a file, or a folder and what it holds down to a few levels (mire's outputs are
-// at most three deep: DIR/poses/<id>/img.png). Async-signal-safe calls only.
-void removeRaw(const char* path, int depth = 4) {
-  if (::unlink(path) == 0 || depth == 0) return;
-  if (DIR* dir = ::opendir(path)) {
-    char child[kPathChars];
-    while (const dirent* entry = ::readdir(dir)) {
-      if (std::strcmp(entry->d_name, ".") == 0 || std::strcmp(entry->d_name, "..") == 0) continue;
-      const std::size_t a = std::strlen(path), b = std::strlen(entry->d_name);
-      if (a + b + 2 > kPathChars) continue;
-      std::memcpy(child, path, a);  // NOLINT(bugprone-not-null-terminated-result): d_name's '\0' ends it below
-      child[a] = '/';
-      std::memcpy(child + a + 1, entry->d_name, b + 1);
-      removeRaw(child, depth - 1);
-    }
-    ::closedir(dir);
-    ::rmdir(path);
+void removeQuietly(const fs::path& path) {
+  std::error_code ignored;
+  fs::remove_all(path, ignored);
+}
+
+// Other threads may still be writing into a temporary when the run is interrupted. Each
+// temporary is moved aside and its name taken by a blocker of the other kind (a file where a
+// folder was, a folder where a file was or will be), so that no writer can create anything
+// there any more; then the moved-aside copy is removed until it stays removed.
+fs::path blockAndMoveAside(const fs::path& temporary) {
+  std::error_code ec;
+  const bool was_folder = fs::is_directory(fs::symlink_status(temporary, ec));
+  fs::path aside = temporary;
+  aside += ".interrupted";
+  fs::rename(temporary, aside, ec);
+  if (was_folder) {
+    const int fd = ::open(temporary.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0600);
+    if (fd >= 0) ::close(fd);
+  } else {
+    fs::create_directory(temporary, ec);
+  }
+  return aside;
+}
+
+void removeUntilGone(const fs::path& path) {
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    removeQuietly(path);
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(path, ec))) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));  // a write in flight lands
   }
 }
 
-extern "C" void onInterrupt(int signal_number) {
-  for (Slot& slot : slots())
-    if (slot.used.load()) removeRaw(slot.path);
-  ::_exit(128 + signal_number);
+[[noreturn]] void cleanUpAndExit(int signal_number) {
+  TemporaryRegistry& table = registry();
+  table.mutex.lock();  // held until exit: no commit, registration or unregistration after this
+  std::vector<fs::path> aside;
+  for (const fs::path& temporary : table.paths) aside.push_back(blockAndMoveAside(temporary));
+  for (const fs::path& path : aside) removeUntilGone(path);
+  for (const fs::path& temporary : table.paths) removeQuietly(temporary);  // the blockers
+  std::_Exit(128 + signal_number);
 }
 
 fs::path uniqueBeside(const fs::path& final_path, const std::string& kind) {
@@ -67,44 +88,41 @@ fs::path uniqueBeside(const fs::path& final_path, const std::string& kind) {
   throw std::runtime_error(final_path.string() + ": cannot choose a temporary name beside it");
 }
 
-void removeQuietly(const fs::path& path) {
-  std::error_code ignored;
-  fs::remove_all(path, ignored);
-}
-
 }  // namespace
 
 void registerTemporary(const fs::path& path) {
-  const std::string text = path.string();
-  if (text.size() >= kPathChars) return;
-  for (Slot& slot : slots()) {
-    bool expected = false;
-    if (!slot.used.load() && slot.used.compare_exchange_strong(expected, true)) {
-      // Marked used before the path is complete: the handler then unlinks a prefix at worst,
-      // which names no file of ours; the final byte makes it complete.
-      std::memcpy(slot.path, text.c_str(), text.size() + 1);
-      return;
-    }
-  }
+  TemporaryRegistry& table = registry();
+  const std::lock_guard<std::recursive_mutex> lock(table.mutex);
+  table.paths.push_back(path);
 }
 
 void unregisterTemporary(const fs::path& path) {
-  const std::string text = path.string();
-  for (Slot& slot : slots())
-    if (slot.used.load() && text == slot.path) {
-      slot.used.store(false);
-      return;
-    }
+  TemporaryRegistry& table = registry();
+  const std::lock_guard<std::recursive_mutex> lock(table.mutex);
+  const auto found = std::find(table.paths.begin(), table.paths.end(), path);
+  if (found != table.paths.end()) table.paths.erase(found);
+}
+
+std::unique_lock<std::recursive_mutex> holdInterruptCleanup() {
+  return std::unique_lock<std::recursive_mutex>(registry().mutex);
 }
 
 void installInterruptCleanup() {
   static std::atomic<bool> installed{false};
   if (installed.exchange(true)) return;
-  struct sigaction action {};
-  action.sa_handler = onInterrupt;
-  sigemptyset(&action.sa_mask);
-  ::sigaction(SIGINT, &action, nullptr);
-  ::sigaction(SIGTERM, &action, nullptr);
+  // Blocked here, in the main thread, before any worker exists: every thread started later
+  // inherits the mask, so the signals reach only the sigwait below.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  ::pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([signals] {
+    int signal_number = 0;
+    while (::sigwait(&signals, &signal_number) != 0) {
+    }
+    cleanUpAndExit(signal_number);
+  }).detach();
 }
 
 OutputTransaction::~OutputTransaction() {
@@ -167,6 +185,7 @@ void OutputTransaction::commitFolder(const Entry& entry) {
 }
 
 void OutputTransaction::commit() {
+  const auto hold = holdInterruptCleanup();  // an interrupt lands before or after, not during
   for (const Entry& entry : entries_) {
     std::error_code ec;
     if (!fs::exists(entry.temporary, ec))

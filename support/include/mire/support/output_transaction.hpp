@@ -2,9 +2,10 @@
 // All-or-nothing outputs for commands that write several files or folders: every output is
 // first written to a temporary beside its final path, then all temporaries are renamed in the
 // order they were staged, and only after every one of them was written (doc/robustness.md).
-// Temporaries not committed are removed by the destructor, and by the SIGINT/SIGTERM handler
+// Temporaries not committed are removed by the destructor, and by the SIGINT/SIGTERM cleanup
 // of installInterruptCleanup() when the run is interrupted.
 #include <filesystem>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -40,13 +41,19 @@ class OutputTransaction {
   bool committed_ = false;
 };
 
-// Installs (once per process) a SIGINT/SIGTERM handler that removes the temporaries of every
-// live OutputTransaction and of writeAtomically, then exits with 128 + the signal number.
+// Installs (once per process; call it from the main thread before starting any other thread)
+// the SIGINT/SIGTERM cleanup: the signals are blocked in every thread and received by one
+// thread of their own, which removes the temporaries of every live OutputTransaction and of
+// writeAtomically — even while workers still write into them — then exits with 128 + the
+// signal number.
 void installInterruptCleanup();
 
-// Registers / unregisters a temporary path for the interrupt handler (used by the writers
-// above; a process holds at most 256 at once, further ones are simply not tracked).
+// Registers / unregisters a temporary path for the interrupt cleanup (used by the writers above).
 void registerTemporary(const std::filesystem::path& path);
 void unregisterTemporary(const std::filesystem::path& path);
+
+// Holds the interrupt cleanup off while temporaries are renamed onto their final paths: an
+// interrupt then lands before the renames or after them, never between two.
+[[nodiscard]] std::unique_lock<std::recursive_mutex> holdInterruptCleanup();
 
 }  // namespace mire::support
