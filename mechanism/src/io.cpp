@@ -1,6 +1,7 @@
 // Identification files (doc/file-formats.md); see io.hpp.
 #include "mire/mechanism/io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -9,6 +10,7 @@
 #include <unordered_set>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
@@ -179,24 +181,35 @@ ObservationSet readObservations(const std::filesystem::path& poses_csv, const st
   const int joint_count = static_cast<int>(joint_columns.size());
   const auto pose_rows = readPosesCsv(poses_csv, covariance_csv);
   const auto joint_rows = readJointsCsv(joints_csv, joint_columns);
-  // Hashed: linear in the pose count (issue 12, doc/mechanisms.md "Identify linear in the pose count").
-  std::unordered_map<std::string, const JointRow*> by_id(joint_rows.size());
-  for (const auto& row : joint_rows) by_id[row.pose_id] = &row;
   ObservationSet set;
   set.poses.reserve(pose_rows.size());
-  std::unordered_set<std::string> used(pose_rows.size());
-  for (const auto& row : pose_rows) {
-    const auto it = by_id.find(row.observation.id);
-    if (it == by_id.end())
-      throw std::runtime_error(poses_csv.string() + ":" + std::to_string(row.line) + ": pose '" + row.observation.id +
-                               "' has no joints in " + joints_csv.string());
-    PoseObservation observation = row.observation;
-    observation.joints = it->second->joints;
-    used.insert(observation.id);
-    set.poses.push_back(std::move(observation));
+  const auto pair = [&](const PoseRow& row, const JointRow& joints) {
+    set.poses.push_back(row.observation);
+    set.poses.back().joints = joints.joints;
+  };
+  // The files list the same ids in the same order (as mire writes them): paired row by row.
+  // Otherwise by hashed id views. Both linear in the pose count (doc/mechanisms.md "Identify
+  // linear in the pose count").
+  const bool same_order = pose_rows.size() == joint_rows.size() &&
+                          std::equal(pose_rows.begin(), pose_rows.end(), joint_rows.begin(),
+                                     [](const PoseRow& p, const JointRow& j) { return p.observation.id == j.pose_id; });
+  if (same_order) {
+    for (std::size_t i = 0; i < pose_rows.size(); ++i) pair(pose_rows[i], joint_rows[i]);
+  } else {
+    std::unordered_map<std::string_view, const JointRow*> by_id(joint_rows.size());
+    for (const auto& row : joint_rows) by_id[row.pose_id] = &row;
+    std::unordered_set<std::string_view> used(pose_rows.size());
+    for (const auto& row : pose_rows) {
+      const auto it = by_id.find(row.observation.id);
+      if (it == by_id.end())
+        throw std::runtime_error(poses_csv.string() + ":" + std::to_string(row.line) + ": pose '" +
+                                 row.observation.id + "' has no joints in " + joints_csv.string());
+      pair(row, *it->second);
+      used.insert(row.observation.id);
+    }
+    for (const auto& row : joint_rows)
+      if (!used.count(row.pose_id)) set.unused_joint_ids.push_back(row.pose_id);
   }
-  for (const auto& row : joint_rows)
-    if (!used.count(row.pose_id)) set.unused_joint_ids.push_back(row.pose_id);
   validatePoses(set.poses, joint_count);
   return set;
 }

@@ -24,7 +24,8 @@ struct IdentificationModel {
   ExternalParameterization external{ExternalForm::AxisAligned};
   ParameterSet parameters;
 
-  int geometricCount() const { return mechanism->geometricCount(); }
+  // From the combined set (the mechanism's own count builds its nominal set: per-pose callers).
+  int geometricCount() const { return static_cast<int>(parameters.size()) - external.size(); }
   Eigen::VectorXd geometricValues() const;  // first geometricCount() values
   Eigen::VectorXd externalValues() const;   // the rest
   // IKM prediction for a measured pose at the current values.
