@@ -24,7 +24,10 @@ void writeAtomically(const fs::path& path, const std::function<bool(const fs::pa
     if (ec) throw std::runtime_error(path.parent_path().string() + ": cannot create folder: " + ec.message());
   }
   const fs::path temporary = temporaryBeside(path);
-  registerTemporary(temporary);  // removed by the interrupt handler if the run is stopped
+  registerTemporary(temporary);  // removed by the interrupt cleanup if the run is stopped
+  // Declared before `unregister`, so released after it: the rename and the unregistration
+  // happen under the hold together.
+  std::unique_lock<std::recursive_mutex> hold;
   struct Unregister {
     const fs::path& path;
     ~Unregister() { unregisterTemporary(path); }
@@ -37,7 +40,7 @@ void writeAtomically(const fs::path& path, const std::function<bool(const fs::pa
     fs::remove(temporary, ignored);
     throw;
   }
-  const auto hold = holdInterruptCleanup();  // the rename and the unregistration, together
+  hold = holdInterruptCleanup();
   std::error_code ec;
   if (!written || !fs::exists(temporary)) {
     fs::remove(temporary, ec);
