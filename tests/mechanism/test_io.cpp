@@ -95,6 +95,24 @@ TEST(Observations, PoseWithoutJointsIsAnError) {
   EXPECT_EQ(set.unused_joint_ids[0], "z");
 }
 
+// Joints listed in another order than the poses are paired by id, not by row; the same order
+// (as mire writes them) is paired row by row. Both give each pose its own joints.
+TEST(Observations, JointsArePairedByIdInAnyOrder) {
+  test::TempDir dir;
+  const std::string row = ",10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n";
+  test::writeText(dir.path() / "poses.csv", std::string(kHeader) + "a" + row + "b" + row + "c" + row);
+  for (const std::string joints : {"a,1,0,0,0\nb,2,0,0,0\nc,3,0,0,0\n", "c,3,0,0,0\na,1,0,0,0\nb,2,0,0,0\n"}) {
+    test::writeText(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\n" + joints);
+    const auto set = readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv");
+    ASSERT_EQ(set.poses.size(), 3U);
+    EXPECT_TRUE(set.unused_joint_ids.empty());
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(set.poses[k].id, std::string(1, char('a' + k)));
+      EXPECT_DOUBLE_EQ(set.poses[k].joints[0], double(k + 1)) << joints;
+    }
+  }
+}
+
 TEST(JointsAndLines, RoundTrip) {
   test::TempDir dir;
   const std::vector<Eigen::VectorXd> q{Eigen::Vector4d(0.1, -0.2, 1.0 / 3.0, 0.4), Eigen::Vector4d(1, 2, 3, 4)};
