@@ -21,13 +21,16 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.allow_extras(false);
 
-  const std::vector<std::pair<std::string, Runner>> commands = {
-      {"calibrate", addCalibrateCommand(app)}, {"measure", addMeasureCommand(app)},
-      {"identify", addIdentifyCommand(app)},   {"simulate", addSimulateCommand(app)},
-      {"demo", addDemoCommand(app)},           {"convert", addConvertCommand(app)}, {"fkm", addFkmCommand(app)},
-      {"ikm", addIkmCommand(app)},
-      {"plan", addPlanCommand(app)},
-      {"select", addSelectCommand(app)}};
+  const std::vector<std::pair<std::string, Runner>> commands = {{"calibrate", addCalibrateCommand(app)},
+                                                                {"measure", addMeasureCommand(app)},
+                                                                {"identify", addIdentifyCommand(app)},
+                                                                {"simulate", addSimulateCommand(app)},
+                                                                {"demo", addDemoCommand(app)},
+                                                                {"convert", addConvertCommand(app)},
+                                                                {"fkm", addFkmCommand(app)},
+                                                                {"ikm", addIkmCommand(app)},
+                                                                {"plan", addPlanCommand(app)},
+                                                                {"select", addSelectCommand(app)}};
 
   // Name an unknown subcommand plainly (CLI11 would only say that one is required).
   if (argc > 1 && argv[1][0] != '-') {

@@ -66,11 +66,13 @@ OpenCvResult runOpenCv(const Scene& scene, const std::vector<Eigen::Vector3d>& n
   const auto criteria = cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, DBL_EPSILON);
   if (fixed_point > 0) {
     cv::Mat new_points;
-    result.rms = cv::calibrateCameraRO(object, image, cv::Size(1024, 768), fixed_point, camera_matrix, distortion, rvecs,
-                                       tvecs, new_points, 0, criteria);
-    for (int i = 0; i < static_cast<int>(new_points.total()); ++i) result.new_points.push_back(new_points.at<cv::Point3f>(i));
+    result.rms = cv::calibrateCameraRO(object, image, cv::Size(1024, 768), fixed_point, camera_matrix, distortion,
+                                       rvecs, tvecs, new_points, 0, criteria);
+    for (int i = 0; i < static_cast<int>(new_points.total()); ++i)
+      result.new_points.push_back(new_points.at<cv::Point3f>(i));
   } else {
-    result.rms = cv::calibrateCamera(object, image, cv::Size(1024, 768), camera_matrix, distortion, rvecs, tvecs, 0, criteria);
+    result.rms =
+        cv::calibrateCamera(object, image, cv::Size(1024, 768), camera_matrix, distortion, rvecs, tvecs, 0, criteria);
   }
   result.params = {camera_matrix.at<double>(0, 0), camera_matrix.at<double>(1, 1), camera_matrix.at<double>(0, 2),
                    camera_matrix.at<double>(1, 2)};
@@ -97,9 +99,8 @@ int main() {
     scene.pixels = mire::test::noisyPixels(scene.views, 0.1, 11);
     mire::calibration::CalibrationResult mire_result;
     OpenCvResult cv_result;
-    const double mire_time = medianSeconds(repeats, [&] {
-      mire_result = mire::calibration::calibrateCamera(nominal, toViews(scene), 1024, 768);
-    });
+    const double mire_time = medianSeconds(
+        repeats, [&] { mire_result = mire::calibration::calibrateCamera(nominal, toViews(scene), 1024, 768); });
     const double cv_time = medianSeconds(repeats, [&] { cv_result = runOpenCv(scene, nominal, 0); });
     std::printf("flat board, 25 views (partial views included), 0.1 px noise, model opencv5:\n");
     std::printf("  mire calibrate     %7.1f ms  worst |fx fy cx cy error| %.4f px  rms %.4f px\n", mire_time * 1e3,
@@ -119,12 +120,10 @@ int main() {
     refine.refine_target = true;
     mire::calibration::CalibrationResult flat, refined;
     OpenCvResult cv_flat, cv_ro;
-    const double flat_time = medianSeconds(repeats, [&] {
-      flat = mire::calibration::calibrateCamera(nominal, toViews(scene), 1024, 768);
-    });
-    const double refined_time = medianSeconds(repeats, [&] {
-      refined = mire::calibration::calibrateCamera(nominal, toViews(scene), 1024, 768, refine);
-    });
+    const double flat_time =
+        medianSeconds(repeats, [&] { flat = mire::calibration::calibrateCamera(nominal, toViews(scene), 1024, 768); });
+    const double refined_time = medianSeconds(
+        repeats, [&] { refined = mire::calibration::calibrateCamera(nominal, toViews(scene), 1024, 768, refine); });
     // Same complete views as calibrateCameraRO gets, for a like-for-like comparison.
     Scene complete;
     for (std::size_t v = 0; v < scene.views.size(); ++v)
@@ -152,19 +151,23 @@ int main() {
                 sag * 1e3, full_views);
     std::printf("  mire flat           %7.1f ms  worst |fx fy cx cy error| %.3f px  rms %.4f px\n", flat_time * 1e3,
                 worstIntrinsicError(flat.camera.params, truth.params), flat.camera.rms_px);
-    std::printf("  mire --refine-target%7.1f ms  worst |fx fy cx cy error| %.3f px  rms %.4f px  bow z error rms %.4f mm\n",
-                refined_time * 1e3, worstIntrinsicError(refined.camera.params, truth.params), refined.camera.rms_px,
-                std::sqrt(mire_z / bowed.size()) * 1e3);
-    std::printf("  mire --refine-target, complete views only %7.1f ms  worst |fx fy cx cy error| %.3f px  bow z error rms "
-                "%.4f mm\n",
-                refined_complete_time * 1e3, worstIntrinsicError(refined_complete.camera.params, truth.params),
-                std::sqrt(mire_complete_z / bowed.size()) * 1e3);
+    std::printf(
+        "  mire --refine-target%7.1f ms  worst |fx fy cx cy error| %.3f px  rms %.4f px  bow z error rms %.4f mm\n",
+        refined_time * 1e3, worstIntrinsicError(refined.camera.params, truth.params), refined.camera.rms_px,
+        std::sqrt(mire_z / bowed.size()) * 1e3);
+    std::printf(
+        "  mire --refine-target, complete views only %7.1f ms  worst |fx fy cx cy error| %.3f px  bow z error rms "
+        "%.4f mm\n",
+        refined_complete_time * 1e3, worstIntrinsicError(refined_complete.camera.params, truth.params),
+        std::sqrt(mire_complete_z / bowed.size()) * 1e3);
     std::printf("  cv::calibrateCamera %7.1f ms  worst |fx fy cx cy error| %.3f px  rms %.4f px\n", cv_flat_time * 1e3,
                 worstIntrinsicError(cv_flat.params, truth.params), cv_flat.rms);
-    std::printf("  cv::calibrateCameraRO (complete views) %7.1f ms  worst |fx fy cx cy error| %.3f px  rms %.4f px  bow z error rms %.4f mm "
-                "(|z|: OpenCV's gauge sign)\n",
-                cv_ro_time * 1e3, worstIntrinsicError(cv_ro.params, truth.params), cv_ro.rms,
-                std::sqrt(cv_z / bowed.size()) * 1e3);
+    std::printf(
+        "  cv::calibrateCameraRO (complete views) %7.1f ms  worst |fx fy cx cy error| %.3f px  rms %.4f px  bow z "
+        "error rms %.4f mm "
+        "(|z|: OpenCV's gauge sign)\n",
+        cv_ro_time * 1e3, worstIntrinsicError(cv_ro.params, truth.params), cv_ro.rms,
+        std::sqrt(cv_z / bowed.size()) * 1e3);
     std::printf("  time ratio mire refine / calibrateCameraRO on the same complete views = %.2f\n",
                 refined_complete_time / cv_ro_time);
   }

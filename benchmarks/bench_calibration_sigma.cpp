@@ -28,9 +28,10 @@ int main(int argc, char** argv) {
   }
   const auto before = mire::test::normalisedSpread(results, true);
   const auto after = mire::test::normalisedSpread(results, false);
-  std::printf("\n%d sets of %d views, %.0f s\n| parameter | pixel-noise sigma: mean, std, RMS of error/sigma | printed "
-              "sigma: mean, std, RMS | mean inflation |\n| --- | --- | --- | --- |\n",
-              sets, views, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  std::printf(
+      "\n%d sets of %d views, %.0f s\n| parameter | pixel-noise sigma: mean, std, RMS of error/sigma | printed "
+      "sigma: mean, std, RMS | mean inflation |\n| --- | --- | --- | --- |\n",
+      sets, views, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   for (std::size_t i = 0; i < before.size(); ++i) {
     double inflation = 0.0;
     double mean[2] = {0.0, 0.0};
@@ -42,8 +43,9 @@ int main(int argc, char** argv) {
     const double rms[2] = {before[i], after[i]};
     std::printf("| %s |", names[i].c_str());
     for (int k = 0; k < 2; ++k)
-      std::printf(" %+.2f, %.2f, %.2f |", mean[k], std::sqrt(std::max(0.0, rms[k] * rms[k] - mean[k] * mean[k]) *
-                                                             results.size() / std::max<std::size_t>(1, results.size() - 1)),
+      std::printf(" %+.2f, %.2f, %.2f |", mean[k],
+                  std::sqrt(std::max(0.0, rms[k] * rms[k] - mean[k] * mean[k]) * results.size() /
+                            std::max<std::size_t>(1, results.size() - 1)),
                   rms[k]);
     std::printf(" %.2f |\n", inflation);
   }

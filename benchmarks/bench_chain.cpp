@@ -73,16 +73,16 @@ double mahalanobis(const Eigen::VectorXd& x, const Eigen::MatrixXd& covariance) 
 
 // Everything scored over the chains.
 struct Study {
-  Samples calibration_z;                   // camera parameter: error/σ
-  std::vector<double> calibration_chi2;    // Mahalanobis of the camera error, per chain
-  Samples pose_z, pose_z_independent;      // component: error/σ (full σ), (error − D Δk)/σ_noise
-  std::vector<double> pose_reduced_chi2;   // per pose
-  Samples z_before, z_after, abs_error;    // identified parameter: error/σ, |error| (display units)
-  Samples z_corrected;                     // the same refitted with the calibration error removed, σ before
-  Samples z_corrected_unscaled;            // the same against √diag (AᵀA)⁻¹ (no misfit scaling)
+  Samples calibration_z;                             // camera parameter: error/σ
+  std::vector<double> calibration_chi2;              // Mahalanobis of the camera error, per chain
+  Samples pose_z, pose_z_independent;                // component: error/σ (full σ), (error − D Δk)/σ_noise
+  std::vector<double> pose_reduced_chi2;             // per pose
+  Samples z_before, z_after, abs_error;              // identified parameter: error/σ, |error| (display units)
+  Samples z_corrected;                               // the same refitted with the calibration error removed, σ before
+  Samples z_corrected_unscaled;                      // the same against √diag (AᵀA)⁻¹ (no misfit scaling)
   Samples sigma_fit, sigma_alignment, sigma_shared;  // σ components (display units)
-  std::map<std::string, std::string> unit; // display unit per parameter
-  std::vector<std::string> names;          // identified parameters in order
+  std::map<std::string, std::string> unit;           // display unit per parameter
+  std::vector<std::string> names;                    // identified parameters in order
   std::vector<std::string> method;
   std::vector<double> chi2_dof, ident_chi2_before, ident_chi2_after, value_shift;
   int chains = 0, failed = 0;
@@ -153,7 +153,8 @@ Eigen::VectorXd truthOf(const mech::IdentificationResult& result, const datasets
   Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
   truth << mech::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, *spec.robot_seed)).values(),
       result.model.external.valuesFrom(campaign.robot.baseTCamera(), campaign.robot.markerTEffector());
-  truth[static_cast<Eigen::Index>(p.index("z_BC"))] += truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
+  truth[static_cast<Eigen::Index>(p.index("z_BC"))] +=
+      truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
   return truth;
 }
 
@@ -227,11 +228,12 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   identify(campaign, spec, dir / "poses.csv", camera_error, study);
   const double done = processCpuSeconds();
   ++study.chains;
-  std::printf("chain %2d (robot seed %llu): CPU s simulate %.1f, calibrate+measure %.1f, identify %.1f; wall %.1f s; "
-              "chi2/dof %.2f (%s), identification Mahalanobis/p before %.2f after %.2f\n",
-              chain, static_cast<unsigned long long>(*spec.robot_seed), simulated - start, measured - simulated,
-              done - measured, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count(),
-              study.chi2_dof.back(), study.method.back().c_str(), study.ident_chi2_before.back(), study.ident_chi2_after.back());
+  std::printf(
+      "chain %2d (robot seed %llu): CPU s simulate %.1f, calibrate+measure %.1f, identify %.1f; wall %.1f s; "
+      "chi2/dof %.2f (%s), identification Mahalanobis/p before %.2f after %.2f\n",
+      chain, static_cast<unsigned long long>(*spec.robot_seed), simulated - start, measured - simulated,
+      done - measured, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count(),
+      study.chi2_dof.back(), study.method.back().c_str(), study.ident_chi2_before.back(), study.ident_chi2_after.back());
   std::fflush(stdout);
   fs::remove_all(dir / "campaign");  // 0.6 GB of images per chain
 }
@@ -248,15 +250,18 @@ void printStages(const Study& s) {
   for (const auto& [name, z] : s.calibration_z) std::printf("  %-6s %8.3f %8.3f\n", name.c_str(), stddev(z), rms(z));
   std::printf("  Mahalanobis chi2 of the camera error / n: mean %.2f (1 if the covariance is right)\n",
               mean(s.calibration_chi2) / static_cast<double>(s.calibration_z.size()));
-  std::printf("\nStage 2, poses (%zu poses): RMS(error/sigma) per component; full sigma | calibration error removed, "
-              "independent sigma\n", s.pose_reduced_chi2.size());
+  std::printf(
+      "\nStage 2, poses (%zu poses): RMS(error/sigma) per component; full sigma | calibration error removed, "
+      "independent sigma\n",
+      s.pose_reduced_chi2.size());
   for (const char* c : {"tx", "ty", "tz", "rx", "ry", "rz"})
     std::printf("  %-3s %8.3f | %8.3f\n", c, rms(s.pose_z.at(c)), rms(s.pose_z_independent.at(c)));
   std::printf("  pose fit reduced chi2: median %.2f\n", median(s.pose_reduced_chi2));
 }
 
 void printIdentification(const Study& s) {
-  std::printf("\nStage 3, identification model 12 (variant D): error/sigma over %d chains (%d failed)\n", s.chains, s.failed);
+  std::printf("\nStage 3, identification model 12 (variant D): error/sigma over %d chains (%d failed)\n", s.chains,
+              s.failed);
   std::printf("  %-8s %-4s | %-17s | %-17s | %-17s | %s\n", "param", "unit", "without shared", "with shared",
               "no calib: sc, unsc", "median |error|");
   std::printf("  %-8s %-4s | %8s %8s | %8s %8s | %8s %8s |\n", "", "", "std", "RMS", "std", "RMS", "RMS", "RMS");
@@ -270,18 +275,20 @@ void printIdentification(const Study& s) {
                 stddev(b), rms(b), stddev(a), rms(a), rms(s.z_corrected.at(name)), rms(s.z_corrected_unscaled.at(name)),
                 median(s.abs_error.at(name)));
   }
-  std::printf("\n  median sigma components with the shared term (display units): fit | axis alignment | "
-              "shared; RMS error\n");
+  std::printf(
+      "\n  median sigma components with the shared term (display units): fit | axis alignment | "
+      "shared; RMS error\n");
   for (const auto& name : s.names) {
     std::vector<double> errors;
     for (std::size_t c = 0; c < s.z_after.at(name).size(); ++c) errors.push_back(s.abs_error.at(name)[c]);
     std::printf("  %-8s %10.4g %10.4g %10.4g | RMS |error| %10.4g\n", name.c_str(), median(s.sigma_fit.at(name)),
                 median(s.sigma_alignment.at(name)), median(s.sigma_shared.at(name)), rms(errors));
   }
-  std::printf("  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
-              "without the shared term: as printed (sc) and (A^T A)^-1 without the misfit scaling (unsc)\n");
-  std::printf("  std(error/sigma) in [0.8, 1.25]: %d of %zu without the shared term, %d of %zu with it\n", inside_before,
-              s.names.size(), inside_after, s.names.size());
+  std::printf(
+      "  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
+      "without the shared term: as printed (sc) and (A^T A)^-1 without the misfit scaling (unsc)\n");
+  std::printf("  std(error/sigma) in [0.8, 1.25]: %d of %zu without the shared term, %d of %zu with it\n",
+              inside_before, s.names.size(), inside_after, s.names.size());
   std::printf("  identification Mahalanobis chi2 / p: mean %.2f without, %.2f with (1 if honest)\n",
               mean(s.ident_chi2_before), mean(s.ident_chi2_after));
   std::printf("  fit chi2/dof: median %.2f; largest value change from adding the shared term: %.3g (SI)\n",
@@ -298,9 +305,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_chain [chains>=2] [images_per_pose>=1] [work_dir]\n");
     return 2;
   }
-  std::printf("%d chains, %d images per pose, exactly-model-12 H4 (demo error sizes, no unmodelled defects), "
-              "robot seed 2004 on even chains, a new one on odd chains; work dir %s\n",
-              chains, images, work.string().c_str());
+  std::printf(
+      "%d chains, %d images per pose, exactly-model-12 H4 (demo error sizes, no unmodelled defects), "
+      "robot seed 2004 on even chains, a new one on odd chains; work dir %s\n",
+      chains, images, work.string().c_str());
   Study study;
   // Some random robots cannot be initialised from the nominal (5° encoder offsets): such a
   // chain is reported and replaced, up to `chains` more attempts.

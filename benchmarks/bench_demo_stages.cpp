@@ -60,8 +60,9 @@ int main(int argc, char** argv) {
   const metrology::Target target = metrology::Target::fromFile(spec.target_file);
 
   std::unique_ptr<datasets::Renderer> renderer;
-  std::cout << "renderer set-up: "
-            << bestMs(1, [&] { renderer = std::make_unique<datasets::Renderer>(camera, target, spec.render); }) << " ms\n";
+  std::cout << "renderer set-up: " << bestMs(1, [&] {
+    renderer = std::make_unique<datasets::Renderer>(camera, target, spec.render);
+  }) << " ms\n";
   datasets::ViewPlacement placement;
   placement.centre_pixel = Eigen::Vector2d(511.5, 383.5);
   placement.distance_m = 0.75;
@@ -73,8 +74,8 @@ int main(int argc, char** argv) {
   cv::Mat sigma, noisy;
   std::cout << "noise sigma (once per render): "
             << bestMs(3, [&] { sigma = datasets::noiseSigma(rendering.radiance, spec.noise); }) << " ms\n";
-  std::cout << "noisy image: "
-            << bestMs(3, [&] { noisy = datasets::addNoiseWithSigma(rendering.radiance, sigma, 7); }) << " ms\n";
+  std::cout << "noisy image: " << bestMs(3, [&] { noisy = datasets::addNoiseWithSigma(rendering.radiance, sigma, 7); })
+            << " ms\n";
 
   std::cout << "PNG of the noisy image:\n";
   pngRow("OpenCV default (zlib 1, RLE, Sub filter)", noisy, {});
@@ -106,7 +107,8 @@ int main(int argc, char** argv) {
             << bestMs(3, [&] { metrology::measurePoseFromFiles(calibrated, target, files, options); }) << " ms\n";
   std::vector<cv::Mat> images;
   std::vector<std::string> names;
-  for (const auto& file : files) images.push_back(cv::imread(file.string(), cv::IMREAD_GRAYSCALE)), names.push_back(file.string());
+  for (const auto& file : files)
+    images.push_back(cv::imread(file.string(), cv::IMREAD_GRAYSCALE)), names.push_back(file.string());
   std::cout << "measurePose (decoded images): "
             << bestMs(3, [&] { metrology::measurePose(calibrated, target, images, names, options); }) << " ms\n";
   return 0;

@@ -19,12 +19,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -62,13 +62,13 @@ double bestSeconds(const std::function<void()>& work) {
 }
 
 struct BenchImage {
-  std::string set;     // group for the totals
+  std::string set;  // group for the totals
   std::string name;
   std::vector<unsigned char> encoded;  // PNG / JPEG bytes, decoded in the timing
   metrology::TargetSpec searched;      // the target file the detectors are given
   std::vector<Eigen::Vector2d> truth;  // per feature of `searched` (empty: no truth)
   std::vector<bool> visible;
-  bool board_complete = false;         // every corner visible (the finders can succeed)
+  bool board_complete = false;  // every corner visible (the finders can succeed)
 };
 
 struct DetectorResult {
@@ -390,14 +390,15 @@ int main(int argc, char** argv) {
   if (const char* dump = std::getenv("BENCH_DETECT_DUMP")) {  // write the images for inspection, time nothing
     for (const BenchImage& image : images) {
       std::string file = image.name;
-      std::replace_if(file.begin(), file.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+      std::replace_if(
+          file.begin(), file.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
       cv::imwrite((fs::path(dump) / (file + ".png")).string(), cv::imdecode(image.encoded, cv::IMREAD_GRAYSCALE));
     }
     return 0;
   }
-  std::printf("one thread, CPU time of the thread; times in ms; accuracy: corners found, RMS error to the rendered truth\n");
-  std::printf("%-46s %6s | %-22s | %-22s | %-22s\n", "image", "decode", "mire", "OpenCV classic+subpix",
-              "OpenCV SB");
+  std::printf(
+      "one thread, CPU time of the thread; times in ms; accuracy: corners found, RMS error to the rendered truth\n");
+  std::printf("%-46s %6s | %-22s | %-22s | %-22s\n", "image", "decode", "mire", "OpenCV classic+subpix", "OpenCV SB");
   std::vector<Row> rows(images.size());
   for (std::size_t k = 0; k < images.size(); ++k) {
     Row& row = rows[k];
@@ -421,19 +422,21 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   for (const BenchImage& image : images)
     if (std::find(sets.begin(), sets.end(), image.set) == sets.end()) sets.push_back(image.set);
-  std::printf("\nper set (one thread): total ms, ratios to SB and to decode, worst mire image, RMS px of found corners\n");
+  std::printf(
+      "\nper set (one thread): total ms, ratios to SB and to decode, worst mire image, RMS px of found corners\n");
   for (const std::string& set : sets) {
     Totals totals;
     std::vector<const Row*> members;
     for (const Row& row : rows)
       if (row.image->set == set) accumulate(row, &totals), members.push_back(&row);
-    std::printf("%s (%d images): decode %.0f, mire %.0f, classic %.0f, SB %.0f ms; mire/SB %.2f, mire/decode %.1f; "
-                "worst mire %.1f ms (%s); found mire %d classic %d SB %d; RMS mire %.4f classic %.4f SB %.4f px\n",
-                set.c_str(), totals.count, 1e3 * totals.decode, 1e3 * totals.mire, 1e3 * totals.classic,
-                1e3 * totals.sb, totals.mire / totals.sb, totals.mire / totals.decode,
-                1e3 * totals.worst_mire->mire.seconds, totals.worst_mire->image->name.c_str(), totals.found[0],
-                totals.found[1], totals.found[2], rms(totals.sum_sq[0], totals.matched[0]),
-                rms(totals.sum_sq[1], totals.matched[1]), rms(totals.sum_sq[2], totals.matched[2]));
+    std::printf(
+        "%s (%d images): decode %.0f, mire %.0f, classic %.0f, SB %.0f ms; mire/SB %.2f, mire/decode %.1f; "
+        "worst mire %.1f ms (%s); found mire %d classic %d SB %d; RMS mire %.4f classic %.4f SB %.4f px\n",
+        set.c_str(), totals.count, 1e3 * totals.decode, 1e3 * totals.mire, 1e3 * totals.classic, 1e3 * totals.sb,
+        totals.mire / totals.sb, totals.mire / totals.decode, 1e3 * totals.worst_mire->mire.seconds,
+        totals.worst_mire->image->name.c_str(), totals.found[0], totals.found[1], totals.found[2],
+        rms(totals.sum_sq[0], totals.matched[0]), rms(totals.sum_sq[1], totals.matched[1]),
+        rms(totals.sum_sq[2], totals.matched[2]));
     if (set.rfind("demo", 0) == 0) {
       const double solve = solveSeconds(members);
       std::printf("  calibration solve on mire's detections: %.0f ms; mire detect / (decode + solve) = %.2f\n",

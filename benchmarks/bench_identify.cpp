@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <random>
 #include <vector>
 
@@ -47,8 +47,7 @@ int main() {
           for (int k = 0; k < 3; ++k) p.cTm[k] += 0.2e-3 * normal(rng);
           for (int k = 3; k < 6; ++k) p.cTm[k] += 0.03 * kDeg * normal(rng);
           PoseCovariance c = PoseCovariance::Zero();
-          c.diagonal() << 4e-8, 4e-8, 4e-8, std::pow(0.03 * kDeg, 2), std::pow(0.03 * kDeg, 2),
-              std::pow(0.03 * kDeg, 2);
+          c.diagonal() << 4e-8, 4e-8, 4e-8, std::pow(0.03 * kDeg, 2), std::pow(0.03 * kDeg, 2), std::pow(0.03 * kDeg, 2);
           p.covariance = c;
           poses.push_back(p);
         }
@@ -65,23 +64,22 @@ int main() {
     return ms[10];
   };
   IdentificationModel model = makeInitialModel(mechanism, truth, poses, ExternalForm::AxisAligned);
-  model.parameters.setValues(makeInitialModel(mechanism, h4Model12Parameters(nominal), poses,
-                                              ExternalForm::AxisAligned).parameters.values());
+  model.parameters.setValues(
+      makeInitialModel(mechanism, h4Model12Parameters(nominal), poses, ExternalForm::AxisAligned).parameters.values());
   IdentificationResult result;
-  const double init_ms = time([&] {
-    makeInitialModel(mechanism, h4Model12Parameters(nominal), poses, ExternalForm::AxisAligned);
-  });
+  const double init_ms =
+      time([&] { makeInitialModel(mechanism, h4Model12Parameters(nominal), poses, ExternalForm::AxisAligned); });
   const double weighted_ms = time([&] { result = identify(model, poses); });
-  std::printf("identify (81 poses, 19 parameters, weighted by pose covariances): %.2f ms CPU median "
-              "(%d iterations; target < 5 ms: %s)\n",
-              weighted_ms, result.iterations, weighted_ms < 5.0 ? "met" : "NOT met");
+  std::printf(
+      "identify (81 poses, 19 parameters, weighted by pose covariances): %.2f ms CPU median "
+      "(%d iterations; target < 5 ms: %s)\n",
+      weighted_ms, result.iterations, weighted_ms < 5.0 ? "met" : "NOT met");
   IdentificationOptions fast;
   fast.use_pose_covariances = false;
   fast.compute_identifiability = false;
   const double unweighted_ms = time([&] { result = identify(model, poses, fast); });
-  std::printf("identify (unweighted, no identifiability report): %.2f ms CPU median (%d iterations)\n",
-              unweighted_ms, result.iterations);
-  std::printf("initial external parameters from the data (axis alignment + 81 FKM): %.2f ms CPU median\n",
-              init_ms);
+  std::printf("identify (unweighted, no identifiability report): %.2f ms CPU median (%d iterations)\n", unweighted_ms,
+              result.iterations);
+  std::printf("initial external parameters from the data (axis alignment + 81 FKM): %.2f ms CPU median\n", init_ms);
   return 0;
 }

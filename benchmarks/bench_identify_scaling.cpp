@@ -6,11 +6,11 @@
 // With a `mire` binary as 4th argument, also the command itself on the same files (CPU time of
 // the child: process start, reading, identification, the report and identified.yaml).
 // Usage: bench_identify_scaling [largest=100000] [smallest=1000] [repeats=0: 9/5/3 by size] [mire]
+#include <sys/resource.h>
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <sys/resource.h>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -61,8 +61,8 @@ StageTimes timeOne(int n, int repeats, const std::string& mire) {
   for (int r = 0; r < repeats; ++r) {
     ObservationSet observations;
     read.push_back(cpuSeconds([&] {
-      observations = readObservations(dir / "poses.csv", dir / "joints.csv", std::nullopt,
-                                      c.model.mechanism->jointColumnNames());
+      observations =
+          readObservations(dir / "poses.csv", dir / "joints.csv", std::nullopt, c.model.mechanism->jointColumnNames());
     }));
     // The CSV gives σ only (diagonal covariance), as the simulated poses: use them directly.
     const std::vector<PoseObservation>& poses = c.poses;
@@ -102,22 +102,22 @@ int main(int argc, char** argv) {
   const int fixed_repeats = argc > 3 ? std::atoi(argv[3]) : 0;
   const std::string mire = argc > 4 ? argv[4] : "";
   std::printf("mire identify --model h4-12 stages, CPU seconds (median of the repeats)\n");
-  std::printf("%8s %8s %10s %10s %10s %10s %10s %6s %12s\n", "poses", "repeats", "read csv", "axis align",
-              "initial", "identify", "total", "iters", "ratio total");
+  std::printf("%8s %8s %10s %10s %10s %10s %10s %6s %12s\n", "poses", "repeats", "read csv", "axis align", "initial",
+              "identify", "total", "iters", "ratio total");
   StageTimes previous;
   for (int n = smallest; n <= largest; n *= 10) {
     const int repeats = fixed_repeats > 0 ? fixed_repeats : n <= 1000 ? 9 : n <= 10000 ? 5 : 3;
     const StageTimes t = timeOne(n, repeats, mire);
     char ratio[64] = "";
-    if (previous.total() > 0)
-      std::snprintf(ratio, sizeof ratio, "%.2fx", t.total() / previous.total());
+    if (previous.total() > 0) std::snprintf(ratio, sizeof ratio, "%.2fx", t.total() / previous.total());
     std::printf("%8d %8d %10.3f %10.3f %10.3f %10.3f %10.3f %6d %12s\n", n, repeats, t.read, t.alignment, t.initial,
                 t.identify, t.total(), t.iterations, ratio);
     if (previous.total() > 0)
-      std::printf("%8s ratios vs %d poses: read %.2fx, axis alignment %.2fx, initial %.2fx, identify %.2fx "
-                  "(limit 10x per 10x poses)\n",
-                  "", n / 10, t.read / previous.read, t.alignment / previous.alignment, t.initial / previous.initial,
-                  t.identify / previous.identify);
+      std::printf(
+          "%8s ratios vs %d poses: read %.2fx, axis alignment %.2fx, initial %.2fx, identify %.2fx "
+          "(limit 10x per 10x poses)\n",
+          "", n / 10, t.read / previous.read, t.alignment / previous.alignment, t.initial / previous.initial,
+          t.identify / previous.identify);
     if (!mire.empty())
       std::printf("%8s mire identify command: %.3f s CPU%s\n", "", t.command,
                   previous.command > 0 ? (", " + std::to_string(t.command / previous.command) + "x").c_str() : "");

@@ -42,8 +42,8 @@ Campaign simulate(std::uint64_t robot_seed, std::uint64_t noise_seed, bool defec
   datasets::H4MeasurementNoise noise;
   noise.encoder_rad = 2e-5;
   Campaign c;
-  c.poses = datasets::toObservations(datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, noise_seed),
-                                     noise);
+  c.poses = datasets::toObservations(
+      datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, noise_seed), noise);
   c.truth_geometric = mech::h4Model12Parameters(datasets::drawModel12Values({}, sizes, robot_seed)).values();
   c.bTc = robot.baseTCamera();
   c.mTe = robot.markerTEffector();
@@ -63,7 +63,8 @@ std::map<std::string, double> normalisedErrors(const mech::IdentificationResult&
   std::map<std::string, double> out;
   for (const auto& name : r.free_names) {
     const auto i = static_cast<Eigen::Index>(p.index(name));
-    const auto f = static_cast<Eigen::Index>(std::find(r.free_names.begin(), r.free_names.end(), name) - r.free_names.begin());
+    const auto f =
+        static_cast<Eigen::Index>(std::find(r.free_names.begin(), r.free_names.end(), name) - r.free_names.begin());
     const double sigma = covariance ? std::sqrt((*covariance)(f, f)) : r.sigma[i];
     out[name] = (p[static_cast<std::size_t>(i)].value - truth[i]) / sigma;
   }
@@ -113,7 +114,8 @@ void coverageStudy(int campaigns, bool same_robot, bool defects) {
               same_robot ? "same robot" : "different robots", campaigns);
   Coverage coverage;
   for (int k = 0; k < campaigns; ++k) {
-    const Campaign c = simulate(same_robot ? 2004 : 2004 + static_cast<std::uint64_t>(k), 1000 + static_cast<std::uint64_t>(k), defects);
+    const Campaign c = simulate(same_robot ? 2004 : 2004 + static_cast<std::uint64_t>(k),
+                                1000 + static_cast<std::uint64_t>(k), defects);
     try {
       const auto r = mech::identifyH4Variant('D', {}, c.poses);
       coverage.add(r, c.poses, c);
@@ -158,8 +160,10 @@ void defectStudy(int campaigns) {
   }
   // Subsets of 71 among 81 overlap: their spread is that of a delete-10 jackknife, whose
   // variance estimate of the 81-pose fit is (71/10) × spread².
-  std::printf("   parameter   sigma/spread(100 x 71-pose subsets)   sigma/jackknife   sigma/spread(%d campaigns, same robot)   "
-              "|error|/sigma\n", campaigns);
+  std::printf(
+      "   parameter   sigma/spread(100 x 71-pose subsets)   sigma/jackknife   sigma/spread(%d campaigns, same robot)   "
+      "|error|/sigma\n",
+      campaigns);
   const auto z = normalisedErrors(full, c0);
   for (const auto& name : full.free_names) {
     const double sigma = full.sigmaOf(name);

@@ -115,14 +115,15 @@ int main(int argc, char** argv) {
     (void)plain;
   }
   std::sort(ratios.begin(), ratios.end());
-  std::printf("static poses: %zu, failed by the integrity test: %d; max pairwise chi2 / threshold: median %.2f, "
-              "worst %.2f\n",
-              folders.size(), failed, ratios.empty() ? 0.0 : ratios[ratios.size() / 2], worst_ratio);
+  std::printf(
+      "static poses: %zu, failed by the integrity test: %d; max pairwise chi2 / threshold: median %.2f, "
+      "worst %.2f\n",
+      folders.size(), failed, ratios.empty() ? 0.0 : ratios[ratios.size() / 2], worst_ratio);
   std::sort(q_ratios.begin(), q_ratios.end());
-  std::printf("homogeneity Q / threshold: median %.2f, worst %.2f; sum Q / sum dof %.3f (1 when the noise model "
-              "holds)\n",
-              q_ratios.empty() ? 0.0 : q_ratios[q_ratios.size() / 2], q_ratios.empty() ? 0.0 : q_ratios.back(),
-              q_sum / q_dof);
+  std::printf(
+      "homogeneity Q / threshold: median %.2f, worst %.2f; sum Q / sum dof %.3f (1 when the noise model "
+      "holds)\n",
+      q_ratios.empty() ? 0.0 : q_ratios[q_ratios.size() / 2], q_ratios.empty() ? 0.0 : q_ratios.back(), q_sum / q_dof);
   std::printf("time for %zu poses: %.1f s with the test, %.1f s without (ratio %.2f)\n", folders.size(), time_with,
               time_without, time_with / time_without);
   auto screened = poses;
@@ -143,11 +144,12 @@ int main(int argc, char** argv) {
     Eigen::Vector3d axis;
     double degrees;
   };
-  const std::vector<Motion> motions = {{"1 mm x", {1e-3, 0, 0}, Eigen::Vector3d::UnitX(), 0},
-                                       {"1 mm z", {0, 0, 1e-3}, Eigen::Vector3d::UnitX(), 0},
-                                       {"0.1 deg about target x", Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 0.1},
-                                       {"0.1 deg about target y", Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0.1},
-                                       {"0.1 deg about target z", Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.1}};
+  const std::vector<Motion> motions = {
+      {"1 mm x", {1e-3, 0, 0}, Eigen::Vector3d::UnitX(), 0},
+      {"1 mm z", {0, 0, 1e-3}, Eigen::Vector3d::UnitX(), 0},
+      {"0.1 deg about target x", Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 0.1},
+      {"0.1 deg about target y", Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0.1},
+      {"0.1 deg about target z", Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.1}};
   for (const Motion& motion : motions) {
     int caught = 0, named = 0;
     double min_px = 1e9, max_px = 0;
@@ -206,6 +208,7 @@ int main(int argc, char** argv) {
   }
   const auto modified = mire::metrology::screenCampaign(&poses);
   for (std::size_t i = 0; i < poses.size(); ++i)
-    for (const auto& reason : modified.reasons[i]) std::printf("  flagged %s: %s\n", poses[i].pose_id.c_str(), reason.c_str());
+    for (const auto& reason : modified.reasons[i])
+      std::printf("  flagged %s: %s\n", poses[i].pose_id.c_str(), reason.c_str());
   return 0;
 }

@@ -13,14 +13,14 @@
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 
-#include <opencv2/calib3d.hpp>
 #include <visp3/core/vpHomogeneousMatrix.h>
 #include <visp3/vision/vpPose.h>
+#include <opencv2/calib3d.hpp>
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <map>
 #include <optional>
@@ -110,12 +110,12 @@ void featureLevelComparison() {
          if (!e.valid) return std::nullopt;
          return PoseVectors{e.translation, e.rotation_vector};
        }},
-      {"cv::solvePnP ITERATIVE", [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_ITERATIVE); }},
+      {"cv::solvePnP ITERATIVE",
+       [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_ITERATIVE); }},
       {"cv::solvePnP IPPE", [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_IPPE); }},
       {"cv::solvePnP SQPNP", [&](const auto& f) { return openCvPose(camera, target.points(), f, cv::SOLVEPNP_SQPNP); }},
       {"ViSP vpPose LAGRANGE_VIRTUAL_VS", [&](const auto& f) { return vispPose(camera, target.points(), f, false); }},
-      {"ViSP vpPose DEMENTHON_VIRTUAL_VS",
-       [&](const auto& f) { return vispPose(camera, target.points(), f, true); }},
+      {"ViSP vpPose DEMENTHON_VIRTUAL_VS", [&](const auto& f) { return vispPose(camera, target.points(), f, true); }},
   };
   constexpr int kPoses = 200;
   std::vector<Vector6d> sum_squares(methods.size(), Vector6d::Zero());
@@ -178,8 +178,9 @@ void pipelineComparison(int kPoses) {
     const auto result = mire::metrology::measurePose(camera, target, campaign[static_cast<std::size_t>(p)], {});
     if (!result.ok) continue;
     ++mire_ok;
-    mire_sq += errorOf({result.estimate.translation, result.estimate.rotation_vector}, truths[static_cast<std::size_t>(p)])
-                   .cwiseAbs2();
+    mire_sq +=
+        errorOf({result.estimate.translation, result.estimate.rotation_vector}, truths[static_cast<std::size_t>(p)])
+            .cwiseAbs2();
   }
   const double mire_seconds = std::chrono::duration<double>(Clock::now() - mire_start).count();
   // Peer: findChessboardCornersSB on every image, averaged corners, solvePnP ITERATIVE.
@@ -230,12 +231,14 @@ void pipelineComparison(int kPoses) {
   const double sb_seconds = std::chrono::duration<double>(Clock::now() - sb_start).count();
   const Vector6d mire_rms = (mire_sq / std::max(1, mire_ok)).cwiseSqrt();
   const Vector6d sb_rms = (sb_sq / std::max(1, sb_ok)).cwiseSqrt();
-  std::printf("   mire measurePose:                %7.2f s, %d/%d poses, rms err t %.4f %.4f %.4f mm, r %.5f %.5f %.5f deg\n",
-              mire_seconds, mire_ok, kPoses, mire_rms[0] * 1e3, mire_rms[1] * 1e3, mire_rms[2] * 1e3,
-              mire_rms[3] * 180 / M_PI, mire_rms[4] * 180 / M_PI, mire_rms[5] * 180 / M_PI);
-  std::printf("   findChessboardCornersSB x %d:   %7.2f s, %d/%d poses, rms err t %.4f %.4f %.4f mm, r %.5f %.5f %.5f deg\n",
-              kPoses * kImages, sb_seconds, sb_ok, kPoses, sb_rms[0] * 1e3, sb_rms[1] * 1e3, sb_rms[2] * 1e3,
-              sb_rms[3] * 180 / M_PI, sb_rms[4] * 180 / M_PI, sb_rms[5] * 180 / M_PI);
+  std::printf(
+      "   mire measurePose:                %7.2f s, %d/%d poses, rms err t %.4f %.4f %.4f mm, r %.5f %.5f %.5f deg\n",
+      mire_seconds, mire_ok, kPoses, mire_rms[0] * 1e3, mire_rms[1] * 1e3, mire_rms[2] * 1e3, mire_rms[3] * 180 / M_PI,
+      mire_rms[4] * 180 / M_PI, mire_rms[5] * 180 / M_PI);
+  std::printf(
+      "   findChessboardCornersSB x %d:   %7.2f s, %d/%d poses, rms err t %.4f %.4f %.4f mm, r %.5f %.5f %.5f deg\n",
+      kPoses * kImages, sb_seconds, sb_ok, kPoses, sb_rms[0] * 1e3, sb_rms[1] * 1e3, sb_rms[2] * 1e3,
+      sb_rms[3] * 180 / M_PI, sb_rms[4] * 180 / M_PI, sb_rms[5] * 180 / M_PI);
   std::printf("   speed ratio (SB time / mire time): %.2fx (target >= 5x)\n", sb_seconds / mire_seconds);
 }
 

@@ -71,10 +71,13 @@ void study(const std::string& label, const DefectiveRobot& robot, const std::str
   const bool translation = reg.mechanism->motionType() == MotionType::Translation;
   const Scores before = score(robot, *reg.mechanism, reg.nominal.values(), translation);
   const Scores after = score(robot, *reg.mechanism, result.model.geometricValues(), translation);
-  std::printf("%-34s %-13s seed %u: joint RMS %.4f %s; V3 %.4f -> %.4f mm (%+.0f %%); square side RMS %.4f -> %.4f mm (%+.0f %%)\n",
-              label.c_str(), model.c_str(), seed, translation ? result.rms_joint_residual * 57.29578 : result.rms_joint_residual * 1e3,
-              translation ? "deg" : "mm", before.v3 * 1e3, after.v3 * 1e3, 100 * (after.v3 / before.v3 - 1), before.square * 1e3,
-              after.square * 1e3, 100 * (after.square / before.square - 1));
+  std::printf(
+      "%-34s %-13s seed %u: joint RMS %.4f %s; V3 %.4f -> %.4f mm (%+.0f %%); square side RMS %.4f -> %.4f mm (%+.0f "
+      "%%)\n",
+      label.c_str(), model.c_str(), seed,
+      translation ? result.rms_joint_residual * 57.29578 : result.rms_joint_residual * 1e3, translation ? "deg" : "mm",
+      before.v3 * 1e3, after.v3 * 1e3, 100 * (after.v3 / before.v3 - 1), before.square * 1e3, after.square * 1e3,
+      100 * (after.square / before.square - 1));
 }
 
 }  // namespace

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <functional>
 #include <ctime>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -54,7 +54,8 @@ void sigmaStudy(const std::string& name, int campaigns) {
   std::string gauge_names;
   for (int c = 0; c < campaigns; ++c) {
     // 81 (H4, hexapod) or 27 (Delta) identification poses + 20 held-out ones.
-    Campaign all = simulateCampaign(name, 100 + static_cast<unsigned>(c), 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 20);
+    Campaign all =
+        simulateCampaign(name, 100 + static_cast<unsigned>(c), 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 20);
     std::vector<PoseObservation> train(all.poses.begin(), all.poses.end() - 20);
     IdentificationModel model = makeInitialModel(all.model.mechanism, all.model.nominal, train, all.model.external_form);
     const GaugeAnalysis gauge = fixGauge(model, train);
@@ -62,7 +63,8 @@ void sigmaStudy(const std::string& name, int campaigns) {
     const auto mean_orientation_covariance = alignTranslatingTarget(result, train);
     rank = gauge.report.rank;
     params = static_cast<int>(gauge.report.parameter_names.size());
-    if (c == 0) for (const auto& g : gauge.gauge) gauge_names += " " + g;
+    if (c == 0)
+      for (const auto& g : gauge.gauge) gauge_names += " " + g;
     for (const std::string& n : gauge.identified) {
       if (!all.truth.contains(n)) continue;
       const double s = result.sigmaOf(n);
@@ -92,7 +94,8 @@ void sigmaStudy(const std::string& name, int campaigns) {
       ++held;
     }
     if (std::getenv("MIRE_BENCH_VERBOSE"))
-      std::printf("  campaign %d: position RMS %.4f mm, sigma %.4f mm\n", c, 1e3 * std::sqrt(ce / 20), 1e3 * std::sqrt(cs / 20));
+      std::printf("  campaign %d: position RMS %.4f mm, sigma %.4f mm\n", c, 1e3 * std::sqrt(ce / 20),
+                  1e3 * std::sqrt(cs / 20));
   }
   std::printf("\n== %s: %d campaigns; rank %d of %d free parameters (gauge:%s)\n", name.c_str(), campaigns, rank,
               params, gauge_names.c_str());
@@ -104,12 +107,15 @@ void sigmaStudy(const std::string& name, int campaigns) {
     std::printf("  %-8s std(error/sigma) %.3f\n", n.c_str(), s);
   }
   std::printf("  identified parameters: std(error/sigma) in [%.3f, %.3f] (target [0.8, 1.25])\n", lo, hi);
-  std::printf("  fkm --frame camera, %d held-out poses: RMS position error %.4f mm vs predicted sigma %.4f mm "
-              "(ratio %.2f); RMS rotation error %.5f deg vs predicted %.5f deg (ratio %.2f)\n",
-              held, 1e3 * std::sqrt(rms_t / held), 1e3 * std::sqrt(sig_t / held), std::sqrt(rms_t / sig_t),
-              57.29578 * std::sqrt(rms_r / held), 57.29578 * std::sqrt(sig_r / held), std::sqrt(rms_r / sig_r));
-  std::printf("  fkm --frame camera, per component: position std(error/sigma) %.3f, rotation-vector std(error/sigma) %.3f "
-              "(target [0.8, 1.25])\n", stdOf(ratio_t), stdOf(ratio_r));
+  std::printf(
+      "  fkm --frame camera, %d held-out poses: RMS position error %.4f mm vs predicted sigma %.4f mm "
+      "(ratio %.2f); RMS rotation error %.5f deg vs predicted %.5f deg (ratio %.2f)\n",
+      held, 1e3 * std::sqrt(rms_t / held), 1e3 * std::sqrt(sig_t / held), std::sqrt(rms_t / sig_t),
+      57.29578 * std::sqrt(rms_r / held), 57.29578 * std::sqrt(sig_r / held), std::sqrt(rms_r / sig_r));
+  std::printf(
+      "  fkm --frame camera, per component: position std(error/sigma) %.3f, rotation-vector std(error/sigma) %.3f "
+      "(target [0.8, 1.25])\n",
+      stdOf(ratio_t), stdOf(ratio_r));
 }
 
 void timing(const std::string& name) {
@@ -118,14 +124,17 @@ void timing(const std::string& name) {
   fixGauge(model, c.poses);
   IdentificationResult result;
   const double ms = cpuMs([&] { result = identify(model, c.poses); });
-  const double init_ms = cpuMs([&] {
-    IdentificationModel m = makeInitialModel(c.model.mechanism, c.model.nominal, c.poses, c.model.external_form);
-    fixGauge(m, c.poses);
-  }, 5);
-  std::printf("%-14s identify: %zu poses, %zu free of %zu parameters: %.2f ms CPU median (%d iterations); "
-              "mounting from the data + gauge analysis: %.2f ms\n",
-              name.c_str(), c.poses.size(), result.free_names.size(), result.model.parameters.size(), ms,
-              result.iterations, init_ms);
+  const double init_ms = cpuMs(
+      [&] {
+        IdentificationModel m = makeInitialModel(c.model.mechanism, c.model.nominal, c.poses, c.model.external_form);
+        fixGauge(m, c.poses);
+      },
+      5);
+  std::printf(
+      "%-14s identify: %zu poses, %zu free of %zu parameters: %.2f ms CPU median (%d iterations); "
+      "mounting from the data + gauge analysis: %.2f ms\n",
+      name.c_str(), c.poses.size(), result.free_names.size(), result.model.parameters.size(), ms, result.iterations,
+      init_ms);
 }
 
 void scaling() {
@@ -133,7 +142,8 @@ void scaling() {
   for (int n : {10000, 100000}) {
     const Campaign c = simulateCampaign("h4-12", 9, 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 0, n);
     const std::clock_t t0 = std::clock();
-    const IdentificationModel model = makeInitialModel(c.model.mechanism, c.model.nominal, c.poses, ExternalForm::AxisAligned);
+    const IdentificationModel model =
+        makeInitialModel(c.model.mechanism, c.model.nominal, c.poses, ExternalForm::AxisAligned);
     const IdentificationResult result = identify(model, c.poses);
     const double s = double(std::clock() - t0) / CLOCKS_PER_SEC;
     std::printf("h4-12 identify on %d poses (initial mounting + weighted identification): %.2f s CPU%s\n", n, s,

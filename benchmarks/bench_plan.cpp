@@ -117,7 +117,8 @@ Eigen::VectorXd actualSpread(const DesignModel& model, const MountingGuess& moun
                              const std::function<std::vector<int>(int)>& design_of, int campaigns, int* used) {
   std::vector<Eigen::VectorXd> values;
   for (int c = 0; c < campaigns; ++c)
-    if (auto v = identifiedGeometry(model, mounting, info, design_of(c), 500u + static_cast<unsigned>(c))) values.push_back(*v);
+    if (auto v = identifiedGeometry(model, mounting, info, design_of(c), 500u + static_cast<unsigned>(c)))
+      values.push_back(*v);
   *used = static_cast<int>(values.size());
   // RMS error (truth known): the actual spread the predicted σ should match.
   Eigen::VectorXd sq = Eigen::VectorXd::Zero(info.geometric_free + 1);
@@ -183,21 +184,22 @@ void study(const std::string& name, int count, int candidates, int campaigns) {
               report.position_sigma_random_rms * 1e3);
   if (campaigns <= 0) return;
   int used_plan = 0, used_random = 0;
-  const Eigen::VectorXd spread_plan =
-      actualSpread(model, mounting, info, [&](int) { return report.design; }, campaigns, &used_plan);
+  const Eigen::VectorXd spread_plan = actualSpread(
+      model, mounting, info, [&](int) { return report.design; }, campaigns, &used_plan);
   std::mt19937 rng2(11);
   std::vector<std::vector<int>> random_designs;
-  for (int c = 0; c < campaigns; ++c) random_designs.push_back(randomSubset(static_cast<int>(poses.size()), count, rng2));
-  const Eigen::VectorXd spread_random =
-      actualSpread(model, mounting, info, [&](int c) { return random_designs[static_cast<std::size_t>(c)]; }, campaigns,
-                   &used_random);
+  for (int c = 0; c < campaigns; ++c)
+    random_designs.push_back(randomSubset(static_cast<int>(poses.size()), count, rng2));
+  const Eigen::VectorXd spread_random = actualSpread(
+      model, mounting, info, [&](int c) { return random_designs[static_cast<std::size_t>(c)]; }, campaigns, &used_random);
   std::printf("actual spread over %d / %d campaigns: median ratio plan/random = %.3f\n", used_plan, used_random,
               medianRatio(spread_plan, spread_random, G));
   std::printf("actual/predicted spread of the plan: median %.3f\n", medianRatio(spread_plan, report.sigma_plan, G));
-  std::printf("positioning (rigid motion removed, RMS over 100 poses and the campaigns): plan actual %.4f mm vs "
-              "predicted %.4f mm; random actual %.4f mm vs predicted %.4f mm\n",
-              spread_plan[G] * 1e3, report.position_sigma_plan_rms * 1e3, spread_random[G] * 1e3,
-              report.position_sigma_random_rms * 1e3);
+  std::printf(
+      "positioning (rigid motion removed, RMS over 100 poses and the campaigns): plan actual %.4f mm vs "
+      "predicted %.4f mm; random actual %.4f mm vs predicted %.4f mm\n",
+      spread_plan[G] * 1e3, report.position_sigma_plan_rms * 1e3, spread_random[G] * 1e3,
+      report.position_sigma_random_rms * 1e3);
   std::printf("  %-8s %12s %12s %12s %12s\n", "param", "pred plan", "act plan", "pred rand", "act rand");
   for (int i = 0; i < G; ++i) {
     const Unit u = report.units[static_cast<std::size_t>(i)];

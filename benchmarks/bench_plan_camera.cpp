@@ -109,12 +109,13 @@ void measurePlannedPose(const mire::datasets::Renderer& renderer, const mire::da
   const metro::Visibility v = metro::targetVisibility(camera, target, cTm);
   const metro::BoardImageGeometry g = metro::boardImageGeometry(camera, target.points(), cTm);
   const double in_plane = std::atan2(cTm.linear()(1, 0), cTm.linear()(0, 0)) * 180 / kPi;
-  std::printf("p%03zu  corners %d/%zu  chi2 %.1f  detector random %.4f px, systematic %.4f px  (distance %.3f m, "
-              "tilt %.1f deg, in-plane angle %.1f deg, margin %.0f px, square %.2f px, edge angle %.1f deg, "
-              "predicted systematic %.4f px)\n",
-              k + 1, n, target.points().size(), m.estimate.reduced_chi2, noise.random_px, noise.systematic_px,
-              cTm.translation().norm(), v.tilt_deg, in_plane, v.min_margin_px, g.square_px,
-              g.edge_angle_rad * 180 / kPi, prediction.systematicSigma(g.square_px, g.edge_angle_rad));
+  std::printf(
+      "p%03zu  corners %d/%zu  chi2 %.1f  detector random %.4f px, systematic %.4f px  (distance %.3f m, "
+      "tilt %.1f deg, in-plane angle %.1f deg, margin %.0f px, square %.2f px, edge angle %.1f deg, "
+      "predicted systematic %.4f px)\n",
+      k + 1, n, target.points().size(), m.estimate.reduced_chi2, noise.random_px, noise.systematic_px,
+      cTm.translation().norm(), v.tilt_deg, in_plane, v.min_margin_px, g.square_px, g.edge_angle_rad * 180 / kPi,
+      prediction.systematicSigma(g.square_px, g.edge_angle_rad));
   std::printf("      predicted  %.4f %.4f %.4f mm  %.5f %.5f %.5f deg\n", predicted[0] * 1e3, predicted[1] * 1e3,
               predicted[2] * 1e3, predicted[3] * 180 / kPi, predicted[4] * 180 / kPi, predicted[5] * 180 / kPi);
   std::printf("      reported   %.4f %.4f %.4f mm  %.5f %.5f %.5f deg  ratio", reported[0] * 1e3, reported[1] * 1e3,
@@ -148,8 +149,9 @@ void fitBoardImageModel(const std::vector<double>& systematic, const std::vector
   const double mean_only = y.mean();
   const double rms_ab = std::sqrt((a * ab - y).squaredNorm() / static_cast<double>(n));
   const double rms_mean = std::sqrt((y.array() - mean_only).square().sum() / static_cast<double>(n));
-  std::printf("BoardImage fit at s_ref %.0f px: a %.4f px, b %.4f px (rms %.4f px); 1/s only: a %.4f px (rms %.4f px)\n",
-              reference, ab[0], ab[1], rms_ab, mean_only, rms_mean);
+  std::printf(
+      "BoardImage fit at s_ref %.0f px: a %.4f px, b %.4f px (rms %.4f px); 1/s only: a %.4f px (rms %.4f px)\n",
+      reference, ab[0], ab[1], rms_ab, mean_only, rms_mean);
 }
 
 // The detector's noise measured on `count` visible candidates that are not planned (every
@@ -172,8 +174,8 @@ DetectorNoise calibrateNoise(const mire::datasets::Renderer& renderer, const mir
     systematic.push_back(d.systematic_px);
     square.push_back(g.square_px);
     angle.push_back(g.edge_angle_rad);
-    std::printf("  calibration pose %zu: systematic %.4f px, square %.2f px, edge angle %.1f deg\n", j,
-                d.systematic_px, g.square_px, g.edge_angle_rad * 180 / kPi);
+    std::printf("  calibration pose %zu: systematic %.4f px, square %.2f px, edge angle %.1f deg\n", j, d.systematic_px,
+                g.square_px, g.edge_angle_rad * 180 / kPi);
   }
   fitBoardImageModel(systematic, square, angle);
   std::printf("detector on %zu other poses: random %.4f px per image [%.4f, %.4f], systematic %.4f px [%.4f, %.4f]\n",
@@ -214,8 +216,7 @@ int main(int argc, char** argv) {
   const mech::Workspace workspace = mech::protocolWorkspace(m, g);
   const mech::MountingGuess mounting = demoMounting(target);
   const auto poses = mech::generateCandidatePoses(m, g, workspace, candidates, 1);
-  const mire::app::CameraCandidates visible =
-      mire::app::visibleCandidates(m, mounting, camera, target, poses, options);
+  const mire::app::CameraCandidates visible = mire::app::visibleCandidates(m, mounting, camera, target, poses, options);
   mech::DesignOptions design_options;
   design_options.count = 15;
   const mech::CandidateInformation info = mech::candidateInformation(
@@ -223,8 +224,8 @@ int main(int argc, char** argv) {
   const mech::DesignReport report = mech::planExperiment(info, design_options);
   const auto predicted = mire::app::plannedPoseSigmas(info, report.design, camera, target, options);
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  mire::app::CameraPlanSummary summary{options, poses.size(), visible.visible.size(), visible.outside,
-                                       visible.oblique, predicted};
+  mire::app::CameraPlanSummary summary{options,         poses.size(),    visible.visible.size(),
+                                       visible.outside, visible.oblique, predicted};
   std::printf("%s", mire::app::cameraPlanText(summary).c_str());
   std::printf("plan: %.2f s wall; median geometric sigma ratio plan/random %.3f\n\n", plan_seconds,
               report.median_ratio_plan_random);
@@ -234,8 +235,7 @@ int main(int argc, char** argv) {
   Comparison c;
   for (std::size_t k = 0; k < report.design.size(); ++k) {
     const auto& cTm = info.observations[static_cast<std::size_t>(report.design[k])].cTm;
-    measurePlannedPose(renderer, spec, camera, target, mech::toIsometry(cTm), predicted[k], options.prediction,
-                       k, &c);
+    measurePlannedPose(renderer, spec, camera, target, mech::toIsometry(cTm), predicted[k], options.prediction, k, &c);
   }
   std::printf("\nall corners found in %d of %d planned poses\n", c.complete, c.poses);
   std::printf("reported/predicted sigma, per component (%zu): median %.3f, worst %.3f, range [%.3f, %.3f]\n",

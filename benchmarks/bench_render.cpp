@@ -55,8 +55,8 @@ int main() {
     full_options.adaptive = false;
     const datasets::Renderer full(camera, target, full_options);
     const double brute = bestMilliseconds(2, [&] { full.render(pose); });
-    std::cout << "  clean render, 4x4 on every pixel (no adaptivity): " << brute << " ms (ratio "
-              << brute / clean << ")\n";
+    std::cout << "  clean render, 4x4 on every pixel (no adaptivity): " << brute << " ms (ratio " << brute / clean
+              << ")\n";
     datasets::NoiseOptions noise;
     noise.gaussian_sigma = 2.0;
     noise.shot_noise_gain = 20.0;

@@ -78,8 +78,9 @@ void h4Case(bool legs_differ, int campaigns) {
                 r.best >= 0 ? r.scores[static_cast<std::size_t>(r.best)].label.c_str() : "-", describe(r).c_str());
   }
   std::sort(times.begin(), times.end());
-  std::printf("H4 %s: %s variant recommended in %d of %d campaigns (", legs_differ ? "legs differ 1-3 mm" : "exact model 12",
-              legs_differ ? "a model-31" : "a model-12", hits, campaigns);
+  std::printf("H4 %s: %s variant recommended in %d of %d campaigns (",
+              legs_differ ? "legs differ 1-3 mm" : "exact model 12", legs_differ ? "a model-31" : "a model-12", hits,
+              campaigns);
   for (const auto& [k, v] : counts) std::printf(" %s:%d", k.c_str(), v);
   std::printf(" ); selection CPU time median %.3f s, max %.3f s\n", times[times.size() / 2], times.back());
 }
@@ -107,7 +108,7 @@ void deltaCase(DeltaLegs legs, int campaigns, int extra_poses) {
   for (int c = 0; c < campaigns; ++c) {
     const ds::DefectiveRobot robot = deltaRobot(200u + static_cast<unsigned>(c), legs);
     const ds::Campaign campaign = ds::simulateDefectiveCampaign(robot, "delta", 300u + static_cast<unsigned>(c), 0.2e-3,
-                                                                   0.03 * ds::kCampaignDeg, extra_poses);
+                                                                0.03 * ds::kCampaignDeg, extra_poses);
     SelectionOptions options;
     options.folds = 9;
     const SelectionResult r = selectModel(candidates, campaign.poses, {}, options);

@@ -14,7 +14,8 @@ int main() {
   const datasets::H4TrueRobot robot(datasets::makeTrueGeometry({}, datasets::H4ErrorSizes{}, 3));
   datasets::H4MeasurementNoise noise;
   noise.encoder_rad = 2e-5;
-  const auto poses = datasets::toObservations(datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, 11), noise);
+  const auto poses =
+      datasets::toObservations(datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, 11), noise);
   std::mt19937_64 rng(12);
   std::vector<std::vector<Eigen::VectorXd>> lines;
   for (const auto& line : datasets::straightLineMotions()) {
@@ -32,8 +33,8 @@ int main() {
       options.threads = threads;
       const auto study = mechanism::runMonteCarloStudy(initial, poses, with_lines ? lines : decltype(lines){}, options);
       seconds[threads == 2 ? 0 : 1] = study.seconds;
-      std::printf("%s, %d thread(s): 3 x 100 identifications in %.2f s\n", with_lines ? "with V3 lines" : "without lines",
-                  threads, study.seconds);
+      std::printf("%s, %d thread(s): 3 x 100 identifications in %.2f s\n",
+                  with_lines ? "with V3 lines" : "without lines", threads, study.seconds);
       if (threads == 2)
         for (const auto& s : study.summaries)
           std::printf("  %2d poses: %3d ok; V2 %.2e rad, V3 %.3f mm\n", s.subset_size, s.runs_ok, s.v2_mean,

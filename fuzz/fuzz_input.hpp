@@ -16,7 +16,8 @@
 namespace mire::fuzz {
 
 inline std::filesystem::path scratchPath(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+  const std::filesystem::path dir =
+      std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
   return dir / ("mire-fuzz-" + std::to_string(::getpid()) + "-" + name);
 }
 

@@ -1,4 +1,5 @@
-// libFuzzer target: poses.csv, and with its covariance side file: the input is poses.csv, optionally followed by a line "====" and poses_covariance.csv.
+// libFuzzer target: poses.csv, and with its covariance side file: the input is poses.csv, optionally followed by a line
+// "====" and poses_covariance.csv.
 #include "fuzz_input.hpp"
 
 #include "mire/mechanism/io.hpp"

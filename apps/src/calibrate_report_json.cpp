@@ -82,7 +82,9 @@ Json viewsJson(const cal::CalibrationResult& result) {
   Json list = Json::array();
   for (std::size_t v = 0; v < result.views.size(); ++v) {
     const cal::CalibrationViewResult& view = result.views[v];
-    Json item{{"image", view.name}, {"used", view.used}, {"points", view.ids.size()},
+    Json item{{"image", view.name},
+              {"used", view.used},
+              {"points", view.ids.size()},
               {"inliers", std::count(view.inlier.begin(), view.inlier.end(), true)}};
     setNumber(item, "rms_px", view.rms_px, "not computed");
     setNumber(item, "tilt_deg", view.tilt_deg, "not computed");
@@ -103,8 +105,7 @@ Json viewsJson(const cal::CalibrationResult& result) {
 }  // namespace
 
 void writeCalibrateReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
-                              const cal::CalibrationResult& result,
-                              const cal::ProjectionUncertaintySummary& uncertainty) {
+                              const cal::CalibrationResult& result, const cal::ProjectionUncertaintySummary& uncertainty) {
   Json doc = reportHeader("calibrate", provenance);
   doc["camera"] = cameraJson(result);
   doc["quality"] = qualityJson(result, uncertainty);

@@ -6,9 +6,9 @@
 #include "detections_io.hpp"
 #include "image_folders.hpp"
 #include "output_paths.hpp"
-#include "validate.hpp"
 #include "plot.hpp"
 #include "report_json.hpp"
+#include "validate.hpp"
 
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/calibration_plots.hpp"
@@ -44,9 +44,9 @@ struct CalibrateArguments {
   std::string output_path;
   std::string report_dir;
   int threads = 0;
-  std::string save_detections;    // CSV of every view's detections (doc/targets.md)
-  std::string detections_path;    // calibrate from this file instead of images
-  std::vector<int> image_size;    // width height, for a detections file that does not say
+  std::string save_detections;            // CSV of every view's detections (doc/targets.md)
+  std::string detections_path;            // calibrate from this file instead of images
+  std::vector<int> image_size;            // width height, for a detections file that does not say
   std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
@@ -62,7 +62,8 @@ std::string extraYamlKeys(const calibration::CalibrationResult& result,
   std::ostringstream out;
   out << "# mire calibrate: solution quality (see README 'mire calibrate')\n";
   out << "sigma_px: " << support::formatNumber(result.sigma_px) << "\n";
-  out << "# sigma = pixel-noise sigma x sigma_inflation (>= 1, view-cluster sandwich: systematic error), per parameter\n";
+  out << "# sigma = pixel-noise sigma x sigma_inflation (>= 1, view-cluster sandwich: systematic error), per "
+         "parameter\n";
   out << "sigma_inflation: [ ";
   for (std::size_t i = 0; i < result.sigma_inflation.size(); ++i)
     out << (i ? ", " : "") << support::formatNumber(result.sigma_inflation[i]);
@@ -116,8 +117,7 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
 // Everything that can be checked before the long work is checked first. Returns the paths
 // (report.json's provenance).
 CommandPaths checkCalibratePaths(const CalibrateArguments& args) {
-  if (args.images_dir.empty() == args.detections_path.empty())
-    throw UsageError("give either --images or --detections");
+  if (args.images_dir.empty() == args.detections_path.empty()) throw UsageError("give either --images or --detections");
   CommandPaths paths{{{args.target_path, "--target"}}, {}, {{args.output_path, "-o"}}, {}};
   if (!args.images_dir.empty()) paths.input_folders.push_back({args.images_dir, "--images"});
   if (!args.detections_path.empty()) paths.input_files.push_back({args.detections_path, "--detections"});
@@ -164,16 +164,17 @@ void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& p
     writePng(dir / "residuals_per_view.png", calibration::drawResidualsPerView(result));
     writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
-    if (result.target_refined) support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
+    if (result.target_refined)
+      support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
     ReportProvenance provenance{args.command_line, paths.input_files, paths.output_files};
     provenance.inputs.insert(provenance.inputs.end(), paths.input_folders.begin(), paths.input_folders.end());
     provenance.outputs.push_back({args.report_dir, "--report"});
     writeCalibrateReportJson(dir / "report.json", provenance, result, uncertainty);
   }
   if (!args.save_detections.empty())
-    support::writeFileAtomically(outputs.stageFile(args.save_detections),
-                                 metrology::detectionsCsv(target, calibrationDetections(folder), folder.width,
-                                                          folder.height));
+    support::writeFileAtomically(
+        outputs.stageFile(args.save_detections),
+        metrology::detectionsCsv(target, calibrationDetections(folder), folder.width, folder.height));
   outputs.commit();
 }
 
@@ -195,7 +196,8 @@ void printParameters(const calibration::CalibrationResult& result) {
     if (result.sigma_inflation[i] > 1.05) inflated += " " + names[i] + " x" + fixed(result.sigma_inflation[i], 2);
   std::cout << (inflated.empty() ? std::string("sigma: pixel noise (no sign of systematic error across views)")
                                  : "sigma include systematic error (residuals correlated within views, view-cluster "
-                                   "sandwich):" + inflated)
+                                   "sandwich):" +
+                                       inflated)
             << "\n";
 }
 
@@ -211,8 +213,8 @@ void printQuality(const calibration::CalibrationResult& result,
     return std::isfinite(px) ? fixed(px, 4) + " px" : std::string("undefined (outside the model's invertible field)");
   };
   std::cout << "projection uncertainty (1 sigma, at " << fixed(result.uncertainty_distance_m * 1e3, 0)
-            << " mm): centre " << pixels(uncertainty.centre_px) << ", edge " << pixels(uncertainty.edge_px) << ", corner "
-            << pixels(uncertainty.corner_px) << "\n";
+            << " mm): centre " << pixels(uncertainty.centre_px) << ", edge " << pixels(uncertainty.edge_px)
+            << ", corner " << pixels(uncertainty.corner_px) << "\n";
   if (result.target_refined)
     std::cout << "target deformation: out-of-plane RMS " << fixed(result.target_out_of_plane_rms_m * 1e3, 4)
               << " mm, max " << fixed(result.target_out_of_plane_max_m * 1e3, 4) << " mm; displacement RMS "
@@ -246,9 +248,9 @@ int runCalibrate(const CalibrateArguments& args) {
   writeCalibrateOutputs(args, paths, target, folder, result, uncertainty);
 
   const int skipped = static_cast<int>(folder.skipped.size());
-  std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images") << " without the target, "
-            << result.rejected_views << " views rejected), " << result.used_points << " points ("
-            << result.rejected_points << " rejected as outliers beyond 5 sigma)\n";
+  std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images")
+            << " without the target, " << result.rejected_views << " views rejected), " << result.used_points
+            << " points (" << result.rejected_points << " rejected as outliers beyond 5 sigma)\n";
   std::cout << "model " << calibration::distortionModelName(model) << (result.target_refined ? ", target refined" : "")
             << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
   printParameters(result);
@@ -262,7 +264,8 @@ int runCalibrate(const CalibrateArguments& args) {
 
 Runner addCalibrateCommand(CLI::App& app) {
   auto args = std::make_shared<CalibrateArguments>();
-  CLI::App* command = app.add_subcommand("calibrate", "Calibrate the camera (intrinsics + distortion) from target images");
+  CLI::App* command =
+      app.add_subcommand("calibrate", "Calibrate the camera (intrinsics + distortion) from target images");
   command->add_option("--target", args->target_path, "target.yaml describing the board")->required();
   command->add_option("--images", args->images_dir, "folder of calibration images");
   command->add_option("--detections", args->detections_path,
@@ -270,18 +273,22 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_option("--image-size", args->image_size, "WIDTH HEIGHT of the images, for a detections file without it")
       ->expected(2);
   command->add_option("--save-detections", args->save_detections, "write every view's detections (CSV, doc/targets.md)");
-  command->add_option("--model", args->model,
-                      "camera model: pinhole (no distortion), opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational), "
-                      "fisheye (OpenCV's equidistant k1..k4)")
+  command
+      ->add_option("--model", args->model,
+                   "camera model: pinhole (no distortion), opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational), "
+                   "fisheye (OpenCV's equidistant k1..k4)")
       ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "fisheye"}));
-  command->add_option("--fix", args->fixed_parameters,
-                      "parameters held fixed, by name (e.g. k3,p1,p2; fx fy cx cy too): distortion terms stay 0, "
-                      "cx cy stay at the image centre, fx fy at the initial estimate")
+  command
+      ->add_option("--fix", args->fixed_parameters,
+                   "parameters held fixed, by name (e.g. k3,p1,p2; fx fy cx cy too): distortion terms stay 0, "
+                   "cx cy stay at the image centre, fx fy at the initial estimate")
       ->delimiter(',');
   command->add_flag("--refine-target", args->refine_target,
                     "also estimate the target's 3D points (Lavest & Dhome) for an imperfect board");
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
-  command->add_option("--report", args->report_dir, "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, views.csv, report.json");
+  command->add_option(
+      "--report", args->report_dir,
+      "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, views.csv, report.json");
   command->add_option("--threads", args->threads, "detection/solver threads (default: all cores)");
   return [args, command] {
     args->command_line = commandLineOf(*command);

@@ -52,8 +52,8 @@ int runConvert(const ConvertOptions& options) {
   try {
     text = calibration::cameraString(camera, *format, options.name);
   } catch (const std::invalid_argument& error) {
-    throw std::runtime_error(options.camera + ": cannot be written as " + calibration::cameraFormatName(*format) + ": " +
-                             error.what());
+    throw std::runtime_error(options.camera + ": cannot be written as " + calibration::cameraFormatName(*format) +
+                             ": " + error.what());
   }
   support::writeFileAtomically(options.output, text);
   std::cout << "mire convert: " << options.camera << " (" << calibration::cameraFormatName(input_format) << ") -> "
@@ -67,12 +67,17 @@ int runConvert(const ConvertOptions& options) {
 
 Runner addConvertCommand(CLI::App& app) {
   auto options = std::make_shared<ConvertOptions>();
-  CLI::App* command = app.add_subcommand("convert", "Convert a camera file between OpenCV, ROS, ViSP, Kalibr and mrcal");
-  command->add_option("--camera", options->camera, "input camera file (opencv, ros, visp or kalibr; detected from the content)")
+  CLI::App* command =
+      app.add_subcommand("convert", "Convert a camera file between OpenCV, ROS, ViSP, Kalibr and mrcal");
+  command
+      ->add_option("--camera", options->camera,
+                   "input camera file (opencv, ros, visp or kalibr; detected from the content)")
       ->required();
   command->add_option("-o,--output", options->output, "output file")->required();
-  command->add_option("--to", options->to, "output format (default: from the extension: .yaml/.yml opencv, .xml visp, "
-                                           ".cameramodel mrcal)")
+  command
+      ->add_option("--to", options->to,
+                   "output format (default: from the extension: .yaml/.yml opencv, .xml visp, "
+                   ".cameramodel mrcal)")
       ->check(CLI::IsMember({"opencv", "ros", "visp", "kalibr", "mrcal"}));
   command->add_option("--name", options->name, "camera name written in ROS and ViSP files (default: camera)");
   return [options] { return runConvert(*options); };

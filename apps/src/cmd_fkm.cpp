@@ -7,13 +7,13 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "output_paths.hpp"
-#include "validate.hpp"
 #include "kinematics_files.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 
 namespace mire::app {
 namespace {
@@ -39,7 +39,10 @@ std::string baseFrameCsv(const mech::Mechanism& m, const std::vector<std::string
     out << ids[j];
     for (Eigen::Index k = 0; k < p.pose.size(); ++k) out << ',' << support::formatNumber(p.pose[k]);
     for (Eigen::Index k = 0; k < p.pose.size(); ++k)
-      out << ',' << support::formatNumber(mech::toDisplay(units[static_cast<std::size_t>(k)], std::sqrt(std::max(0.0, p.pose_covariance(k, k)))), 6);
+      out << ','
+          << support::formatNumber(
+                 mech::toDisplay(units[static_cast<std::size_t>(k)], std::sqrt(std::max(0.0, p.pose_covariance(k, k)))),
+                 6);
     out << '\n';
   }
   return out.str();
@@ -113,8 +116,8 @@ int runFkm(const FkmArguments& args) {
   }
   std::cout << "model " << loaded.model.model_name << ": " << ids.size() << " poses predicted ("
             << (args.frame == "camera" ? "camera frame, cTm" : "base frame, effector") << ")"
-            << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote " << args.output
-            << (args.frame == "camera" ? " and " + side_out.string() : std::string()) << "\n";
+            << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote "
+            << args.output << (args.frame == "camera" ? " and " + side_out.string() : std::string()) << "\n";
   for (const auto& f : failed) std::cerr << "mire fkm: " << f << "\n";
   return failed.empty() ? kOk : kPartialFailure;
 }
@@ -123,12 +126,15 @@ int runFkm(const FkmArguments& args) {
 
 Runner addFkmCommand(CLI::App& app) {
   auto args = std::make_shared<FkmArguments>();
-  CLI::App* cmd = app.add_subcommand("fkm", "predict effector (or target) poses from joint readings with an identified model");
+  CLI::App* cmd =
+      app.add_subcommand("fkm", "predict effector (or target) poses from joint readings with an identified model");
   cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required();
-  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)");
+  cmd->add_option("--covariance", args->covariance,
+                  "parameter covariance side file (default <params stem>_covariance.csv)");
   cmd->add_option("--joints", args->joints, "joint readings (joints.csv with the mechanism's q<i>_rad / q<i>_m columns)")
       ->required();
-  cmd->add_option("--frame", args->frame, "base (effector pose in B) or camera (cTm in poses.csv's format)")->capture_default_str();
+  cmd->add_option("--frame", args->frame, "base (effector pose in B) or camera (cTm in poses.csv's format)")
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->output, "predicted poses (CSV)")->required();
   return [args] { return runFkm(*args); };
 }

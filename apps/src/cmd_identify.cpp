@@ -13,12 +13,12 @@
 #include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/gauge.hpp"
-#include "mire/mechanism/prediction.hpp"
-#include "mire/mechanism/registry.hpp"
-#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/mechanism/prediction.hpp"
+#include "mire/mechanism/registry.hpp"
+#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/variants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
@@ -112,15 +112,18 @@ std::string human(const mech::Parameter& p, double si) {
 CommandPaths checkPaths(const IdentifyArguments& args) {
   CommandPaths paths;
   paths.input_files = {{args.poses, "--poses"}, {args.joints, "--joints"}};
-  if (!args.covariances.empty()) paths.input_files.push_back({args.covariances, "--pose-covariances"});
+  if (!args.covariances.empty())
+    paths.input_files.push_back({args.covariances, "--pose-covariances"});
   else if (fs::exists(mech::defaultCovariancePath(args.poses)))
     paths.input_files.push_back({mech::defaultCovariancePath(args.poses), "the covariance side file"});
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
   if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
-  if (!args.shared.empty()) paths.input_files.push_back({args.shared, "--shared-term"});
+  if (!args.shared.empty())
+    paths.input_files.push_back({args.shared, "--shared-term"});
   else if (!args.independent_poses && fs::exists(mech::sharedTermPath(args.poses)))
     paths.input_files.push_back({mech::sharedTermPath(args.poses), "the shared-term side file"});
-  paths.output_files = {{args.output, "-o"}, {mech::defaultParameterCovariancePath(args.output), "the covariance side file of -o"}};
+  paths.output_files = {{args.output, "-o"},
+                        {mech::defaultParameterCovariancePath(args.output), "the covariance side file of -o"}};
   if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
   checkCommandPaths(paths);
   return paths;
@@ -144,9 +147,9 @@ ModelChoice chooseModel(const IdentifyArguments& args) {
       throw UsageError("--variant '" + args.variant + "': expected one letter A..H");
   }
   // Without --model, the variant's model (A–D: h4-12, E–H: h4-31c); default h4-12.
-  choice.model = !args.model.empty() ? args.model
+  choice.model = !args.model.empty()                                                             ? args.model
                  : (letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera) ? "h4-31c"
-                                                                                                : "h4-12";
+                                                                                                 : "h4-12";
   const std::string& model = choice.model;
   choice.h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
   if (!choice.h4) {
@@ -201,11 +204,12 @@ IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const ModelChoi
   if (!choice.h4 && !args.nominal.empty())
     throw UsageError("--nominal applies to the H4 models; " + choice.model + " starts from its built-in nominal");
   IdentifyInputs inputs;
-  inputs.nominal = choice.h4 ? readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal)
-                             : mech::H4Nominal{};
+  inputs.nominal =
+      choice.h4 ? readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal) : mech::H4Nominal{};
   inputs.registered = mech::makeRegisteredModel(choice.model, inputs.nominal);
   const std::vector<std::string> joint_columns = inputs.registered.mechanism->jointColumnNames();
-  if (!args.covariances.empty()) inputs.covariance_path = fs::path(args.covariances);
+  if (!args.covariances.empty())
+    inputs.covariance_path = fs::path(args.covariances);
   else if (fs::exists(mech::defaultCovariancePath(args.poses)))
     inputs.covariance_path = mech::defaultCovariancePath(args.poses);
   inputs.observations = mech::readObservations(args.poses, args.joints, inputs.covariance_path, joint_columns);
@@ -251,7 +255,8 @@ InitialModel initialModel(const ModelChoice& choice, const IdentifyInputs& input
   }
   // Every name given on the command line must exist (h4a's identify also checks; this names the option).
   for (const auto& name : options.fix)
-    if (!initial.model.parameters.contains(name)) initial.model.parameters.at(name);  // throws naming it and the known ones
+    if (!initial.model.parameters.contains(name))
+      initial.model.parameters.at(name);  // throws naming it and the known ones
   return initial;
 }
 
@@ -318,12 +323,14 @@ Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& i
   if (!args.mc.empty()) {
     const mech::IdentificationModel& start = initial.model;
     mech::MonteCarloOptions mc;
-    mc.subset_sizes = parseSubsetSizes(args.mc, start.mechanism->jointCount(), start.parameters.freeCount(), poses.size());
+    mc.subset_sizes =
+        parseSubsetSizes(args.mc, start.mechanism->jointCount(), start.parameters.freeCount(), poses.size());
     mc.repeats = args.mc_repeats;
     mc.seed = args.mc_seed;
     mc.threads = args.threads;
     mc.identification = inputs.options;
-    support::Progress progress("Monte-Carlo identifications", mc.subset_sizes.size() * static_cast<std::size_t>(mc.repeats));
+    support::Progress progress("Monte-Carlo identifications",
+                               mc.subset_sizes.size() * static_cast<std::size_t>(mc.repeats));
     mc.on_run_done = [&progress] { progress.advance(); };
     criteria.study = mech::runMonteCarloStudy(start, poses, criteria.line_joints, mc);
     progress.finish();
@@ -346,19 +353,21 @@ void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, 
   std::snprintf(line, sizeof line, "joint residual RMS: before %.4f deg (%.3e rad), after %.4f deg (%.3e rad)\n",
                 rms_before * kRadToDeg, rms_before, rms_after * kRadToDeg, rms_after);
   out << line;
-  std::snprintf(line, sizeof line, "condition number %.4g (%s), rank %d of %zu\n", result.identifiability.condition_number,
-                result.identifiability.scaling.c_str(), result.identifiability.rank, result.free_names.size());
+  std::snprintf(line, sizeof line, "condition number %.4g (%s), rank %d of %zu\n",
+                result.identifiability.condition_number, result.identifiability.scaling.c_str(),
+                result.identifiability.rank, result.free_names.size());
   out << line;
   for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
   std::snprintf(line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
                 !weighted ? ""
                 : result.covariance_scale2 > 1.0
                     ? ": misfit (the model does not explain the measured poses to their covariances)"
-                    : result.covariance_scale2 < 1.0 ? ": the pose covariances overstate the scatter" : ", consistent");
+                : result.covariance_scale2 < 1.0 ? ": the pose covariances overstate the scatter"
+                                                 : ", consistent");
   out << line;
-  std::snprintf(line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(),
-                result.covariance_scale2,
-                inputs.shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
+  std::snprintf(
+      line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(), result.covariance_scale2,
+      inputs.shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
   out << line;
   if (!result.outliers.empty()) {
     out << "outlier poses:";
@@ -375,8 +384,8 @@ void writeParameterTable(const InitialModel& initial, const mech::Identification
   for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
     const auto& p = result.model.parameters[i];
     const double start = initial.model.parameters[i].value;
-    std::snprintf(line, sizeof line, "%-14s %-5s %s %s %s %s%s\n", p.name.c_str(), mech::displayUnitName(p.unit).c_str(),
-                  human(p, start).c_str(), human(p, p.value).c_str(),
+    std::snprintf(line, sizeof line, "%-14s %-5s %s %s %s %s%s\n", p.name.c_str(),
+                  mech::displayUnitName(p.unit).c_str(), human(p, start).c_str(), human(p, p.value).c_str(),
                   p.fixed ? "       (fixed)" : human(p, result.sigma[static_cast<Eigen::Index>(i)]).c_str(),
                   human(p, p.value - start).c_str(), "");
     out << line;
@@ -479,7 +488,8 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
     data.provenance.outputs.push_back({args.report, "--report"});
     data.model_name = run.choice.model;
     data.variant = run.choice.letter ? std::string(1, run.choice.letter) : std::string();
-    if (run.inputs.covariance_path && !args.unweighted) data.pose_covariance_file = run.inputs.covariance_path->string();
+    if (run.inputs.covariance_path && !args.unweighted)
+      data.pose_covariance_file = run.inputs.covariance_path->string();
   }
   const mech::PredictionModel prediction =
       mech::predictionModelFrom(run.choice.model, result, run.mean_orientation_covariance);
@@ -491,9 +501,8 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
                                args.joints + "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");
   if (!args.report.empty()) writeIdentifyReport(outputs.stageFolder(args.report), data);
   outputs.commit();
-  std::cout << summary << "wrote " << args.output << ", " << covariance_output.string()
-            << " (full parameter covariance)" << (args.report.empty() ? "" : " and the report in " + args.report)
-            << "\n";
+  std::cout << summary << "wrote " << args.output << ", " << covariance_output.string() << " (full parameter covariance)"
+            << (args.report.empty() ? "" : " and the report in " + args.report) << "\n";
 }
 
 // Stages: paths and model choice, inputs, initial model, the fit, the criteria, the summary,
@@ -516,9 +525,12 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
 
 Runner addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArguments>();
-  CLI::App* cmd = app.add_subcommand("identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
+  CLI::App* cmd = app.add_subcommand(
+      "identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
   cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, doc/file-formats.md)")->required();
-  cmd->add_option("--joints", args->joints, "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")->required();
+  cmd->add_option("--joints", args->joints,
+                  "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")
+      ->required();
   cmd->add_option("--pose-covariances", args->covariances,
                   "6x6 pose covariances (default: <poses>_covariance.csv beside poses.csv when it exists, "
                   "else the sigma_ columns)");
@@ -536,19 +548,29 @@ Runner addIdentifyCommand(CLI::App& app) {
                   "the calibration term shared by every pose (default: <poses>_shared.csv beside poses.csv when it "
                   "exists; doc/uncertainty.md)");
   cmd->add_flag("--independent-poses", args->independent_poses,
-                "ignore the shared calibration term (treat the pose errors as independent)")->excludes("--shared-term");
-  CLI::Option* mc = cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)");
-  cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")->capture_default_str()->check(CLI::Range(1, 1000000))->needs(mc);
-  cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")->capture_default_str()->check(CLI::NonNegativeNumber)->needs(mc);
-  cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")->capture_default_str()->check(CLI::Range(1, kMaxThreads));
+                "ignore the shared calibration term (treat the pose errors as independent)")
+      ->excludes("--shared-term");
+  CLI::Option* mc =
+      cmd->add_option("--mc", args->mc, "Monte-Carlo study: subset sizes, e.g. 6,15,71 (the other poses validate)");
+  cmd->add_option("--mc-repeats", args->mc_repeats, "identifications per subset size")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000))
+      ->needs(mc);
+  cmd->add_option("--mc-seed", args->mc_seed, "seed of the subset draws")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber)
+      ->needs(mc);
+  cmd->add_option("--threads", args->threads, "worker threads of the Monte-Carlo study")
+      ->capture_default_str()
+      ->check(CLI::Range(1, kMaxThreads));
   cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)");
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
   cmd->add_option("--report", args->report, "folder for report.md, its PNG charts and report.json");
   return [args, cmd] {
     args->command_line = commandLineOf(*cmd);
     std::string command_line = "mire identify --poses " + args->poses + " --joints " + args->joints + " --model " +
-                               (args->model.empty() ? "(default)" : args->model) + (args->variant.empty() ? "" : " --variant " + args->variant) + " -o " +
-                               args->output;
+                               (args->model.empty() ? "(default)" : args->model) +
+                               (args->variant.empty() ? "" : " --variant " + args->variant) + " -o " + args->output;
     return runIdentify(*args, command_line);
   };
 }

@@ -7,12 +7,12 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "output_paths.hpp"
-#include "validate.hpp"
 #include "kinematics_files.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "output_paths.hpp"
+#include "validate.hpp"
 
 namespace mire::app {
 namespace {
@@ -53,8 +53,8 @@ int runIkm(const IkmArguments& args) {
     if (!p.ikm.withinStroke()) {  // the command would drive a leg past its end stop
       std::string legs;
       for (int j : p.ikm.out_of_stroke_joints)
-        legs += (legs.empty() ? "" : ", ") + std::to_string(j + 1) + " (" +
-                support::formatNumber(p.ikm.joints[j]) + " " + mech::unitName(m.jointUnits()[static_cast<std::size_t>(j)]) + ")";
+        legs += (legs.empty() ? "" : ", ") + std::to_string(j + 1) + " (" + support::formatNumber(p.ikm.joints[j]) +
+                " " + mech::unitName(m.jointUnits()[static_cast<std::size_t>(j)]) + ")";
       unreachable.push_back(args.poses + ":" + std::to_string(row.line) + ": pose '" + row.id +
                             "' is outside the stroke of joint(s) " + legs);
       continue;
@@ -70,9 +70,11 @@ int runIkm(const IkmArguments& args) {
   if (written == 0) throw std::runtime_error(args.poses + ": no reachable pose; nothing written");
   support::writeFileAtomically(args.output, out.str());
   std::cout << "model " << loaded.model.model_name << ": joint commands for " << written << " poses"
-            << (unreachable.empty() ? "" : ", " + std::to_string(unreachable.size()) + " unreachable or outside the strokes (named above)")
-            << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote " << args.output
-            << "\n";
+            << (unreachable.empty()
+                    ? ""
+                    : ", " + std::to_string(unreachable.size()) + " unreachable or outside the strokes (named above)")
+            << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote "
+            << args.output << "\n";
   return unreachable.empty() ? kOk : kPartialFailure;
 }
 
@@ -82,8 +84,10 @@ Runner addIkmCommand(CLI::App& app) {
   auto args = std::make_shared<IkmArguments>();
   CLI::App* cmd = app.add_subcommand("ikm", "joint commands for desired effector poses with an identified model");
   cmd->add_option("--params", args->params, "identified parameters (YAML written by mire identify)")->required();
-  cmd->add_option("--covariance", args->covariance, "parameter covariance side file (default <params stem>_covariance.csv)");
-  cmd->add_option("--poses", args->poses, "desired effector poses in the base frame (pose_id,x_m,y_m,z_m[,theta_rad | ,rx_rad,ry_rad,rz_rad])")
+  cmd->add_option("--covariance", args->covariance,
+                  "parameter covariance side file (default <params stem>_covariance.csv)");
+  cmd->add_option("--poses", args->poses,
+                  "desired effector poses in the base frame (pose_id,x_m,y_m,z_m[,theta_rad | ,rx_rad,ry_rad,rz_rad])")
       ->required();
   cmd->add_option("-o,--output", args->output, "joint commands (joints.csv with sigma_ columns)")->required();
   return [args] { return runIkm(*args); };

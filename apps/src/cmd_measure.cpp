@@ -41,7 +41,7 @@ struct MeasureSettings {
   int threads = 0;              // 0 = all cores
   double ambiguity_ratio = 4.0;
   double rejection_confidence = 0.999;
-  std::string save_detections;  // CSV of every image's detections (doc/targets.md)
+  std::string save_detections;        // CSV of every image's detections (doc/targets.md)
   std::string split_moving = "fail";  // static-pose integrity: fail | keep-largest
 };
 
@@ -91,10 +91,11 @@ int runMeasure(const MeasureSettings& settings) {
   const fs::path output = settings.output_path;
   const fs::path covariance =
       settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
-  CommandPaths paths{{{settings.camera_path, "--camera"}, {settings.target_path, "--target"}},
-                     {{settings.poses_dir, "--poses"}},
-                     {{output, "-o"}, {covariance, settings.covariance_path.empty() ? "the covariance side file" : "--covariance"}},
-                     {}};
+  CommandPaths paths{
+      {{settings.camera_path, "--camera"}, {settings.target_path, "--target"}},
+      {{settings.poses_dir, "--poses"}},
+      {{output, "-o"}, {covariance, settings.covariance_path.empty() ? "the covariance side file" : "--covariance"}},
+      {}};
   const fs::path shared = metrology::sharedTermSidePath(output);
   paths.output_files.push_back({shared, "the shared-term side file"});
   if (!settings.save_detections.empty()) paths.output_files.push_back({settings.save_detections, "--save-detections"});
@@ -169,32 +170,40 @@ int runMeasure(const MeasureSettings& settings) {
 
 Runner addMeasureCommand(CLI::App& app) {
   auto settings = std::make_shared<MeasureSettings>();
-  CLI::App* command = app.add_subcommand(
-      "measure", "measure target poses cTm (with their precision) from one image folder per pose");
-  command->add_option("--camera", settings->camera_path, "camera file: camera.yaml, ROS camera_info, ViSP XML or Kalibr camchain (detected from the content)")
+  CLI::App* command =
+      app.add_subcommand("measure", "measure target poses cTm (with their precision) from one image folder per pose");
+  command
+      ->add_option("--camera", settings->camera_path,
+                   "camera file: camera.yaml, ROS camera_info, ViSP XML or Kalibr camchain (detected from the content)")
       ->required();
   command->add_option("--target", settings->target_path, "target.yaml")->required();
-  command->add_option("--poses", settings->poses_dir, "folder holding one subfolder of images per pose (named by pose id)")
+  command
+      ->add_option("--poses", settings->poses_dir, "folder holding one subfolder of images per pose (named by pose id)")
       ->required();
   command->add_option("-o,--output", settings->output_path, "poses.csv to write")->required();
   command->add_option("--covariance", settings->covariance_path,
                       "6x6 covariances side file (default: <output stem>_covariance.csv)");
-  command->add_option("--threads", settings->threads, "worker threads (default: all cores)")->check(CLI::Range(0, kMaxThreads));
-  command->add_option("--ambiguity-ratio", settings->ambiguity_ratio,
-                      "flag a pose ambiguous when cost(planar flip) < ratio x cost(best)")
+  command->add_option("--threads", settings->threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
+  command
+      ->add_option("--ambiguity-ratio", settings->ambiguity_ratio,
+                   "flag a pose ambiguous when cost(planar flip) < ratio x cost(best)")
       ->check(finiteNumber())
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  command->add_option("--rejection-confidence", settings->rejection_confidence,
-                      "chi-square confidence of the outlier-observation test (a moved image is the static-pose test's business, see --split-moving)")
+  command
+      ->add_option("--rejection-confidence", settings->rejection_confidence,
+                   "chi-square confidence of the outlier-observation test (a moved image is the static-pose test's "
+                   "business, see --split-moving)")
       ->check(finiteNumber())
       ->check(CLI::Range(0.5, 0.999999999))
       ->capture_default_str();
   command->add_option("--save-detections", settings->save_detections,
                       "write every image's detections (CSV, doc/targets.md)");
-  command->add_option("--split-moving", settings->split_moving,
-                      "when a pose's images do not show one static pose: fail it, or keep the largest consistent "
-                      "group (more than half of the images) and list the rest")
+  command
+      ->add_option("--split-moving", settings->split_moving,
+                   "when a pose's images do not show one static pose: fail it, or keep the largest consistent "
+                   "group (more than half of the images) and list the rest")
       ->check(CLI::IsMember({"fail", "keep-largest"}))
       ->capture_default_str();
   return [settings] { return runMeasure(*settings); };

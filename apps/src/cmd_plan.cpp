@@ -13,17 +13,17 @@
 #include <stdexcept>
 
 #include "commands.hpp"
-#include "output_paths.hpp"
-#include "validate.hpp"
 #include "kinematics_files.hpp"
-#include "plan_camera.hpp"
-#include "plan_inputs.hpp"
-#include "report_json.hpp"
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/support/atomic_file.hpp"
-#include "mire/support/output_transaction.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/output_transaction.hpp"
+#include "output_paths.hpp"
+#include "plan_camera.hpp"
+#include "plan_inputs.hpp"
+#include "report_json.hpp"
+#include "validate.hpp"
 
 namespace mire::app {
 namespace {
@@ -97,8 +97,7 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
   if (!(o.visibility.max_tilt_deg > 0.0 && o.visibility.max_tilt_deg <= 90.0))
     throw UsageError("--max-tilt-deg must be in (0, 90]");
   if (o.prediction.images < 1) throw UsageError("--images-per-pose must be >= 1");
-  if (!(o.prediction.pixel_sigma >= 0.0) || !(o.prediction.systematic_px >= 0.0) ||
-      !(o.prediction.featureSigma() > 0.0))
+  if (!(o.prediction.pixel_sigma >= 0.0) || !(o.prediction.systematic_px >= 0.0) || !(o.prediction.featureSigma() > 0.0))
     throw UsageError("--pixel-sigma and --systematic-px must be >= 0, not both 0");
   if (!(o.prediction.systematic_mean_px >= 0.0) || !(o.prediction.systematic_grid_px >= 0.0) ||
       !(o.prediction.systematic_grid_px <= o.prediction.systematic_mean_px) ||
@@ -115,12 +114,12 @@ std::vector<Eigen::VectorXd> plannableCandidates(const PlanArguments& args, cons
   if (!in.target) return poses;
   CameraCandidates seen = visibleCandidates(m, mounting, in.camera, *in.target, poses, args.camera_options);
   if (static_cast<int>(seen.visible.size()) < args.count)
-    throw std::runtime_error(
-        "--camera " + args.camera + ": only " + std::to_string(seen.visible.size()) + " of " +
-        std::to_string(poses.size()) + " candidate poses show the whole target (" + std::to_string(seen.outside) +
-        " outside the image or its margin, " + std::to_string(seen.oblique) + " too oblique; first: " +
-        seen.example_reason + "), fewer than --count " + std::to_string(args.count) +
-        ": check the mounting guess (--externals), the workspace, --margin-px, --max-tilt-deg");
+    throw std::runtime_error("--camera " + args.camera + ": only " + std::to_string(seen.visible.size()) + " of " +
+                             std::to_string(poses.size()) + " candidate poses show the whole target (" +
+                             std::to_string(seen.outside) + " outside the image or its margin, " +
+                             std::to_string(seen.oblique) + " too oblique; first: " + seen.example_reason +
+                             "), fewer than --count " + std::to_string(args.count) +
+                             ": check the mounting guess (--externals), the workspace, --margin-px, --max-tilt-deg");
   summary->options = args.camera_options;
   summary->drawn = poses.size();
   summary->visible = seen.visible.size();
@@ -157,11 +156,10 @@ int runPlan(const PlanArguments& args) {
       args, camera, m, mounting,
       mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed),
       &camera_summary);
-  const mech::CandidateInformation info =
-      mech::candidateInformation(model, mounting, poses, options,
-                                 camera.target ? cameraCovarianceProvider(camera.camera, *camera.target,
-                                                                          args.camera_options)
-                                               : mech::PoseCovarianceProvider{});
+  const mech::CandidateInformation info = mech::candidateInformation(
+      model, mounting, poses, options,
+      camera.target ? cameraCovarianceProvider(camera.camera, *camera.target, args.camera_options)
+                    : mech::PoseCovarianceProvider{});
   const mech::DesignReport report = mech::planExperiment(info, options);
   if (camera.target)
     camera_summary.sigmas = plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);
@@ -177,14 +175,14 @@ int runPlan(const PlanArguments& args) {
     const fs::path dir = outputs.stageFolder(args.report);
     support::writeFileAtomically(dir / "plan_report.txt", text);
     support::writeFileAtomically(dir / "plan_sigma.csv", sigmaCsv(report));
-    PlanReportSettings settings{{args.command_line, paths.input_files, paths.output_files}, args.model,
-                                args.candidates, args.seed};
+    PlanReportSettings settings{
+        {args.command_line, paths.input_files, paths.output_files}, args.model, args.candidates, args.seed};
     settings.provenance.outputs.push_back({args.report, "--report"});
     writePlanReportJson(dir / "report.json", settings, info, report, camera.target ? &camera_summary : nullptr);
   }
   outputs.commit();
-  std::cout << text << "wrote " << args.output << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv")
-            << "\n";
+  std::cout << text << "wrote " << args.output
+            << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv") << "\n";
   return kOk;
 }
 
@@ -195,16 +193,18 @@ Runner addPlanCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("plan", "choose the poses to measure (optimal experiment design)");
   cmd->add_option("--model", args->model, "h4-12, h4-31, h4-31c, delta, delta-legs, gough-stewart")->required();
   cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)");
-  cmd->add_option("--workspace", args->workspace, "workspace YAML (x_m, y_m, z_m ranges, rotations)")
-      ->required();
+  cmd->add_option("--workspace", args->workspace, "workspace YAML (x_m, y_m, z_m ranges, rotations)")->required();
   cmd->add_option("--count", args->count, "number of poses to choose")->required();
   cmd->add_option("-o,--output", args->output, "plan.csv")->required();
   cmd->add_option("--externals", args->externals, "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM)");
-  cmd->add_option("--camera", args->camera, "camera.yaml: exclude poses where the target is not seen whole, weight by the predicted pose covariance");
+  cmd->add_option(
+      "--camera", args->camera,
+      "camera.yaml: exclude poses where the target is not seen whole, weight by the predicted pose covariance");
   cmd->add_option("--target", args->target, "target.yaml (with --camera)");
   CameraPlanOptions& camera = args->camera_options;
   cmd->add_option("--images-per-pose", camera.prediction.images, "images per pose (with --camera)")->capture_default_str();
-  cmd->add_option("--pixel-sigma", camera.prediction.pixel_sigma, "detector noise per feature per image, px (with --camera)")
+  cmd->add_option("--pixel-sigma", camera.prediction.pixel_sigma,
+                  "detector noise per feature per image, px (with --camera)")
       ->capture_default_str();
   cmd->add_option_function<std::string>(
          "--systematic-model",
@@ -228,14 +228,16 @@ Runner addPlanCommand(CLI::App& app) {
          "default 0.0278,0.0045)")
       ->expected(2)
       ->delimiter(',');
-  cmd->add_option("--margin-px", camera.visibility.margin_px, "features at least this far inside the image (with --camera)")
+  cmd->add_option("--margin-px", camera.visibility.margin_px,
+                  "features at least this far inside the image (with --camera)")
       ->capture_default_str();
   cmd->add_option("--max-tilt-deg", camera.visibility.max_tilt_deg,
                   "largest angle between the target normal and the line of sight (with --camera)")
       ->capture_default_str();
   cmd->add_option("--criterion", args->criterion, "D (Ds-optimal, default), A or E")->capture_default_str();
   cmd->add_option("--candidates", args->candidates, "candidate poses drawn in the workspace")->capture_default_str();
-  cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")
+      ->capture_default_str();
   cmd->add_option("--report", args->report, "report folder (plan_report.txt, plan_sigma.csv, report.json)");
   return [args, cmd] {
     args->command_line = commandLineOf(*cmd);

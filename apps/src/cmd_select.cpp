@@ -12,15 +12,15 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "mire/mechanism/model_selection.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
+#include "mire/support/output_transaction.hpp"
 #include "output_paths.hpp"
-#include "validate.hpp"
 #include "plan_inputs.hpp"
 #include "plot.hpp"
 #include "report_json.hpp"
-#include "mire/mechanism/model_selection.hpp"
-#include "mire/support/atomic_file.hpp"
-#include "mire/support/output_transaction.hpp"
-#include "mire/support/csv.hpp"
+#include "validate.hpp"
 
 namespace mire::app {
 namespace {
@@ -80,9 +80,9 @@ void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech:
     upper.values.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms() + s.cv_rms_se()) : NAN);
     fit.values.push_back(s.ok ? mech::toDisplay(unit, s.fit_rms) : NAN);
   }
-  writePng(path, barChart("cross-validated joint residual per model (parameter count); recommended: " +
-                              r.recommendedLabel(),
-                          "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, upper, fit}));
+  writePng(path,
+           barChart("cross-validated joint residual per model (parameter count); recommended: " + r.recommendedLabel(),
+                    "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, upper, fit}));
 }
 
 int runSelect(const SelectArguments& args) {
@@ -102,9 +102,12 @@ int runSelect(const SelectArguments& args) {
       throw std::invalid_argument("--models: " + c.label + " and " + candidates.front().label +
                                   " are different mechanisms");
   std::optional<fs::path> covariance;
-  if (!args.covariances.empty()) covariance = fs::path(args.covariances);
-  else if (fs::exists(mech::defaultCovariancePath(args.poses))) covariance = mech::defaultCovariancePath(args.poses);
-  const mech::ObservationSet observations = mech::readObservations(args.poses, args.joints, covariance, m.jointColumnNames());
+  if (!args.covariances.empty())
+    covariance = fs::path(args.covariances);
+  else if (fs::exists(mech::defaultCovariancePath(args.poses)))
+    covariance = mech::defaultCovariancePath(args.poses);
+  const mech::ObservationSet observations =
+      mech::readObservations(args.poses, args.joints, covariance, m.jointColumnNames());
   std::vector<mech::LineRecord> lines;
   if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines, m.jointColumnNames());
   mech::SelectionOptions options;
@@ -124,8 +127,8 @@ int runSelect(const SelectArguments& args) {
     writeSelectReportJson(dir / "report.json", provenance, result, m.jointUnits().front(), args.folds, args.seed);
     outputs.commit();
   }
-  std::cout << observations.poses.size() << " poses, " << args.folds << "-fold cross-validation, "
-            << candidates.size() << " candidate models (" << support::formatNumber(result.seconds, 3) << " s)\n"
+  std::cout << observations.poses.size() << " poses, " << args.folds << "-fold cross-validation, " << candidates.size()
+            << " candidate models (" << support::formatNumber(result.seconds, 3) << " s)\n"
             << table << "recommended: " << result.recommendedLabel() << "\n";
   return kOk;
 }
@@ -140,11 +143,13 @@ Runner addSelectCommand(CLI::App& app) {
   cmd->add_option("--lines", args->lines, "straight-line joint records (lines.csv): V3 per model");
   cmd->add_option("--covariances", args->covariances, "pose covariance side file (default <poses stem>_covariance.csv)");
   cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)");
-  cmd->add_option("--models", args->models, "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
-                                             "(default: all of the mechanism)");
+  cmd->add_option("--models", args->models,
+                  "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
+                  "(default: all of the mechanism)");
   cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();
   cmd->add_option("--seed", args->seed, "seed of the fold assignment")->capture_default_str();
-  cmd->add_option("--report", args->report, "report folder (select_report.txt, select_scores.csv, select_cv.png, report.json)");
+  cmd->add_option("--report", args->report,
+                  "report folder (select_report.txt, select_scores.csv, select_cv.png, report.json)");
   return [args, cmd] {
     args->command_line = commandLineOf(*cmd);
     return runSelect(*args);

@@ -33,8 +33,10 @@ void addSpecOptions(CLI::App* command, SimulateOptions* options) {
 void checkOutputFolder(const SimulateOptions& options) {
   checkCommandPaths({{{options.spec, "--spec"}}, {}, {}, {{options.output, "-o"}}});
   const std::filesystem::path out = options.output;
-  if (std::filesystem::is_directory(out) && !std::filesystem::is_empty(out) && !std::filesystem::exists(out / "truth.yaml"))
-    throw UsageError("-o '" + options.output + "': exists, holds files and is not a previous simulation (no truth.yaml): "
+  if (std::filesystem::is_directory(out) && !std::filesystem::is_empty(out) &&
+      !std::filesystem::exists(out / "truth.yaml"))
+    throw UsageError("-o '" + options.output +
+                     "': exists, holds files and is not a previous simulation (no truth.yaml): "
                      "choose a new or empty folder");
 }
 
@@ -53,10 +55,9 @@ int runSimulation(const SimulateOptions& options, bool calibration) {
                                                         : datasets::simulatePoses(spec, staged, advance);
   progress.finish();
   outputs.commit();
-  std::cout << "mire simulate " << (calibration ? "calibration" : "poses") << ": wrote " << result.images
-            << " images of " << result.views_or_poses << (calibration ? " views" : " poses") << " to "
-            << options.output << " (" << std::lround(100.0 * result.visible_fraction)
-            << " % of the features visible; truth in truth.yaml)\n";
+  std::cout << "mire simulate " << (calibration ? "calibration" : "poses") << ": wrote " << result.images << " images of "
+            << result.views_or_poses << (calibration ? " views" : " poses") << " to " << options.output << " ("
+            << std::lround(100.0 * result.visible_fraction) << " % of the features visible; truth in truth.yaml)\n";
   return kOk;
 }
 

@@ -38,9 +38,9 @@ struct DemoCalibration {
 
 struct DemoMeasurement {
   int measured = 0, total = 0;
-  Eigen::Vector3d median_sigma_mm = Eigen::Vector3d::Zero();    // predicted, translation
-  Eigen::Vector3d median_sigma_deg = Eigen::Vector3d::Zero();   // predicted, rotation
-  Eigen::Vector3d rms_error_mm = Eigen::Vector3d::Zero();       // against truth
+  Eigen::Vector3d median_sigma_mm = Eigen::Vector3d::Zero();   // predicted, translation
+  Eigen::Vector3d median_sigma_deg = Eigen::Vector3d::Zero();  // predicted, rotation
+  Eigen::Vector3d rms_error_mm = Eigen::Vector3d::Zero();      // against truth
   Eigen::Vector3d rms_error_deg = Eigen::Vector3d::Zero();
   double normalized_error_std = 0.0;  // std of error/σ over all components (≈1 when honest)
 };
@@ -62,9 +62,9 @@ struct DemoPoseCount {
 // One identified parameter of variant D (all poses) scored against the simulator's truth (the
 // true robot's model-12 part; z_BC in the model's z_ME gauge, paper eq. 24).
 struct DemoParameterScore {
-  std::string name, unit;  // display unit (mm, deg)
+  std::string name, unit;                     // display unit (mm, deg)
   double estimate = 0, sigma = 0, truth = 0;  // display units
-  std::string si_unit;                           // the same in SI (m, rad), as identified_D.yaml
+  std::string si_unit;                        // the same in SI (m, rad), as identified_D.yaml
   double si_estimate = 0, si_sigma = 0, si_truth = 0;
 };
 
@@ -75,7 +75,7 @@ struct DemoExperimentDesign {
   double plan_position_sigma_m = 0.0;    // predicted positioning σ after identification, plan
   double random_position_sigma_m = 0.0;  // the same, median over random sets
   int folds = 0;
-  std::string selection_table;           // as `mire select` prints it
+  std::string selection_table;  // as `mire select` prints it
   std::string recommended;
 };
 

@@ -166,7 +166,8 @@ mechanism::IdentificationResult identifyWithSharedTerm(const std::vector<mechani
   if (fs::exists(shared_path))
     mechanism::addSharedTermCovariance(result, poses, mechanism::readSharedTermCsv(shared_path),
                                        [&](const std::vector<mechanism::PoseObservation>& shifted) {
-                                         return mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, shifted, options);
+                                         return mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, shifted,
+                                                                             options);
                                        });
   return result;
 }
@@ -179,7 +180,8 @@ void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& cam
   Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
   truth << mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, options.seed)).values(),
       result.model.external.valuesFrom(campaign.robot.baseTCamera(), campaign.robot.markerTEffector());
-  truth[static_cast<Eigen::Index>(p.index("z_BC"))] += truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
+  truth[static_cast<Eigen::Index>(p.index("z_BC"))] +=
+      truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
   for (const auto& name : result.free_names) {
     const std::size_t i = p.index(name);
     const auto unit = p[i].unit;
@@ -208,8 +210,8 @@ struct IdentificationData {
 IdentificationData identificationData(const DemoOptions& options, const datasets::H4Campaign& campaign,
                                       const fs::path& poses_csv) {
   IdentificationData data;
-  data.poses = mechanism::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv))
-                   .poses;
+  data.poses =
+      mechanism::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv)).poses;
   data.lines = lineJoints(campaign.lines_file());
   std::vector<mechanism::PoseObservation> shuffled = data.poses;
   std::mt19937_64 rng(options.seed);
@@ -232,9 +234,8 @@ DemoVariant identifyVariant(char letter, const DemoOptions& options, const Ident
     const auto criteria = mechanism::jointResidualCriteria(identified.model, data.validation);
     row.v1_rad = criteria.v1_rad;
     row.v2_rad = criteria.v2_rad;
-    row.v3_m = mechanism::straightnessCriterion(*identified.model.mechanism, identified.model.geometricValues(),
-                                                data.lines)
-                   .v3_m;
+    row.v3_m =
+        mechanism::straightnessCriterion(*identified.model.mechanism, identified.model.geometricValues(), data.lines).v3_m;
     mechanism::MonteCarloOptions study;
     study.subset_sizes = {static_cast<int>(data.train)};
     study.repeats = sets;
@@ -313,7 +314,8 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
   const auto identified_d = identifyWithSharedTerm(poses, poses_csv, data.identification);
   scoreIdentified(options, campaign, identified_d, results);
   mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
-                                {{"model", "h4-12"}, {"variant", "D"}}, "H4 model 12, variant D, identified by mire demo");
+                                {{"model", "h4-12"}, {"variant", "D"}},
+                                "H4 model 12, variant D, identified by mire demo");
   const auto& model = *identified_d.model.mechanism;
   results.square_before_mm = squareSides(campaign.robot, model, initial.geometricValues());
   results.square_after_mm = squareSides(campaign.robot, model, identified_d.model.geometricValues());
@@ -349,10 +351,10 @@ DemoResults runDemo(const DemoOptions& options) {
   });
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;
-  stage("calibrate the camera from images", [&] { camera = calibrateStage(*campaign, target, output, results.calibration); });
-  stage("measure 81 target poses from images", [&] {
-    measureStage(*campaign, camera, target, output / "poses.csv", results.measurement);
-  });
+  stage("calibrate the camera from images",
+        [&] { camera = calibrateStage(*campaign, target, output, results.calibration); });
+  stage("measure 81 target poses from images",
+        [&] { measureStage(*campaign, camera, target, output / "poses.csv", results.measurement); });
   stage("identify (variants A-H, pose-count study, plan and select, V1-V3, square test)",
         [&] { identifyStage(options, *campaign, output, results); });
   results.files = writeDemoReport(options, results);

@@ -62,7 +62,8 @@ void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::os
   md << "# mire demo: the H4 experiment of Renaud et al. (2004), in simulation\n\n"
      << "A simulated H4 (mire's reference nominal geometry, doc/mechanism-models.md, with manufacturing errors of "
         "the paper's magnitude, 1σ 5 mm on "
-        "lengths, 2° on pivot angles, 5° on encoder offsets, and defects model 12 cannot represent: per-leg lengths, non-coplanar pivots, tilted axes, imperfect parallelograms) carries a "
+        "lengths, 2° on pivot angles, 5° on encoder offsets, and defects model 12 cannot represent: per-leg lengths, "
+        "non-coplanar pivots, tilted axes, imperfect parallelograms) carries a "
         "chessboard seen by the reference camera (1024×768, 3.8 mm lens, strong barrel distortion). mire calibrated "
         "the camera from images, measured the 81 poses from images, and identified the robot from `poses.csv` + "
         "`joints.csv`. The simulator's truth is used only to score.\n\n"
@@ -76,9 +77,10 @@ void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::os
 // 1. Calibration.
 void writeCalibrationSection(const DemoResults& r, std::ostream& md) {
   const auto& c = r.calibration;
-  md << "## 1. Camera calibration (`camera.yaml`)\n\n" << c.views_used << " of " << c.views_total
-     << " views used, RMS " << fixed(c.rms_px, 3) << " px; projection uncertainty "
-     << fixed(c.uncertainty_centre_px, 3) << " px at the centre, " << fixed(c.uncertainty_corner_px, 3)
+  md << "## 1. Camera calibration (`camera.yaml`)\n\n"
+     << c.views_used << " of " << c.views_total << " views used, RMS " << fixed(c.rms_px, 3)
+     << " px; projection uncertainty " << fixed(c.uncertainty_centre_px, 3) << " px at the centre, "
+     << fixed(c.uncertainty_corner_px, 3)
      << " px at the corner.\n\n| parameter | estimate | σ | truth | error / σ |\n| --- | ---: | ---: | ---: | ---: |\n";
   for (std::size_t i = 0; i < c.names.size() && i < c.truth.size(); ++i) {
     const double sigma = i < c.sigma.size() ? c.sigma[i] : NAN;
@@ -107,7 +109,8 @@ void writeMeasurementSection(const DemoResults& r, std::ostream& md) {
 // 3. Identification: criteria before, then Tables 1 and 3 per variant (and Fig. 11's data).
 void writeVariantSection(const DemoResults& r, std::ostream& md, DemoCharts* charts) {
   md << "\n## 3. Identification\n\nBefore identification (nominal geometry, external parameters estimated from "
-        "the data): V1 = " << sci(r.nominal_v1_rad) << " rad, V2 = " << sci(r.nominal_v2_rad)
+        "the data): V1 = "
+     << sci(r.nominal_v1_rad) << " rad, V2 = " << sci(r.nominal_v2_rad)
      << " rad, V3 = " << fixed(1e3 * r.nominal_v3_m, 3) << " mm. The true robot's own straightness along the "
      << "recorded lines (the floor for V3): " << fixed(1e3 * r.true_v3_m, 3) << " mm.\n\n";
 
@@ -129,9 +132,9 @@ void writeVariantSection(const DemoResults& r, std::ostream& md, DemoCharts* cha
       continue;
     }
     md << "| " << v.letter << " | " << v.free_parameters << " [" << kPaperParameters[i % 8] << "] | "
-       << fixed(v.cond, 0) << " [" << p.cond << "] | " << sci(v.v1_rad) << " [" << sci(p.v1) << "] | "
-       << sci(v.v2_rad) << " [" << sci(p.v2) << "] | " << fixed(1e3 * v.v3_m, 3) << " [" << fixed(1e3 * p.v3, 2)
-       << "] | " << fixed(1e3 * v.v3_mean_m, 3) << " |\n";
+       << fixed(v.cond, 0) << " [" << p.cond << "] | " << sci(v.v1_rad) << " [" << sci(p.v1) << "] | " << sci(v.v2_rad)
+       << " [" << sci(p.v2) << "] | " << fixed(1e3 * v.v3_m, 3) << " [" << fixed(1e3 * p.v3, 2) << "] | "
+       << fixed(1e3 * v.v3_mean_m, 3) << " |\n";
   }
   md << "\n![V3 per variant](fig11_v3_per_variant.png)\n";
 }
@@ -163,7 +166,8 @@ void writeExperimentDesignSection(const DemoResults& r, std::ostream& md) {
   md << "\n### Planned poses and the recommended model (`mire plan`, `mire select`)\n\n"
      << "`mire plan --model h4-12 --count 15` over " << d.plan_candidates
      << " candidate poses of the protocol volume: the median σ of the geometric parameters from 15 planned poses is "
-     << fixed(d.plan_sigma_ratio, 2) << " × that from 15 random poses of the same candidates (paper §6.2 draws them "
+     << fixed(d.plan_sigma_ratio, 2)
+     << " × that from 15 random poses of the same candidates (paper §6.2 draws them "
         "at random); predicted positioning σ after identification "
      << fixed(1e3 * d.plan_position_sigma_m, 3) << " mm (planned) vs " << fixed(1e3 * d.random_position_sigma_m, 3)
      << " mm (random).\n\n`mire select` on the measured poses, the eight variants of Table 3, " << d.folds
@@ -201,16 +205,16 @@ void writeSquareSection(const DemoResults& r, std::ostream& md) {
 
 void writeDemoFigures(const std::filesystem::path& out, const DemoResults& r, const DemoCharts& charts) {
   // mire's V3 and the paper's differ by up to two decades: a log axis keeps both readable.
-  writePng(out / "fig11_v3_per_variant.png", barChart("Fig. 11: straightness V3 per identified model", "V3 (mm)",
-                                                      charts.letters, {charts.mire_v3, charts.paper_v3}, 960, 540,
-                                                      YScale::log10));
+  writePng(out / "fig11_v3_per_variant.png",
+           barChart("Fig. 11: straightness V3 per identified model", "V3 (mm)", charts.letters,
+                    {charts.mire_v3, charts.paper_v3}, 960, 540, YScale::log10));
   // V2 (mrad) and V3 (mm) have different units: one panel each, error bars ±σ over the random subsets.
   const std::string study = "Pose-count study (model 12, variant D): ";
   writePng(out / "pose_count_study.png",
-           sideBySide({lineChart(study + "RMS joint residual V2", "poses used for identification", "V2, mean +/- sigma (mrad)",
-                                 charts.sizes, {charts.v2_series}, 640, 480),
-                       lineChart(study + "straightness V3", "poses used for identification",
-                                 "V3, mean +/- sigma (mm)", charts.sizes, {charts.v3_series}, 640, 480)}));
+           sideBySide({lineChart(study + "RMS joint residual V2", "poses used for identification",
+                                 "V2, mean +/- sigma (mrad)", charts.sizes, {charts.v2_series}, 640, 480),
+                       lineChart(study + "straightness V3", "poses used for identification", "V3, mean +/- sigma (mm)",
+                                 charts.sizes, {charts.v3_series}, 640, 480)}));
   Series before{"nominal parameters", {}, seriesColour(3)};
   Series after{"identified parameters", {}, seriesColour(2)};
   for (int k = 0; k < 4; ++k) {
@@ -237,9 +241,9 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   writeSquareSection(r, md);
   writeDemoFigures(options.output, r, charts);
   support::writeFileAtomically(options.output / "report.md", md.str());
-  std::vector<std::string> files{"report.md",   "report.json", "fig11_v3_per_variant.png", "pose_count_study.png",
-                                       "square_test.png", "camera.yaml", "poses.csv", "poses_covariance.csv",
-                                       "identified_D.yaml"};
+  std::vector<std::string> files{
+      "report.md",   "report.json", "fig11_v3_per_variant.png", "pose_count_study.png", "square_test.png",
+      "camera.yaml", "poses.csv",   "poses_covariance.csv",     "identified_D.yaml"};
   DemoResults with_files = r;
   with_files.files = files;
   ReportProvenance provenance{options.command_line, {}, {{options.output, "--output"}}};

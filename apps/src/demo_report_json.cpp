@@ -117,8 +117,9 @@ void writeDemoReportJson(const std::filesystem::path& path, const ReportProvenan
                             {"select_folds", r.design.folds},
                             {"select_recommended", r.design.recommended}};
   doc["identified"] = identifiedJson(r);
-  doc["square_test"] = {{"side_error_nominal_mm", numberArray(std::vector<double>(r.square_before_mm.begin(), r.square_before_mm.end()))},
-                        {"side_error_identified_mm", numberArray(std::vector<double>(r.square_after_mm.begin(), r.square_after_mm.end()))}};
+  doc["square_test"] = {
+      {"side_error_nominal_mm", numberArray(std::vector<double>(r.square_before_mm.begin(), r.square_before_mm.end()))},
+      {"side_error_identified_mm", numberArray(std::vector<double>(r.square_after_mm.begin(), r.square_after_mm.end()))}};
   doc["files"] = r.files;
   writeReportJson(path, doc);
 }

@@ -28,11 +28,12 @@ CalibrationFolder calibrationFolderFromDetections(const metrology::Target& targe
                                                   const std::vector<int>& image_size) {
   const metrology::DetectionsFile file = metrology::readDetectionsFile(path, target);
   CalibrationFolder folder;
-  if (!image_size.empty() && image_size.size() != 2) throw std::runtime_error("--image-size needs two values: width height");
+  if (!image_size.empty() && image_size.size() != 2)
+    throw std::runtime_error("--image-size needs two values: width height");
   if (file.width && !image_size.empty() && (image_size[0] != *file.width || image_size[1] != *file.height))
     throw std::runtime_error(path.string() + ": image_size_px " + std::to_string(*file.width) + " x " +
-                             std::to_string(*file.height) + " differs from --image-size " + std::to_string(image_size[0]) +
-                             " x " + std::to_string(image_size[1]));
+                             std::to_string(*file.height) + " differs from --image-size " +
+                             std::to_string(image_size[0]) + " x " + std::to_string(image_size[1]));
   if (file.width) {
     folder.width = *file.width, folder.height = *file.height;
   } else if (!image_size.empty()) {
@@ -41,7 +42,8 @@ CalibrationFolder calibrationFolderFromDetections(const metrology::Target& targe
     throw std::runtime_error(path.string() + ": the file does not give the image size: add --image-size WIDTH HEIGHT");
   }
   if (folder.width <= 0 || folder.height <= 0) throw std::runtime_error("--image-size must be positive");
-  for (const metrology::ImageDetections& image : file.images) folder.views.push_back({image.image, image.ids, image.pixels});
+  for (const metrology::ImageDetections& image : file.images)
+    folder.views.push_back({image.image, image.ids, image.pixels});
   folder.images = folder.views.size();
   return folder;
 }

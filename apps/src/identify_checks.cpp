@@ -10,8 +10,8 @@ namespace mire::app {
 void checkIdentifyPoses(const std::vector<mechanism::PoseObservation>& poses, const std::filesystem::path& poses_file,
                         bool unweighted) {
   if (poses.size() > kMaxPoses)
-    throw std::runtime_error(poses_file.string() + ": " + std::to_string(poses.size()) + " poses; identify handles at most " +
-                             std::to_string(kMaxPoses));
+    throw std::runtime_error(poses_file.string() + ": " + std::to_string(poses.size()) +
+                             " poses; identify handles at most " + std::to_string(kMaxPoses));
   constexpr double kTwoPi = 6.283185307179586;
   std::size_t with_covariance = 0;
   const mechanism::PoseObservation* without = nullptr;
@@ -22,13 +22,15 @@ void checkIdentifyPoses(const std::vector<mechanism::PoseObservation>& poses, co
     if (angle > kTwoPi)
       throw std::runtime_error(poses_file.string() + ": pose " + pose.id + ": rotation vector of norm " +
                                std::to_string(angle) + " rad > 2π (write the equivalent vector of norm <= π)");
-    if (pose.covariance) ++with_covariance;
-    else if (!without) without = &pose;
+    if (pose.covariance)
+      ++with_covariance;
+    else if (!without)
+      without = &pose;
   }
   if (!unweighted && with_covariance > 0 && without)
-    throw std::runtime_error(poses_file.string() + ": pose " + without->id +
-                             " has no usable covariance (a sigma is 0 or missing) while " + std::to_string(with_covariance) +
-                             " poses have one: fix it, or pass --unweighted to ignore every covariance");
+    throw std::runtime_error(
+        poses_file.string() + ": pose " + without->id + " has no usable covariance (a sigma is 0 or missing) while " +
+        std::to_string(with_covariance) + " poses have one: fix it, or pass --unweighted to ignore every covariance");
 }
 
 void checkPriorSigma(const std::string& text, double sigma) {
@@ -42,7 +44,7 @@ std::vector<int> parseSubsetSizes(const std::vector<std::string>& texts, int joi
   std::vector<std::string> items;
   for (const auto& text : texts) {
     std::size_t start = 0;
-    for (std::size_t comma = text.find(','); ; comma = text.find(',', start)) {
+    for (std::size_t comma = text.find(',');; comma = text.find(',', start)) {
       items.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
       if (comma == std::string::npos) break;
       start = comma + 1;

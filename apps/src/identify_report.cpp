@@ -101,12 +101,13 @@ void writeSingularValuesPng(const std::filesystem::path& path, const mechanism::
       cv::rectangle(image, cv::Point(x0, area.y + area.height - height), cv::Point(x1, area.y + area.height),
                     cv::Scalar(180, 110, 40), cv::FILLED);
       if (static_cast<std::size_t>(k) < report.dominant_parameters.size())  // the direction's main parameter
-        verticalText(image, report.dominant_parameters[static_cast<std::size_t>(k)], {(x0 + x1) / 2 + 4, area.y + area.height + 6});
+        verticalText(image, report.dominant_parameters[static_cast<std::size_t>(k)],
+                     {(x0 + x1) / 2 + 4, area.y + area.height + 6});
     }
   }
-  text(image, "descending; under each, the parameter dominating its direction; rank " +
-                  std::to_string(report.rank) + " of " +
-                  std::to_string(report.parameter_names.size()) + " free parameters",
+  text(image,
+       "descending; under each, the parameter dominating its direction; rank " + std::to_string(report.rank) + " of " +
+           std::to_string(report.parameter_names.size()) + " free parameters",
        {area.x, 425});
   writePng(path, image);
 }
@@ -136,7 +137,8 @@ void writeSpreadPng(const std::filesystem::path& path, const mechanism::MonteCar
     const int x0 = area.x + g * area.width / std::max(groups, 1);
     const int group_width = area.width / std::max(groups, 1);
     for (int s = 0; s < sets; ++s) {
-      const double sigma = mechanism::toDisplay(parameters[i].unit, study.summaries[static_cast<std::size_t>(s)].sigma[static_cast<Eigen::Index>(i)]);
+      const double sigma = mechanism::toDisplay(
+          parameters[i].unit, study.summaries[static_cast<std::size_t>(s)].sigma[static_cast<Eigen::Index>(i)]);
       if (!(sigma > 0.0)) continue;
       const double h = std::clamp((std::log10(sigma) - bottom) / span, 0.0, 1.0) * area.height;
       const int bx0 = x0 + 3 + s * (group_width - 6) / std::max(sets, 1);

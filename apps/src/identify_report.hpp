@@ -13,10 +13,10 @@ namespace mire::app {
 
 struct IdentifyReportData {
   std::string command_line;
-  std::string model_label;  // e.g. "h4-12, variant D"
+  std::string model_label;                                                 // e.g. "h4-12, variant D"
   std::vector<mechanism::PoseResidual> residuals_before, residuals_after;  // q̄ − f per pose
   mechanism::IdentificationResult result;
-  mechanism::ParameterSet initial;  // values before identification (nominal + estimated external)
+  mechanism::ParameterSet initial;               // values before identification (nominal + estimated external)
   double v3_before_m = -1.0, v3_after_m = -1.0;  // < 0: no lines given
   const mechanism::MonteCarloStudy* study = nullptr;
   std::string summary_text;  // the console summary, repeated in the report

@@ -116,7 +116,8 @@ void writeIdentifyReportJson(const std::filesystem::path& path, const IdentifyRe
   doc["poses"] = posesJson(data);
   if (data.pose_covariance_file.empty()) {
     doc["pose_covariances_file"] = nullptr;
-    doc["pose_covariances_file_null_reason"] = "no 6x6 pose covariances read (sigma_ columns of poses.csv, or --unweighted)";
+    doc["pose_covariances_file_null_reason"] =
+        "no 6x6 pose covariances read (sigma_ columns of poses.csv, or --unweighted)";
   } else {
     doc["pose_covariances_file"] = data.pose_covariance_file;
   }

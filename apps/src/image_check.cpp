@@ -17,8 +17,8 @@ namespace mire::app {
 namespace fs = std::filesystem;
 
 bool isImageFile(const fs::path& path) {
-  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
-                                                     ".pgm", ".ppm", ".pnm", ".pbm", ".webp", ".jp2"};
+  static const std::set<std::string> kExtensions = {".png", ".jpg", ".jpeg", ".bmp", ".tif",  ".tiff",
+                                                    ".pgm", ".ppm", ".pnm",  ".pbm", ".webp", ".jp2"};
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
   return kExtensions.count(extension) > 0;
@@ -112,11 +112,12 @@ void checkImageFile(const fs::path& path) {
   } else if (got >= 3 && head[0] == 'P' && head[1] >= '1' && head[1] <= '6') {
     size = pnmSize(in);
   }
-  if (size && (size->width > kMaxImageSide || size->height > kMaxImageSide ||
-               size->width * size->height > kMaxImagePixels)) {
+  if (size &&
+      (size->width > kMaxImageSide || size->height > kMaxImageSide || size->width * size->height > kMaxImagePixels)) {
     std::ostringstream message;
-    message << "image '" << path.string() << "' is " << size->width << "x" << size->height << " px: mire reads images of at most "
-            << kMaxImageSide << " px per side and " << kMaxImagePixels / 1'000'000 << " megapixels";
+    message << "image '" << path.string() << "' is " << size->width << "x" << size->height
+            << " px: mire reads images of at most " << kMaxImageSide << " px per side and "
+            << kMaxImagePixels / 1'000'000 << " megapixels";
     throw std::runtime_error(message.str());
   }
   if (!end_marker.empty() && !endsWithMarker(in, end_marker))

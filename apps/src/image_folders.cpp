@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 namespace {
 
 std::vector<fs::path> listImages(const fs::path& dir) {
-  if (!fs::is_directory(dir)) throw std::runtime_error("image folder '" + dir.string() + "' does not exist or is not a folder");
+  if (!fs::is_directory(dir))
+    throw std::runtime_error("image folder '" + dir.string() + "' does not exist or is not a folder");
   std::vector<fs::path> images;
   for (const auto& entry : fs::directory_iterator(dir))
     if (entry.is_regular_file() && isImageFile(entry.path())) images.push_back(entry.path());
@@ -44,7 +45,9 @@ std::vector<fs::path> poseImages(const fs::path& folder) {
     if (reduced.empty()) continue;  // unreadable: the measurement names it
     double low = 0.0, high = 0.0;
     cv::minMaxLoc(reduced, &low, &high);
-    if (high - low < 1.0) throw std::runtime_error("image '" + image.string() + "' is blank (every pixel " + std::to_string(static_cast<int>(low)) + ")");
+    if (high - low < 1.0)
+      throw std::runtime_error("image '" + image.string() + "' is blank (every pixel " +
+                               std::to_string(static_cast<int>(low)) + ")");
   }
   return images;
 }
@@ -114,7 +117,8 @@ CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const
   CalibrationFolder result;
   result.images = images.size();
   for (std::size_t i = 0; i < images.size(); ++i)
-    if (!outcomes[i].read) throw std::runtime_error("cannot read image '" + images[i].string() + "' (not a decodable image)");
+    if (!outcomes[i].read)
+      throw std::runtime_error("cannot read image '" + images[i].string() + "' (not a decodable image)");
   result.width = outcomes.front().width;
   result.height = outcomes.front().height;
   for (std::size_t i = 0; i < images.size(); ++i) {
@@ -134,8 +138,8 @@ CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const
   return result;
 }
 
-std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera, const metrology::Target& target,
-                                                      const fs::path& folder,
+std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera,
+                                                      const metrology::Target& target, const fs::path& folder,
                                                       const metrology::MeasurementOptions& options, int threads) {
   if (!fs::is_directory(folder)) throw std::runtime_error(folder.string() + ": not a directory");
   std::vector<PoseFolderMeasurement> poses;

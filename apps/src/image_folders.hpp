@@ -21,7 +21,7 @@ namespace mire::app {
 void parallelForEach(std::size_t count, int threads, const std::function<void(std::size_t)>& work);
 
 struct CalibrationFolder {
-  std::vector<calibration::CalibrationView> views;          // images where the target was found
+  std::vector<calibration::CalibrationView> views;           // images where the target was found
   std::vector<std::pair<std::string, std::string>> skipped;  // image name, why the target was not used
   std::vector<std::pair<std::string, std::string>> notes;    // image name, remark on a found target
   std::size_t images = 0;

@@ -12,7 +12,8 @@ std::vector<std::string> poseColumnNames(const mechanism::Mechanism& m) {
   std::vector<std::string> names;
   const auto components = m.poseComponentNames();
   const auto units = m.poseComponentUnits();
-  for (std::size_t k = 0; k < components.size(); ++k) names.push_back(components[k] + "_" + mechanism::unitName(units[k]));
+  for (std::size_t k = 0; k < components.size(); ++k)
+    names.push_back(components[k] + "_" + mechanism::unitName(units[k]));
   return names;
 }
 

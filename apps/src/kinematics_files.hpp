@@ -24,5 +24,4 @@ struct EffectorRow {
 // Reads effector.csv (pose_id + poseColumnNames()); errors name file:line.
 std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& mechanism);
 
-
 }  // namespace mire::app

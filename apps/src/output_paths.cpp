@@ -40,7 +40,8 @@ void checkWritable(const PathArgument& output, bool folder) {
   std::error_code ec;
   const fs::file_status status = fs::status(output.path, ec);
   if (fs::exists(status)) {
-    if (folder && !fs::is_directory(status)) throw std::runtime_error(describe(output) + ": exists and is not a folder");
+    if (folder && !fs::is_directory(status))
+      throw std::runtime_error(describe(output) + ": exists and is not a folder");
     if (!folder && !fs::is_regular_file(status))
       throw std::runtime_error(describe(output) + ": exists and is not a regular file");
   }
@@ -67,7 +68,8 @@ void checkOutputAgainstInputs(const PathArgument& output, bool folder, const Com
     if (isWithin(out, in) || sameFile(output.path, input.path))
       throw UsageError(describe(output) + " lies inside the input folder " + describe(input) + ": choose another place");
     if (folder && isWithin(in, out))
-      throw UsageError(describe(output) + " holds the input folder " + describe(input) + ": choose another output folder");
+      throw UsageError(describe(output) + " holds the input folder " + describe(input) +
+                       ": choose another output folder");
   }
 }
 

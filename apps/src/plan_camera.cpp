@@ -40,11 +40,10 @@ CameraCandidates visibleCandidates(const mech::Mechanism& mechanism, const mech:
   return result;
 }
 
-mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera& camera,
-                                                      const metrology::Target& target,
+mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera& camera, const metrology::Target& target,
                                                       const CameraPlanOptions& options) {
-  return [camera, points = target.points(), prediction = options.prediction](
-             const mech::PoseVector& cTm) -> std::optional<mech::PoseCovariance> {
+  return [camera, points = target.points(),
+          prediction = options.prediction](const mech::PoseVector& cTm) -> std::optional<mech::PoseCovariance> {
     const metrology::PosePrediction p =
         metrology::predictPoseCovariance(camera, points, mech::toIsometry(cTm), prediction);
     if (!p.valid) return std::nullopt;
@@ -53,8 +52,8 @@ mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera&
 }
 
 std::vector<PoseSigma> plannedPoseSigmas(const mech::CandidateInformation& info, const std::vector<int>& design,
-                                      const calibration::Camera& camera, const metrology::Target& target,
-                                      const CameraPlanOptions& options) {
+                                         const calibration::Camera& camera, const metrology::Target& target,
+                                         const CameraPlanOptions& options) {
   std::vector<PoseSigma> sigmas;
   for (const int j : design) {
     const mech::PoseVector& cTm = info.observations[static_cast<std::size_t>(j)].cTm;

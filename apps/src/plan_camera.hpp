@@ -45,10 +45,10 @@ using PoseSigma = Eigen::Matrix<double, 6, 1>;
 // What `mire plan` reports on the camera.
 struct CameraPlanSummary {
   CameraPlanOptions options;
-  std::size_t drawn = 0;           // candidates drawn in the workspace
-  std::size_t visible = 0;         // of them, visible
-  int outside = 0, oblique = 0;    // excluded
-  std::vector<PoseSigma> sigmas;   // per planned pose
+  std::size_t drawn = 0;          // candidates drawn in the workspace
+  std::size_t visible = 0;        // of them, visible
+  int outside = 0, oblique = 0;   // excluded
+  std::vector<PoseSigma> sigmas;  // per planned pose
 };
 
 // Predicted σ of cTm at each planned pose: tx ty tz [m], rx ry rz [rad] (total, as poses.csv's

@@ -84,15 +84,19 @@ mech::Workspace readWorkspaceYaml(const std::filesystem::path& path, const mech:
   mech::Workspace w;
   if (const auto shape = root.find("shape")) {
     const std::string s = shape->asString();
-    if (s == "cylinder") w.shape = mech::Workspace::Shape::Cylinder;
-    else if (s != "box") shape->fail("'" + s + "': expected box or cylinder");
+    if (s == "cylinder")
+      w.shape = mech::Workspace::Shape::Cylinder;
+    else if (s != "box")
+      shape->fail("'" + s + "': expected box or cylinder");
   }
   w.x = interval(root, "x_m", 1.0);
   w.y = interval(root, "y_m", 1.0);
   w.z = interval(root, "z_m", 1.0);
   for (const std::string& key : rotations) w.rotations.push_back(interval(root, key, kDeg));
-  if (prismatic) w.joint_margin = root.optionalNumber("joint_margin_m", {0.0, 1.0}).value_or(1e-3);
-  else w.joint_margin = root.optionalNumber("joint_margin_deg", {0.0, 90.0}).value_or(1.0) * kDeg;
+  if (prismatic)
+    w.joint_margin = root.optionalNumber("joint_margin_m", {0.0, 1.0}).value_or(1e-3);
+  else
+    w.joint_margin = root.optionalNumber("joint_margin_deg", {0.0, 90.0}).value_or(1.0) * kDeg;
   return w;
 }
 
@@ -102,7 +106,8 @@ mech::MountingGuess readMountingYaml(const std::filesystem::path& path) {
   const std::vector<std::string> names = mech::ExternalParameterization(mech::ExternalForm::Full).parameters().names();
   root.checkKeys(names);
   Eigen::VectorXd v(static_cast<Eigen::Index>(names.size()));
-  for (std::size_t k = 0; k < names.size(); ++k) v[static_cast<Eigen::Index>(k)] = root.number(names[k], {-100.0, 100.0});
+  for (std::size_t k = 0; k < names.size(); ++k)
+    v[static_cast<Eigen::Index>(k)] = root.number(names[k], {-100.0, 100.0});
   const mech::ExternalParameterization full(mech::ExternalForm::Full);
   mech::MountingGuess m;
   m.bTc = full.baseFromCamera(v);

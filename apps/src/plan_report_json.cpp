@@ -69,21 +69,21 @@ Json cameraJson(const CameraPlanSummary& c) {
     for (int i = 0; i < 6; ++i) setNumber(item, keys[i], c.sigmas[k][i], "the pose is not observable from the target");
     sigmas.push_back(item);
   }
-  return {{"margin_px", o.visibility.margin_px},
-          {"max_tilt_deg", o.visibility.max_tilt_deg},
-          {"pixel_sigma_px", o.prediction.pixel_sigma},
-          {"images_per_pose", o.prediction.images},
-          {"systematic_model",
-           o.prediction.systematic_model == metrology::SystematicModel::Constant ? "constant" : "board"},
-          {"systematic_px", o.prediction.systematic_px},
-          {"systematic_reference_square_px", o.prediction.reference_square_px},
-          {"systematic_mean_px", o.prediction.systematic_mean_px},
-          {"systematic_grid_px", o.prediction.systematic_grid_px},
-          {"candidates_drawn", c.drawn},
-          {"candidates_visible", c.visible},
-          {"excluded_outside", c.outside},
-          {"excluded_oblique", c.oblique},
-          {"predicted_pose_sigma", sigmas}};
+  return {
+      {"margin_px", o.visibility.margin_px},
+      {"max_tilt_deg", o.visibility.max_tilt_deg},
+      {"pixel_sigma_px", o.prediction.pixel_sigma},
+      {"images_per_pose", o.prediction.images},
+      {"systematic_model", o.prediction.systematic_model == metrology::SystematicModel::Constant ? "constant" : "board"},
+      {"systematic_px", o.prediction.systematic_px},
+      {"systematic_reference_square_px", o.prediction.reference_square_px},
+      {"systematic_mean_px", o.prediction.systematic_mean_px},
+      {"systematic_grid_px", o.prediction.systematic_grid_px},
+      {"candidates_drawn", c.drawn},
+      {"candidates_visible", c.visible},
+      {"excluded_outside", c.outside},
+      {"excluded_oblique", c.oblique},
+      {"predicted_pose_sigma", sigmas}};
 }
 
 }  // namespace

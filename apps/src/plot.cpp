@@ -38,7 +38,8 @@ struct YAxis {
   int top = kTop, bottom = 0;    // pixel rows of high and low
 
   double fraction(double v) const {
-    if (scale == YScale::log10) return v > 0.0 ? (std::log10(v) - std::log10(low)) / (std::log10(high) - std::log10(low)) : -1.0;
+    if (scale == YScale::log10)
+      return v > 0.0 ? (std::log10(v) - std::log10(low)) / (std::log10(high) - std::log10(low)) : -1.0;
     return (v - low) / (high - low);
   }
   int pixel(double v) const {
@@ -146,7 +147,7 @@ bool drawable(const YAxis& axis, double v) { return std::isfinite(v) && (axis.sc
 }  // namespace
 
 cv::Scalar seriesColour(int index) {
-  static const cv::Scalar kColours[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44},
+  static const cv::Scalar kColours[] = {{180, 119, 31}, {14, 127, 255},  {44, 160, 44},
                                         {40, 39, 214},  {189, 103, 148}, {75, 86, 140}};
   return kColours[index % 6];
 }
@@ -178,8 +179,7 @@ cv::Mat barChart(const std::string& title, const std::string& y_label, const std
 }
 
 cv::Mat lineChart(const std::string& title, const std::string& x_label, const std::string& y_label,
-                  const std::vector<double>& x, const std::vector<Series>& series, int width, int height,
-                  YScale y_scale) {
+                  const std::vector<double>& x, const std::vector<Series>& series, int width, int height, YScale y_scale) {
   const YAxis axis = makeAxis(series, y_scale, height);
   cv::Mat image = canvas(title, y_label, axis, width, height);
   if (x.empty()) return image;
@@ -218,7 +218,8 @@ cv::Mat sideBySide(const std::vector<cv::Mat>& panels) {
 }
 
 void writePng(const std::filesystem::path& path, const cv::Mat& image) {
-  support::writeAtomically(path, [&](const std::filesystem::path& temporary) { return cv::imwrite(temporary.string(), image); });
+  support::writeAtomically(
+      path, [&](const std::filesystem::path& temporary) { return cv::imwrite(temporary.string(), image); });
 }
 
 }  // namespace mire::app

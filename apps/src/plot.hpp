@@ -21,8 +21,7 @@ enum class YScale { linear, log10 };
 // Grouped bar chart: one group per category, one bar per series. Linear: y from 0; log10: y over the decades
 // spanned by the positive values (non-positive values are not drawn).
 cv::Mat barChart(const std::string& title, const std::string& y_label, const std::vector<std::string>& categories,
-                 const std::vector<Series>& series, int width = 960, int height = 540,
-                 YScale y_scale = YScale::linear);
+                 const std::vector<Series>& series, int width = 960, int height = 540, YScale y_scale = YScale::linear);
 
 // Line chart over x values (shared by all series); y as in barChart.
 cv::Mat lineChart(const std::string& title, const std::string& x_label, const std::string& y_label,

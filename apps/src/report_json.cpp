@@ -43,7 +43,8 @@ Json reportHeader(const std::string& report, const ReportProvenance& provenance)
   header["report"] = report;
   const auto paths = [](const std::vector<PathArgument>& arguments) {
     Json list = Json::array();
-    for (const PathArgument& argument : arguments) list.push_back({{"role", argument.option}, {"path", argument.path.string()}});
+    for (const PathArgument& argument : arguments)
+      list.push_back({{"role", argument.option}, {"path", argument.path.string()}});
     return list;
   };
   header["provenance"] = {{"mire_version", versionString()},
@@ -72,12 +73,14 @@ Json numberArray(const Eigen::VectorXd& values) {
 }
 
 Json numberArray(const std::vector<double>& values) {
-  return numberArray(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()))));
+  return numberArray(
+      Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()))));
 }
 
 Json matrixJson(const Eigen::MatrixXd& matrix) {
   Json rows = Json::array();
-  for (Eigen::Index r = 0; r < matrix.rows(); ++r) rows.push_back(numberArray(Eigen::VectorXd(matrix.row(r).transpose())));
+  for (Eigen::Index r = 0; r < matrix.rows(); ++r)
+    rows.push_back(numberArray(Eigen::VectorXd(matrix.row(r).transpose())));
   return rows;
 }
 

@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "demo.hpp"
-#include "output_paths.hpp"
 #include "mire/calibration/calibrate.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/model_selection.hpp"
+#include "output_paths.hpp"
 
 namespace mire::app {
 

@@ -11,8 +11,8 @@ namespace mech = mire::mechanism;
 
 Json scoreJson(const mech::ModelScore& s) {
   const std::string failed = "the identification failed: " + s.message;
-  Json item{{"label", s.label}, {"model", s.model_name}, {"ok", s.ok}, {"message", s.message},
-            {"parameters", s.parameters}, {"free_names", s.free_names}};
+  Json item{{"label", s.label},     {"model", s.model_name},      {"ok", s.ok},
+            {"message", s.message}, {"parameters", s.parameters}, {"free_names", s.free_names}};
   setNumber(item, "cv_rms", s.ok ? s.cv_rms() : NAN, failed);
   setNumber(item, "cv_rms_se", s.ok ? s.cv_rms_se() : NAN, s.ok ? "fewer than 2 folds" : failed);
   setNumber(item, "fit_rms", s.ok ? s.fit_rms : NAN, failed);

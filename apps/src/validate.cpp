@@ -53,28 +53,28 @@ CLI::Validator finiteNumber() {
 void requireInputFile(const fs::path& path, const std::string& option) {
   if (path.empty()) throw UsageError(option + ": empty path");
   struct stat info {};
-  if (::stat(path.c_str(), &info) != 0)
-    throw std::runtime_error(option + " " + quoted(path) + ": no such file");
+  if (::stat(path.c_str(), &info) != 0) throw std::runtime_error(option + " " + quoted(path) + ": no such file");
   if (!S_ISREG(info.st_mode))
     throw std::runtime_error(option + " " + quoted(path) + ": is " + kindOf(info) + ", a regular file is expected");
-  if (::access(path.c_str(), R_OK) != 0) throw std::runtime_error(option + " " + quoted(path) + ": cannot be read (permission)");
+  if (::access(path.c_str(), R_OK) != 0)
+    throw std::runtime_error(option + " " + quoted(path) + ": cannot be read (permission)");
 }
 
 void requireInputFolder(const fs::path& path, const std::string& option) {
   if (path.empty()) throw UsageError(option + ": empty path");
   struct stat info {};
-  if (::stat(path.c_str(), &info) != 0)
-    throw std::runtime_error(option + " " + quoted(path) + ": no such folder");
+  if (::stat(path.c_str(), &info) != 0) throw std::runtime_error(option + " " + quoted(path) + ": no such folder");
   if (!S_ISDIR(info.st_mode))
-    throw std::runtime_error(option + " " + quoted(path) + ": is " + (S_ISREG(info.st_mode) ? std::string("a file") : kindOf(info)) +
-                             ", a folder is expected");
+    throw std::runtime_error(option + " " + quoted(path) + ": is " +
+                             (S_ISREG(info.st_mode) ? std::string("a file") : kindOf(info)) + ", a folder is expected");
   if (::access(path.c_str(), R_OK | X_OK) != 0)
     throw std::runtime_error(option + " " + quoted(path) + ": cannot be read (permission)");
 }
 
 int workerThreads(int requested, const std::string& option) {
   if (requested < 0 || requested > kMaxThreads)
-    throw UsageError(option + " " + std::to_string(requested) + ": expected 0 (all cores) to " + std::to_string(kMaxThreads));
+    throw UsageError(option + " " + std::to_string(requested) + ": expected 0 (all cores) to " +
+                     std::to_string(kMaxThreads));
   if (requested > 0) return requested;
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
@@ -85,9 +85,9 @@ void checkIntrinsics(const calibration::Camera& camera, const std::string& where
   const double fx = camera.fx(), fy = camera.fy(), cx = camera.cx(), cy = camera.cy();
   const double w = camera.width, h = camera.height;
   if (!(camera.width > 0 && camera.height > 0) || w > kMaxImageSide || h > kMaxImageSide || w * h > kMaxImagePixels)
-    throw std::runtime_error(where + ": image size " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-                             " is outside 1.." + std::to_string(kMaxImageSide) + " px per side and " +
-                             std::to_string(kMaxImagePixels / 1'000'000) + " megapixels");
+    throw std::runtime_error(where + ": image size " + std::to_string(camera.width) + "x" +
+                             std::to_string(camera.height) + " is outside 1.." + std::to_string(kMaxImageSide) +
+                             " px per side and " + std::to_string(kMaxImagePixels / 1'000'000) + " megapixels");
   for (double value : camera.params)
     if (!std::isfinite(value)) throw std::runtime_error(where + ": a camera parameter is not a finite number");
   if (!(fx > 0.0 && fy > 0.0)) throw std::runtime_error(where + ": fx and fy must be > 0 (pixels)");
@@ -96,14 +96,16 @@ void checkIntrinsics(const calibration::Camera& camera, const std::string& where
                              " differ by more than 10x (pixels are not that far from square)");
   if (cx < 0.0 || cx > w || cy < 0.0 || cy > h)
     throw std::runtime_error(where + ": principal point (cx, cy) = (" + shortNumber(cx) + ", " + shortNumber(cy) +
-                             ") lies outside the " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " image");
+                             ") lies outside the " + std::to_string(camera.width) + "x" +
+                             std::to_string(camera.height) + " image");
   // Radial/tangential/thin-prism/tilt coefficients act on normalised coordinates (|x| ~ 1 at
   // most): coefficients beyond 1000 describe no lens (OpenCV's rational model stays far below).
   const std::vector<std::string> names = camera.parameterNames();
   for (std::size_t i = 4; i < camera.params.size(); ++i)
     if (std::abs(camera.params[i]) > 1000.0)
-      throw std::runtime_error(where + ": distortion coefficient " + (i < names.size() ? names[i] : std::to_string(i)) + " = " +
-                               shortNumber(camera.params[i]) + " is not a plausible lens (|value| <= 1000 expected)");
+      throw std::runtime_error(where + ": distortion coefficient " + (i < names.size() ? names[i] : std::to_string(i)) +
+                               " = " + shortNumber(camera.params[i]) +
+                               " is not a plausible lens (|value| <= 1000 expected)");
 }
 
 void checkCovariance(const calibration::Camera& camera, const std::string& where) {
@@ -118,7 +120,8 @@ void checkCovariance(const calibration::Camera& camera, const std::string& where
   if ((c - c.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300))
     throw std::runtime_error(where + ": covariance is not symmetric");
   for (Eigen::Index i = 0; i < n; ++i)
-    if (c(i, i) < 0.0) throw std::runtime_error(where + ": covariance: negative variance of parameter " + std::to_string(i));
+    if (c(i, i) < 0.0)
+      throw std::runtime_error(where + ": covariance: negative variance of parameter " + std::to_string(i));
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(c, Eigen::EigenvaluesOnly);
   const double smallest = solver.eigenvalues().minCoeff(), largest = solver.eigenvalues().maxCoeff();
   if (smallest < -1e-9 * std::max(largest, 0.0))
@@ -138,21 +141,23 @@ void checkCamera(const calibration::Camera& camera, const fs::path& file) {
 void checkTargetSize(const metrology::Target& target, const fs::path& file) {
   const std::size_t count = target.points().size();
   if (count > kMaxTargetFeatures)
-    throw std::runtime_error(file.string() + ": the target has " + std::to_string(count) + " features; mire handles at most " +
-                             std::to_string(kMaxTargetFeatures));
+    throw std::runtime_error(file.string() + ": the target has " + std::to_string(count) +
+                             " features; mire handles at most " + std::to_string(kMaxTargetFeatures));
 }
 
 void checkImpliedDistances(const std::vector<double>& distances_m, const fs::path& target_file, const std::string& what) {
   if (distances_m.empty()) return;
   const auto [low, high] = std::minmax_element(distances_m.begin(), distances_m.end());
   if (*low > kMaxViewDistanceM)
-    throw std::runtime_error(target_file.string() + ": the target would be " + shortNumber(*low) + " to " + shortNumber(*high) +
-                             " m from the camera in every " + what +
-                             ": are its sizes in millimetres? target.yaml sizes are in metres (square_size_m: 0.025, not 25)");
+    throw std::runtime_error(
+        target_file.string() + ": the target would be " + shortNumber(*low) + " to " + shortNumber(*high) +
+        " m from the camera in every " + what +
+        ": are its sizes in millimetres? target.yaml sizes are in metres (square_size_m: 0.025, not 25)");
   if (*high < kMinViewDistanceM)
-    throw std::runtime_error(target_file.string() + ": the target would be " + shortNumber(*low) + " to " + shortNumber(*high) +
-                             " m from the camera in every " + what +
-                             ": are its sizes in the wrong unit? target.yaml sizes are in metres (square_size_m: 0.025)");
+    throw std::runtime_error(
+        target_file.string() + ": the target would be " + shortNumber(*low) + " to " + shortNumber(*high) +
+        " m from the camera in every " + what +
+        ": are its sizes in the wrong unit? target.yaml sizes are in metres (square_size_m: 0.025)");
 }
 
 }  // namespace mire::app

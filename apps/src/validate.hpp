@@ -24,11 +24,11 @@ struct UsageError : std::runtime_error {
 
 // Limits (doc/limits.md).
 constexpr int kMaxThreads = 256;
-constexpr long long kMaxImageSide = 16384;           // px, either side
-constexpr long long kMaxImagePixels = 100'000'000;   // 100 megapixels
-constexpr std::size_t kMaxTargetFeatures = 20'000;   // features (corners, circles, tag corners)
-constexpr std::size_t kMaxPoses = 1'000'000;         // poses given to identify
-constexpr double kMaxViewDistanceM = 50.0;           // implied target distance: beyond, a unit mistake
+constexpr long long kMaxImageSide = 16384;          // px, either side
+constexpr long long kMaxImagePixels = 100'000'000;  // 100 megapixels
+constexpr std::size_t kMaxTargetFeatures = 20'000;  // features (corners, circles, tag corners)
+constexpr std::size_t kMaxPoses = 1'000'000;        // poses given to identify
+constexpr double kMaxViewDistanceM = 50.0;          // implied target distance: beyond, a unit mistake
 constexpr double kMinViewDistanceM = 0.01;
 
 // CLI11 validator: the value parses as a finite number (CLI11's ranges let NaN through).

@@ -22,11 +22,16 @@ namespace mire::calibration {
 
 int distortionCoefficientCount(DistortionModel model) {
   switch (model) {
-    case DistortionModel::OpenCV4: return 4;
-    case DistortionModel::OpenCV5: return 5;
-    case DistortionModel::OpenCV8: return 8;
-    case DistortionModel::Pinhole: return 0;
-    case DistortionModel::Fisheye: return 4;
+    case DistortionModel::OpenCV4:
+      return 4;
+    case DistortionModel::OpenCV5:
+      return 5;
+    case DistortionModel::OpenCV8:
+      return 8;
+    case DistortionModel::Pinhole:
+      return 0;
+    case DistortionModel::Fisheye:
+      return 4;
   }
   return 5;
 }
@@ -37,11 +42,16 @@ LensModel lensOf(DistortionModel model) {
 
 std::string distortionModelName(DistortionModel model) {
   switch (model) {
-    case DistortionModel::OpenCV4: return "opencv4";
-    case DistortionModel::OpenCV5: return "opencv5";
-    case DistortionModel::OpenCV8: return "opencv8";
-    case DistortionModel::Pinhole: return "pinhole";
-    case DistortionModel::Fisheye: return "fisheye";
+    case DistortionModel::OpenCV4:
+      return "opencv4";
+    case DistortionModel::OpenCV5:
+      return "opencv5";
+    case DistortionModel::OpenCV8:
+      return "opencv8";
+    case DistortionModel::Pinhole:
+      return "pinhole";
+    case DistortionModel::Fisheye:
+      return "fisheye";
   }
   return "opencv5";
 }
@@ -87,11 +97,16 @@ ceres::CostFunction* makeCostFor(const Eigen::Vector2d& observed) {
 ceres::CostFunction* makeCost(LensModel lens, int distortion_count, const Eigen::Vector2d& observed) {
   if (lens == LensModel::Fisheye && distortion_count == 4) return makeCostFor<LensModel::Fisheye, 4>(observed);
   if (lens == LensModel::OpenCV) switch (distortion_count) {
-      case 0: return makeCostFor<LensModel::OpenCV, 0>(observed);
-      case 4: return makeCostFor<LensModel::OpenCV, 4>(observed);
-      case 5: return makeCostFor<LensModel::OpenCV, 5>(observed);
-      case 8: return makeCostFor<LensModel::OpenCV, 8>(observed);
-      default: break;
+      case 0:
+        return makeCostFor<LensModel::OpenCV, 0>(observed);
+      case 4:
+        return makeCostFor<LensModel::OpenCV, 4>(observed);
+      case 5:
+        return makeCostFor<LensModel::OpenCV, 5>(observed);
+      case 8:
+        return makeCostFor<LensModel::OpenCV, 8>(observed);
+      default:
+        break;
     }
   throw std::invalid_argument("unsupported camera model for calibration (" + std::string(lensName(lens)) + ", " +
                               std::to_string(distortion_count) + " coefficients)");
@@ -112,10 +127,10 @@ Eigen::Vector2d projectWithPose(const std::vector<double>& params, LensModel len
 struct State {
   LensModel lens = LensModel::OpenCV;
   std::vector<double> params;
-  std::vector<Pose> poses;                       // one per view (meaningful when active)
-  std::vector<Eigen::Vector3d> points;           // target points (refined or nominal)
+  std::vector<Pose> poses;              // one per view (meaningful when active)
+  std::vector<Eigen::Vector3d> points;  // target points (refined or nominal)
   std::vector<bool> view_active;
-  std::vector<std::vector<bool>> inlier;         // per view, per observation
+  std::vector<std::vector<bool>> inlier;  // per view, per observation
 };
 
 struct Setup {
@@ -174,8 +189,7 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
   options.num_threads = setup.num_threads;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  if (!summary.IsSolutionUsable())
-    throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
+  if (!summary.IsSolutionUsable()) throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
   // With the target's points free, an unconverged least-squares pass means a gauge or
   // conditioning problem whose result must not be written (issue 13).
   if (setup.refine_target && !robust && summary.termination_type == ceres::NO_CONVERGENCE)
@@ -192,7 +206,8 @@ std::vector<std::vector<Eigen::Vector2d>> residualsOf(const std::vector<Calibrat
     if (!state.view_active[v]) continue;
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       bool in_front = false;
-      const Eigen::Vector2d pixel = projectWithPose(state.params, state.lens, state.poses[v], state.points[views[v].ids[k]], &in_front);
+      const Eigen::Vector2d pixel =
+          projectWithPose(state.params, state.lens, state.poses[v], state.points[views[v].ids[k]], &in_front);
       if (in_front) residuals[v][k] = pixel - views[v].pixels[k];
     }
   }
@@ -206,7 +221,8 @@ double robustSigma(const std::vector<CalibrationView>& views, const State& state
   std::vector<double> norms;
   for (std::size_t v = 0; v < views.size(); ++v)
     for (std::size_t k = 0; k < views[v].ids.size(); ++k)
-      if (state.view_active[v] && state.inlier[v][k] && residuals[v][k].allFinite()) norms.push_back(residuals[v][k].norm());
+      if (state.view_active[v] && state.inlier[v][k] && residuals[v][k].allFinite())
+        norms.push_back(residuals[v][k].norm());
   return support::upperMedian(std::move(norms)) / std::sqrt(2.0 * std::log(2.0));
 }
 
@@ -233,8 +249,8 @@ Linearisation linearise(const Setup& setup, State* state) {
     result.active_views.push_back(static_cast<int>(v));
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       if (!state->inlier[v][k]) continue;
-      problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), nullptr, state->params.data(),
-                               state->poses[v].data(), state->points[views[v].ids[k]].data());
+      problem.AddResidualBlock(makeCost(state->lens, distortion_count, views[v].pixels[k]), nullptr,
+                               state->params.data(), state->poses[v].data(), state->points[views[v].ids[k]].data());
       used_points.insert(views[v].ids[k]);
       const int position = static_cast<int>(result.active_views.size()) - 1;
       result.row_view.insert(result.row_view.end(), {position, position});
@@ -264,7 +280,8 @@ Linearisation linearise(const Setup& setup, State* state) {
   result.residuals = Eigen::Map<const Eigen::VectorXd>(residuals.data(), static_cast<Eigen::Index>(residuals.size()));
   result.jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int row = 0; row < crs.num_rows; ++row)
-    for (int entry = crs.rows[row]; entry < crs.rows[row + 1]; ++entry) result.jacobian(row, crs.cols[entry]) = crs.values[entry];
+    for (int entry = crs.rows[row]; entry < crs.rows[row + 1]; ++entry)
+      result.jacobian(row, crs.cols[entry]) = crs.values[entry];
   return result;
 }
 
@@ -375,15 +392,15 @@ std::optional<Pose> initialPose(const Camera& camera, const std::vector<Eigen::V
 // Non-finite values are never returned (so never written): they mean a gauge or convergence
 // problem of the adjustment, reported as such.
 void requireFinite(const CalibrationResult& result) {
-  bool finite = result.camera.covariance.allFinite() && result.state_covariance.allFinite() &&
-                std::isfinite(result.sigma_px);
+  bool finite =
+      result.camera.covariance.allFinite() && result.state_covariance.allFinite() && std::isfinite(result.sigma_px);
   for (const double value : result.camera.params) finite = finite && std::isfinite(value);
   for (const auto& point : result.target_points) finite = finite && point.allFinite();
   if (!finite)
-    throw std::runtime_error(std::string("the calibration produced non-finite values (") +
-                             (result.target_refined ? "target refinement: a gauge or convergence problem"
-                                                    : "a convergence problem") +
-                             "); nothing written");
+    throw std::runtime_error(
+        std::string("the calibration produced non-finite values (") +
+        (result.target_refined ? "target refinement: a gauge or convergence problem" : "a convergence problem") +
+        "); nothing written");
 }
 
 // Systematic error shows as residuals correlated within a view (a detector bias that depends
@@ -400,7 +417,8 @@ Eigen::VectorXd viewClusterInflation(const Linearisation& linear, const Eigen::M
   const int groups = static_cast<int>(linear.active_views.size());
   Eigen::MatrixXd scores = Eigen::MatrixXd::Zero(n, groups);
   for (Eigen::Index row = 0; row < linear.jacobian.rows(); ++row)
-    scores.col(linear.row_view[static_cast<std::size_t>(row)]) += linear.jacobian.row(row).transpose() * linear.residuals(row);
+    scores.col(linear.row_view[static_cast<std::size_t>(row)]) +=
+        linear.jacobian.row(row).transpose() * linear.residuals(row);
   const Eigen::MatrixXd spread = normal_inverse * scores;  // A⁻¹ g_v per view
   const double small_sample = groups > 1 ? static_cast<double>(groups) / (groups - 1) : 1.0;
   const double dof = std::max(1, groups - 1);
@@ -427,8 +445,8 @@ void addGeometryWarnings(const std::vector<CalibrationView>& views, const State&
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {
       if (!state.inlier[v][k]) continue;
       const Eigen::Vector2d& p = views[v].pixels[k];
-      const bool left = p.x() < width / 4.0, right = p.x() > 3.0 * width / 4.0;
-      const bool top = p.y() < height / 4.0, bottom = p.y() > 3.0 * height / 4.0;
+      const bool left = p.x()<width / 4.0, right = p.x()> 3.0 * width / 4.0;
+      const bool top = p.y()<height / 4.0, bottom = p.y()> 3.0 * height / 4.0;
       if (left && top) corner_seen[0] = true;
       if (right && top) corner_seen[1] = true;
       if (left && bottom) corner_seen[2] = true;
@@ -530,8 +548,8 @@ void initialiseIntrinsics(const std::vector<Eigen::Vector3d>& target_points, con
   if (std::count(usable.begin(), usable.end(), true) < 3)
     throw std::runtime_error("only " + std::to_string(std::count(usable.begin(), usable.end(), true)) +
                              " usable views: calibration needs at least 3");
-  state->params = initialIntrinsics(target_points, views, usable, width, height,
-                                    distortionCoefficientCount(options.model), options);
+  state->params =
+      initialIntrinsics(target_points, views, usable, width, height, distortionCoefficientCount(options.model), options);
   if (!options.initial_params)
     for (const int index : fixed_indices) {
       if (index == 2) state->params[2] = 0.5 * (width - 1);
@@ -542,8 +560,7 @@ void initialiseIntrinsics(const std::vector<Eigen::Vector3d>& target_points, con
 // Initial poses: OpenCV's PnP (IPPE for planar targets) on the rays of the initial camera,
 // so every lens model starts the same way. A view without a pose is deactivated.
 void initialisePoses(const std::vector<Eigen::Vector3d>& target_points, const std::vector<CalibrationView>& views,
-                     int width, int height, const CalibrationOptions& options, State* state,
-                     CalibrationResult* result) {
+                     int width, int height, const CalibrationOptions& options, State* state, CalibrationResult* result) {
   Camera initial_camera;
   initial_camera.width = width;
   initial_camera.height = height;
@@ -697,7 +714,8 @@ Eigen::MatrixXd ambientStateCovariance(const Linearisation& linear, const Eigen:
   Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(state_size, state_size);
   const int tangent_state = static_cast<int>(ambient_of_tangent.size());
   for (int r = 0; r < tangent_state; ++r)
-    for (int c = 0; c < tangent_state; ++c) covariance(ambient_of_tangent[r], ambient_of_tangent[c]) = tangent_covariance(r, c);
+    for (int c = 0; c < tangent_state; ++c)
+      covariance(ambient_of_tangent[r], ambient_of_tangent[c]) = tangent_covariance(r, c);
   return covariance;
 }
 
@@ -708,8 +726,9 @@ void estimateCovariance(const Setup& setup, const ResidualSummary& summary, int 
   const Linearisation linear = linearise(setup, state);
   result->free_parameter_count = static_cast<int>(linear.jacobian.cols());
   const int dof = 2 * summary.inlier_count - result->free_parameter_count;
-  if (dof <= 0) throw std::runtime_error("more unknowns (" + std::to_string(result->free_parameter_count) +
-                                         ") than measurements (" + std::to_string(2 * summary.inlier_count) + ")");
+  if (dof <= 0)
+    throw std::runtime_error("more unknowns (" + std::to_string(result->free_parameter_count) +
+                             ") than measurements (" + std::to_string(2 * summary.inlier_count) + ")");
   result->sigma_px = std::sqrt(summary.ssr / dof);
   const Eigen::MatrixXd normal_inverse = inverseNormalMatrix(linear.jacobian, &result->warnings);
   const double sigma2 = result->sigma_px * result->sigma_px;
@@ -813,8 +832,8 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
 }
 
 CalibrationResult calibrateCamera(const std::vector<std::vector<Eigen::Vector3d>>& object_points,
-                                  const std::vector<std::vector<Eigen::Vector2d>>& image_points, int width,
-                                  int height, const CalibrationOptions& options) {
+                                  const std::vector<std::vector<Eigen::Vector2d>>& image_points, int width, int height,
+                                  const CalibrationOptions& options) {
   if (object_points.size() != image_points.size())
     throw std::invalid_argument("object_points and image_points differ in view count");
   // Identical object points are one target point: lexicographic map on exact coordinates.

@@ -62,8 +62,9 @@ cv::Mat drawResidualMap(const CalibrationResult& result) {
   const cv::Point start(20, height - 25);
   cv::line(image, start, start + cv::Point(bar_length, 0), cv::Scalar(0, 0, 0), 2);
   putLabel(image, format("%g px residual", bar_px) + format(" (vectors x%g)", magnification), start + cv::Point(0, -8));
-  putLabel(image, format("RMS %.3f px", result.camera.rms_px) + ", " + std::to_string(result.rejected_points) +
-                      " rejected points (red)",
+  putLabel(image,
+           format("RMS %.3f px", result.camera.rms_px) + ", " + std::to_string(result.rejected_points) +
+               " rejected points (red)",
            cv::Point(20, 25));
   return image;
 }

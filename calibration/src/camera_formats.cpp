@@ -23,7 +23,8 @@ namespace {
 std::string fileStart(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error(path.string() + (std::filesystem::exists(path, ec) ? ": not a regular file" : ": file not found"));
+    throw std::runtime_error(path.string() +
+                             (std::filesystem::exists(path, ec) ? ": not a regular file" : ": file not found"));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path.string() + ": cannot open for reading");
   std::string text(4096, '\0');
@@ -84,14 +85,19 @@ std::string firstVispCameraName(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const auto camera = text.find("<camera>");
-  if (camera == std::string::npos) throw std::runtime_error(path.string() + ": no <camera> element (not a ViSP camera XML file)");
+  if (camera == std::string::npos)
+    throw std::runtime_error(path.string() + ": no <camera> element (not a ViSP camera XML file)");
   const auto begin = text.find("<name>", camera);
   const auto end = text.find("</name>", begin);
   if (begin == std::string::npos || end == std::string::npos) return {};
   std::string name = text.substr(begin + 6, end - begin - 6);
-  for (const auto& [entity, character] : {std::pair<std::string, std::string>{"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""},
-                                          {"&apos;", "'"}, {"&amp;", "&"}}) {
-    for (auto at = name.find(entity); at != std::string::npos; at = name.find(entity, at + 1)) name.replace(at, entity.size(), character);
+  for (const auto& [entity, character] : {std::pair<std::string, std::string>{"&lt;", "<"},
+                                          {"&gt;", ">"},
+                                          {"&quot;", "\""},
+                                          {"&apos;", "'"},
+                                          {"&amp;", "&"}}) {
+    for (auto at = name.find(entity); at != std::string::npos; at = name.find(entity, at + 1))
+      name.replace(at, entity.size(), character);
   }
   return name;
 }
@@ -112,17 +118,23 @@ class SilenceStdout {
 
 std::string cameraFormatName(CameraFormat format) {
   switch (format) {
-    case CameraFormat::OpenCV: return "opencv";
-    case CameraFormat::Ros: return "ros";
-    case CameraFormat::Visp: return "visp";
-    case CameraFormat::Kalibr: return "kalibr";
-    case CameraFormat::Mrcal: return "mrcal";
+    case CameraFormat::OpenCV:
+      return "opencv";
+    case CameraFormat::Ros:
+      return "ros";
+    case CameraFormat::Visp:
+      return "visp";
+    case CameraFormat::Kalibr:
+      return "kalibr";
+    case CameraFormat::Mrcal:
+      return "mrcal";
   }
   return "opencv";
 }
 
 std::optional<CameraFormat> cameraFormatFromName(const std::string& name) {
-  for (const auto format : {CameraFormat::OpenCV, CameraFormat::Ros, CameraFormat::Visp, CameraFormat::Kalibr, CameraFormat::Mrcal})
+  for (const auto format :
+       {CameraFormat::OpenCV, CameraFormat::Ros, CameraFormat::Visp, CameraFormat::Kalibr, CameraFormat::Mrcal})
     if (cameraFormatName(format) == name) return format;
   return std::nullopt;
 }
@@ -152,14 +164,17 @@ CameraFormat detectCameraFormat(const std::filesystem::path& path) {
 
 Camera readCamera(const std::filesystem::path& path) {
   switch (detectCameraFormat(path)) {
-    case CameraFormat::Visp: return readCameraVispXml(path);
-    case CameraFormat::Kalibr: return readCameraKalibrYaml(path);
+    case CameraFormat::Visp:
+      return readCameraVispXml(path);
+    case CameraFormat::Kalibr:
+      return readCameraKalibrYaml(path);
     case CameraFormat::Mrcal:
       throw std::runtime_error(path.string() +
                                ": an mrcal .cameramodel: mire writes these (mire convert --to mrcal) but reads "
                                "opencv, ros, visp and kalibr camera files");
     case CameraFormat::OpenCV:
-    case CameraFormat::Ros: break;
+    case CameraFormat::Ros:
+      break;
   }
   return readCameraYaml(path);
 }
@@ -169,7 +184,8 @@ Camera readCameraVispXml(const std::filesystem::path& path) {
   vpXmlParserCamera parser;
   vpCameraParameters parameters;
   // The first camera of the file, with distortion when the file has that model.
-  for (const auto model : {vpCameraParameters::perspectiveProjWithDistortion, vpCameraParameters::perspectiveProjWithoutDistortion}) {
+  for (const auto model :
+       {vpCameraParameters::perspectiveProjWithDistortion, vpCameraParameters::perspectiveProjWithoutDistortion}) {
     int status = vpXmlParserCamera::SEQUENCE_ERROR;
     try {
       const SilenceStdout quiet;  // ViSP's parser reports each camera it finds on std::cout
@@ -232,11 +248,16 @@ std::string cameraMrcalString(const Camera& camera) {
 
 std::string cameraString(const Camera& camera, CameraFormat format, const std::string& camera_name) {
   switch (format) {
-    case CameraFormat::OpenCV: return cameraYamlString(camera);
-    case CameraFormat::Ros: return cameraRosYamlString(camera, camera_name);
-    case CameraFormat::Visp: return cameraVispXmlString(camera, camera_name);
-    case CameraFormat::Kalibr: return cameraKalibrYamlString(camera);
-    case CameraFormat::Mrcal: return cameraMrcalString(camera);
+    case CameraFormat::OpenCV:
+      return cameraYamlString(camera);
+    case CameraFormat::Ros:
+      return cameraRosYamlString(camera, camera_name);
+    case CameraFormat::Visp:
+      return cameraVispXmlString(camera, camera_name);
+    case CameraFormat::Kalibr:
+      return cameraKalibrYamlString(camera);
+    case CameraFormat::Mrcal:
+      return cameraMrcalString(camera);
   }
   return cameraYamlString(camera);
 }

@@ -30,7 +30,8 @@ std::vector<FieldSample> sampleField(const Camera& camera) {
                                   -0.5 + camera.height * static_cast<double>(i) / kSteps);
       FieldSample sample;
       if (!camera.unproject(pixel, &sample.undistorted)) continue;
-      sample.distorted = Eigen::Vector2d((pixel.x() - camera.cx()) / camera.fx(), (pixel.y() - camera.cy()) / camera.fy());
+      sample.distorted =
+          Eigen::Vector2d((pixel.x() - camera.cx()) / camera.fx(), (pixel.y() - camera.cy()) / camera.fy());
       samples.push_back(sample);
     }
   }
@@ -78,10 +79,14 @@ std::string number(double value) {
 std::string escapeXml(const std::string& text) {
   std::string escaped;
   for (const char c : text) {
-    if (c == '&') escaped += "&amp;";
-    else if (c == '<') escaped += "&lt;";
-    else if (c == '>') escaped += "&gt;";
-    else escaped += c;
+    if (c == '&')
+      escaped += "&amp;";
+    else if (c == '<')
+      escaped += "&lt;";
+    else if (c == '>')
+      escaped += "&gt;";
+    else
+      escaped += c;
   }
   return escaped;
 }
@@ -124,9 +129,11 @@ std::string cameraVispXmlString(const Camera& camera, const std::string& camera_
   // undistorted ray, and back x = (u − u0)/px·(1 + kdu·r_d²). Each single term is fitted
   // by least squares in pixels to OpenCV's model over a 33 × 33 grid covering the image.
   const OneTermFit kud = fitOneRadialTerm(
-      camera, samples, [](const FieldSample& s) { return s.undistorted; }, [](const FieldSample& s) { return s.distorted; });
+      camera, samples, [](const FieldSample& s) { return s.undistorted; },
+      [](const FieldSample& s) { return s.distorted; });
   const OneTermFit kdu = fitOneRadialTerm(
-      camera, samples, [](const FieldSample& s) { return s.distorted; }, [](const FieldSample& s) { return s.undistorted; });
+      camera, samples, [](const FieldSample& s) { return s.distorted; },
+      [](const FieldSample& s) { return s.undistorted; });
 
   const std::vector<std::string> names = camera.parameterNames();
   std::string lost;
@@ -136,12 +143,12 @@ std::string cameraVispXmlString(const Camera& camera, const std::string& camera_
   xml.precision(17);
   xml << "<?xml version=\"1.0\"?>\n"
       << "<root>\n"
-      << "  <!-- Written by mire from an OpenCV camera (" << modelName(camera.distortionCount()) << ", k1 = "
-      << number(camera.params[kIntrinsicCount]) << ").\n"
+      << "  <!-- Written by mire from an OpenCV camera (" << modelName(camera.distortionCount())
+      << ", k1 = " << number(camera.params[kIntrinsicCount]) << ").\n"
       << "       ViSP's model has one radial term each way: kud and kdu are least-squares fits of OpenCV's\n"
       << "       whole distortion over the image (residual kud: RMS " << shortNumber(kud.rms_px) << " px, max "
-      << shortNumber(kud.max_px) << " px; kdu: RMS " << shortNumber(kdu.rms_px) << " px, max " << shortNumber(kdu.max_px)
-      << " px).\n"
+      << shortNumber(kud.max_px) << " px; kdu: RMS " << shortNumber(kdu.rms_px) << " px, max "
+      << shortNumber(kdu.max_px) << " px).\n"
       << "       Lost in the conversion: " << (lost.empty() ? "nothing" : lost) << ".\n"
       << "       Pixel convention: integer coordinates at pixel centres (as OpenCV). -->\n"
       << "  <camera>\n"

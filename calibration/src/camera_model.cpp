@@ -1,7 +1,7 @@
 #include "mire/calibration/camera_model.hpp"
 
-#include <Eigen/LU>
 #include <ceres/jet.h>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -37,12 +37,13 @@ std::vector<double> Camera::sigmas() const {
 void Camera::validate() const {
   if (width <= 0 || height <= 0) throw std::invalid_argument("image size must be positive");
   if (params.size() < kIntrinsicCount)
-    throw std::invalid_argument("a camera needs fx, fy, cx, cy (" + std::to_string(params.size()) + " parameters given)");
+    throw std::invalid_argument("a camera needs fx, fy, cx, cy (" + std::to_string(params.size()) +
+                                " parameters given)");
   if (!isValidCoefficientCount(lens, distortionCount()))
-    throw std::invalid_argument(lens == LensModel::Fisheye
-                                    ? "the fisheye model has 4 coefficients (k1..k4), not " + std::to_string(distortionCount())
-                                    : "distortion must have 0 (pinhole), 4, 5, 8 or 12 coefficients, not " +
-                                          std::to_string(distortionCount()));
+    throw std::invalid_argument(
+        lens == LensModel::Fisheye
+            ? "the fisheye model has 4 coefficients (k1..k4), not " + std::to_string(distortionCount())
+            : "distortion must have 0 (pinhole), 4, 5, 8 or 12 coefficients, not " + std::to_string(distortionCount()));
   for (const double value : params)
     if (!std::isfinite(value)) throw std::invalid_argument("camera parameters must be finite");
   if (!(fx() > 0.0) || !(fy() > 0.0)) throw std::invalid_argument("focal lengths must be positive");

@@ -20,18 +20,44 @@ const std::vector<std::string> kWidthKeys{"image_width", "width", "imageWidth"};
 const std::vector<std::string> kHeightKeys{"image_height", "height", "imageHeight"};
 const std::vector<std::string> kSizeKeys{"image_size", "imageSize", "cameraResolution", "resolution"};
 const std::vector<std::string> kMatrixKeys{"camera_matrix", "cameraMatrix", "K"};
-const std::vector<std::string> kDistortionKeys{"distortion_coefficients", "dist_coeffs", "distCoeffs",
-                                               "dist_coeff", "distortion_coeffs", "D"};
+const std::vector<std::string> kDistortionKeys{
+    "distortion_coefficients", "dist_coeffs", "distCoeffs", "dist_coeff", "distortion_coeffs", "D"};
 const std::vector<std::string> kMireKeys{"model", "rms_px", "covariance", "covariance_parameters", "sigma"};
 // Written beside the camera by OpenCV's calibration samples and apps, by ROS, and by
 // `mire calibrate`: accepted and ignored.
-const std::vector<std::string> kIgnoredKeys{
-    "calibration_time", "calibrationDate", "nr_of_frames", "nframes", "framesCount", "board_width", "board_height",
-    "square_size", "marker_size", "aspectRatio", "fix_aspect_ratio", "flags", "flagValue", "avg_reprojection_error",
-    "per_view_reprojection_errors", "extrinsic_parameters", "image_points", "grid_points", "cameraMatrix_std_dev",
-    "dist_coeffs_std_dev", "camera_name", "distortion_model", "rectification_matrix", "projection_matrix",
-    "sigma_px", "views_used", "views_rejected", "points_used", "points_rejected", "target_refined", "sigma_inflation",
-    "projection_uncertainty_distance_m", "projection_uncertainty_px"};
+const std::vector<std::string> kIgnoredKeys{"calibration_time",
+                                            "calibrationDate",
+                                            "nr_of_frames",
+                                            "nframes",
+                                            "framesCount",
+                                            "board_width",
+                                            "board_height",
+                                            "square_size",
+                                            "marker_size",
+                                            "aspectRatio",
+                                            "fix_aspect_ratio",
+                                            "flags",
+                                            "flagValue",
+                                            "avg_reprojection_error",
+                                            "per_view_reprojection_errors",
+                                            "extrinsic_parameters",
+                                            "image_points",
+                                            "grid_points",
+                                            "cameraMatrix_std_dev",
+                                            "dist_coeffs_std_dev",
+                                            "camera_name",
+                                            "distortion_model",
+                                            "rectification_matrix",
+                                            "projection_matrix",
+                                            "sigma_px",
+                                            "views_used",
+                                            "views_rejected",
+                                            "points_used",
+                                            "points_rejected",
+                                            "target_refined",
+                                            "sigma_inflation",
+                                            "projection_uncertainty_distance_m",
+                                            "projection_uncertainty_px"};
 
 constexpr YamlRange kAnyFinite{-1e300, 1e300};
 // |coefficient| beyond this is no lens (k1 = 1e6 puts every point at the image centre).
@@ -40,7 +66,8 @@ constexpr int kMaxImageSide = 100000;
 
 std::vector<std::string> knownKeys() {
   std::vector<std::string> keys;
-  for (const auto* list : {&kWidthKeys, &kHeightKeys, &kSizeKeys, &kMatrixKeys, &kDistortionKeys, &kMireKeys, &kIgnoredKeys})
+  for (const auto* list :
+       {&kWidthKeys, &kHeightKeys, &kSizeKeys, &kMatrixKeys, &kDistortionKeys, &kMireKeys, &kIgnoredKeys})
     keys.insert(keys.end(), list->begin(), list->end());
   return keys;
 }
@@ -65,8 +92,9 @@ std::optional<YamlNode> findOne(const YamlNode& root, const std::vector<std::str
 
 YamlNode requireOne(const YamlNode& root, const std::vector<std::string>& names) {
   auto node = findOne(root, names);
-  if (!node) throw support::YamlError(root.where() + ": missing key '" + names.front() + "' (or " +
-                                      joined(std::vector<std::string>(names.begin() + 1, names.end())) + ")");
+  if (!node)
+    throw support::YamlError(root.where() + ": missing key '" + names.front() + "' (or " +
+                             joined(std::vector<std::string>(names.begin() + 1, names.end())) + ")");
   return *node;
 }
 
@@ -104,11 +132,13 @@ void checkIntrinsics(const YamlNode& node, const Camera& camera, double fx, doub
   if (!(fx > 0.0) || !(fy > 0.0))
     node.fail("focal lengths must be positive (fx = " + support::formatMessageNumber(fx) +
               ", fy = " + support::formatMessageNumber(fy) + ")");
-  if (fx > 1e6 || fy > 1e6) node.fail("focal length over 1e6 px is no camera (fx = " + support::formatMessageNumber(fx) + ")");
+  if (fx > 1e6 || fy > 1e6)
+    node.fail("focal length over 1e6 px is no camera (fx = " + support::formatMessageNumber(fx) + ")");
   // A principal point far outside the image is a typing error, not a lens.
   if (cx < -0.5 * camera.width || cx > 1.5 * camera.width || cy < -0.5 * camera.height || cy > 1.5 * camera.height)
     node.fail("principal point (" + support::formatMessageNumber(cx) + ", " + support::formatMessageNumber(cy) +
-              ") px is far outside the " + std::to_string(camera.width) + " x " + std::to_string(camera.height) + " image");
+              ") px is far outside the " + std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+              " image");
 }
 
 std::vector<double> readDistortion(const YamlNode& node) {
@@ -152,7 +182,8 @@ void applyRosModel(const YamlNode& node, std::vector<double>& coefficients, Lens
   const std::string model = node.asString();
   const std::size_t n = coefficients.size();
   if (model == "plumb_bob") {
-    if (n != 0 && n != 4 && n != 5) node.fail("'plumb_bob' has 5 coefficients k1 k2 p1 p2 k3, the file has " + std::to_string(n));
+    if (n != 0 && n != 4 && n != 5)
+      node.fail("'plumb_bob' has 5 coefficients k1 k2 p1 p2 k3, the file has " + std::to_string(n));
   } else if (model == "rational_polynomial") {
     if (n != 8 && n != 12) node.fail("'rational_polynomial' has 8 coefficients, the file has " + std::to_string(n));
   } else if (model == "equidistant" || model == "fisheye") {
@@ -173,10 +204,12 @@ void readLens(const YamlNode& root, Camera& camera) {
   if (mire_model) {
     LensModel mire_lens = LensModel::OpenCV;
     applyMireModel(*mire_model, coefficients, mire_lens);
-    if (ros_model && mire_lens != lens) mire_model->fail("contradicts distortion_model '" + ros_model->asString() + "'");
+    if (ros_model && mire_lens != lens)
+      mire_model->fail("contradicts distortion_model '" + ros_model->asString() + "'");
     lens = mire_lens;
   }
-  if (!mire_model && !ros_model && !coefficients.empty() && !isSupportedDistortionCount(static_cast<int>(coefficients.size())))
+  if (!mire_model && !ros_model && !coefficients.empty() &&
+      !isSupportedDistortionCount(static_cast<int>(coefficients.size())))
     node.fail("has " + std::to_string(coefficients.size()) + " values; 0, 4, 5, 8 or 12 are supported");
   camera.lens = lens;
   camera.params.insert(camera.params.end(), coefficients.begin(), coefficients.end());
@@ -198,12 +231,14 @@ void readCovariance(const YamlNode& root, Camera& camera) {
   for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
   if (names_node) {
     const auto items = names_node->items();
-    if (static_cast<int>(items.size()) != n) names_node->fail("must list the " + std::to_string(n) + " parameter names");
+    if (static_cast<int>(items.size()) != n)
+      names_node->fail("must list the " + std::to_string(n) + " parameter names");
     std::vector<bool> seen(static_cast<std::size_t>(n), false);
     for (std::size_t i = 0; i < items.size(); ++i) {
       const std::string name = items[i].asString();
       const auto found = std::find(names.begin(), names.end(), name);
-      if (found == names.end()) items[i].fail("unknown parameter '" + name + "' (this camera has " + joined(names) + ")");
+      if (found == names.end())
+        items[i].fail("unknown parameter '" + name + "' (this camera has " + joined(names) + ")");
       const auto index = static_cast<std::size_t>(found - names.begin());
       if (seen[index]) items[i].fail("names '" + name + "' twice");
       seen[index] = true;
@@ -212,9 +247,11 @@ void readCovariance(const YamlNode& root, Camera& camera) {
   }
   camera.covariance = Eigen::MatrixXd::Zero(n, n);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) camera.covariance(order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(j)]) = c(i, j);
+    for (int j = 0; j < n; ++j)
+      camera.covariance(order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(j)]) = c(i, j);
   const double scale = std::max(1e-300, camera.covariance.cwiseAbs().maxCoeff());
-  if ((camera.covariance - camera.covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale) node->fail("must be symmetric");
+  if ((camera.covariance - camera.covariance.transpose()).cwiseAbs().maxCoeff() > 1e-9 * scale)
+    node->fail("must be symmetric");
   for (int i = 0; i < n; ++i)
     if (camera.covariance(i, i) < 0.0) node->fail("has a negative variance for " + names[static_cast<std::size_t>(i)]);
 }
@@ -243,8 +280,7 @@ std::string openCvMatrix(const std::string& key, const double* values, int rows,
   std::ostringstream out;
   out << key << ": !!opencv-matrix\n  rows: " << rows << "\n  cols: " << cols << "\n  dt: d\n  data: [";
   for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c)
-      out << (c == 0 ? " " : ", ") << support::formatYamlNumber(values[r * cols + c]);
+    for (int c = 0; c < cols; ++c) out << (c == 0 ? " " : ", ") << support::formatYamlNumber(values[r * cols + c]);
     if (r + 1 < rows && cols > 1) out << ",\n        ";
   }
   out << " ]\n";
@@ -253,8 +289,8 @@ std::string openCvMatrix(const std::string& key, const double* values, int rows,
 
 // A ROS matrix node: rows, cols, data (camera_calibration's layout, no tag).
 std::string rosMatrix(const std::string& key, const double* values, int rows, int cols) {
-  return key + ":\n  rows: " + std::to_string(rows) + "\n  cols: " + std::to_string(cols) + "\n  data: " +
-         numberList(values, rows * cols) + "\n";
+  return key + ":\n  rows: " + std::to_string(rows) + "\n  cols: " + std::to_string(cols) +
+         "\n  data: " + numberList(values, rows * cols) + "\n";
 }
 
 std::string mireModelName(const Camera& camera) {
@@ -321,7 +357,8 @@ Camera readCameraKalibrYaml(const std::filesystem::path& path) {
   const std::vector<double> coefficients = coefficients_node.asDoubles({-kMaxCoefficient, kMaxCoefficient});
   const std::string name = model.asString();
   const std::size_t expected = name == "none" ? 0 : 4;
-  if (name == "equidistant") camera.lens = LensModel::Fisheye;
+  if (name == "equidistant")
+    camera.lens = LensModel::Fisheye;
   else if (name != "radtan" && name != "none")
     model.fail("'" + name + "' is not one of radtan, equidistant, none (the models mire shares with Kalibr)");
   if (coefficients.size() != expected)
@@ -340,7 +377,8 @@ std::string cameraYamlString(const Camera& camera) {
       << "# pixel centres); distortion in OpenCV's order k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]], or k1..k4 of\n"
       << "# cv::fisheye for model: fisheye (model: pinhole has none; its five zeros are for OpenCV). mire keys:\n"
       << "# model, rms_px (reprojection RMS, px), covariance of the parameters in the order of\n"
-      << "# covariance_parameters (pixels^2 for fx fy cx cy, unitless^2 otherwise), sigma = square roots of its diagonal.\n";
+      << "# covariance_parameters (pixels^2 for fx fy cx cy, unitless^2 otherwise), sigma = square roots of its "
+         "diagonal.\n";
   out << "image_width: " << camera.width << "\n";
   out << "image_height: " << camera.height << "\n";
   out << "model: " << mireModelName(camera) << "\n";
@@ -366,8 +404,10 @@ std::string cameraYamlString(const Camera& camera) {
 std::string cameraRosYamlString(const Camera& camera, const std::string& camera_name) {
   camera.validate();
   std::string model = "plumb_bob";
-  if (camera.lens == LensModel::Fisheye) model = "equidistant";
-  else if (camera.distortionCount() >= 8) model = "rational_polynomial";
+  if (camera.lens == LensModel::Fisheye)
+    model = "equidistant";
+  else if (camera.distortionCount() >= 8)
+    model = "rational_polynomial";
   // A pinhole camera has an empty D (image_geometry reads it as no distortion).
   const std::vector<double> d(camera.params.begin() + kIntrinsicCount, camera.params.end());
   const double k[9] = {camera.fx(), 0.0, camera.cx(), 0.0, camera.fy(), camera.cy(), 0.0, 0.0, 1.0};

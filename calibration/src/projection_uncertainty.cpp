@@ -58,8 +58,8 @@ Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_par
     moved += applyPose(estimate_poses[i], applyInversePose(truth_poses[i], point_camera));
   moved /= static_cast<double>(truth_poses.size());
   Eigen::Vector2d out;
-  if (!projectPoint(estimate_params.data(), lens, static_cast<int>(estimate_params.size()) - kIntrinsicCount, moved.data(),
-                    out.data()))
+  if (!projectPoint(estimate_params.data(), lens, static_cast<int>(estimate_params.size()) - kIntrinsicCount,
+                    moved.data(), out.data()))
     return nan;
   return out;
 }
@@ -71,8 +71,7 @@ double projectionUncertaintyPx(const CalibrationResult& result, const Eigen::Vec
   return std::sqrt(std::max(0.0, eigen.eigenvalues().maxCoeff()));
 }
 
-Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Eigen::Vector2d& pixel,
-                                       double distance_m) {
+Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Eigen::Vector2d& pixel, double distance_m) {
   Eigen::Matrix2d nan = Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
   const std::vector<double>& params = result.camera.params;
   const std::vector<Pose> poses = posesOf(result);
@@ -95,10 +94,10 @@ Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Ei
       plus_poses[view](component) += step;
       minus_poses[view](component) -= step;
     }
-    const Eigen::Vector2d plus = reprojectThroughEstimate(plus_params, plus_poses, params, poses, pixel, distance_m,
-                                                          result.camera.lens);
-    const Eigen::Vector2d minus = reprojectThroughEstimate(minus_params, minus_poses, params, poses, pixel, distance_m,
-                                                           result.camera.lens);
+    const Eigen::Vector2d plus =
+        reprojectThroughEstimate(plus_params, plus_poses, params, poses, pixel, distance_m, result.camera.lens);
+    const Eigen::Vector2d minus =
+        reprojectThroughEstimate(minus_params, minus_poses, params, poses, pixel, distance_m, result.camera.lens);
     if (!plus.allFinite() || !minus.allFinite()) return nan;
     jacobian.col(j) = (plus - minus) / (2.0 * step);
   }

@@ -168,8 +168,7 @@ void writeEncoderReadings(const H4CampaignSpec& spec, const H4Campaign& campaign
 }  // namespace
 
 // Stages: the true robot and its protocol, the images, the encoder readings, the truth.
-H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& directory,
-                              const ProgressCallback& progress) {
+H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& directory, const ProgressCallback& progress) {
   const H4CampaignSpec defaults = H4CampaignSpec::reference();
   const fs::path camera_file = spec.camera_file.empty() ? defaults.camera_file : spec.camera_file;
   const fs::path target_file = spec.target_file.empty() ? defaults.target_file : spec.target_file;
@@ -178,7 +177,10 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
 
   const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.robot_seed.value_or(spec.seed));
   H4Campaign campaign{H4TrueRobot(geometry, defaultBaseTCamera(), markerTEffectorFor(target)),
-                      camera, protocolPoses(spec.grid), {}, straightLineMotions(spec.grid, spec.line_points),
+                      camera,
+                      protocolPoses(spec.grid),
+                      {},
+                      straightLineMotions(spec.grid, spec.line_points),
                       directory};
   for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(poseId(i));
 
@@ -187,9 +189,9 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   support::writeFileAtomically(campaign.target_file(), target.yamlString());
   renderCampaignImages(spec, campaignSimulation(spec, camera, target, campaign), campaign, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
-  support::writeFileAtomically(truth_dir / "robot.yaml",
-                               geometryYaml(geometry) + isometryYaml("bTc", campaign.robot.baseTCamera()) +
-                                   isometryYaml("mTe", campaign.robot.markerTEffector()));
+  support::writeFileAtomically(truth_dir / "robot.yaml", geometryYaml(geometry) +
+                                                             isometryYaml("bTc", campaign.robot.baseTCamera()) +
+                                                             isometryYaml("mTe", campaign.robot.markerTEffector()));
   return campaign;
 }
 

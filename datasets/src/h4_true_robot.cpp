@@ -5,8 +5,8 @@
 #include <ceres/rotation.h>
 
 #include <algorithm>
-#include <sstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -28,9 +28,9 @@ struct ArmFrame {
 };
 
 ArmFrame armFrame(const H4TrueLeg& leg) {
-  const Eigen::Matrix3d m = (Eigen::AngleAxisd(leg.psi, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(leg.beta, Eigen::Vector3d::UnitX()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d m =
+      (Eigen::AngleAxisd(leg.psi, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(leg.beta, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   return {m.col(0), m.col(1), m.col(2)};
 }
 
@@ -48,8 +48,7 @@ Vec3<T> nacelleOffset(const H4TrueGeometry& g, int leg, const T& theta) {
 // with w = A − P, a = −w·e1, b = −w·e2, c = (L² + ‖w‖² − l²)/(2L): a cosφ + b sinφ = c.
 // Returns false when |c| > ρ (unreachable). `clamp` keeps the result finite for the tilt model.
 template <typename T>
-bool armAngle(const H4TrueLeg& leg, const ArmFrame& frame, const Vec3<T>& attachment, bool clamp,
-              T* phi) {
+bool armAngle(const H4TrueLeg& leg, const ArmFrame& frame, const Vec3<T>& attachment, bool clamp, T* phi) {
   using std::acos;
   using std::atan2;
   using std::sqrt;
@@ -72,8 +71,7 @@ template <typename T>
 Vec3<T> elbow(const H4TrueLeg& leg, const ArmFrame& frame, const T& phi) {
   using std::cos;
   using std::sin;
-  return leg.pivot.cast<T>() + T(leg.arm_length) * (-cos(phi) * frame.e1.cast<T>() -
-                                                    sin(phi) * frame.e2.cast<T>());
+  return leg.pivot.cast<T>() + T(leg.arm_length) * (-cos(phi) * frame.e1.cast<T>() - sin(phi) * frame.e2.cast<T>());
 }
 
 // ω(X): mean over the legs of (δ_i/s)·n_i, n_i = e3_i × f_i normalised, horizontal part only;
@@ -103,8 +101,7 @@ Vec3<T> tiltVector(const H4TrueGeometry& g, const std::array<ArmFrame, 4>& frame
 }
 
 template <typename T>
-std::array<Vec3<T>, 4> attachments(const H4TrueGeometry& g, const std::array<ArmFrame, 4>& frames,
-                                   const T* pose) {
+std::array<Vec3<T>, 4> attachments(const H4TrueGeometry& g, const std::array<ArmFrame, 4>& frames, const T* pose) {
   const Vec3<T> omega = tiltVector(g, frames, pose);
   const Vec3<T> centre(pose[0], pose[1], pose[2]);
   std::array<Vec3<T>, 4> points;
@@ -138,9 +135,7 @@ struct ForearmClosure {
   }
 };
 
-double wrapAngle(double angle) {
-  return std::remainder(angle, 2.0 * kH4Pi);
-}
+double wrapAngle(double angle) { return std::remainder(angle, 2.0 * kH4Pi); }
 
 Eigen::Isometry3d makeIsometry(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -171,8 +166,7 @@ H4TrueGeometry geometryFromModel12(const H4Model12Values& v) {
   return g;
 }
 
-H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes,
-                                  std::uint64_t seed) {
+H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes, std::uint64_t seed) {
   std::mt19937_64 model12_rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   H4Model12Values v = nominal;
@@ -185,8 +179,7 @@ H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorS
   return v;
 }
 
-H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSizes& sizes,
-                                std::uint64_t seed) {
+H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSizes& sizes, std::uint64_t seed) {
   std::normal_distribution<double> normal(0.0, 1.0);
   H4TrueGeometry g = geometryFromModel12(drawModel12Values(nominal, sizes, seed));
 
@@ -219,16 +212,13 @@ Eigen::Isometry3d defaultBaseTCamera() {
 Eigen::Isometry3d defaultMarkerTEffector() {
   // Effector origin expressed in M: the board's first feature sits at (−88, −64, −40) mm from
   // the effector in E, i.e. the 12 x 9 x 16 mm board of specs/target_h4.yaml is centred under the effector, 40 mm below it.
-  const Eigen::Matrix3d rotation =
-      Eigen::AngleAxisd(10.0 * kH4Degree, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(10.0 * kH4Degree, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return makeIsometry(rotation, Eigen::Vector3d(0.088, 0.064, 0.04));
 }
 
 H4TrueRobot::H4TrueRobot(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera,
                          const Eigen::Isometry3d& marker_T_effector)
-    : geometry_(std::move(geometry)),
-      base_T_camera_(base_T_camera),
-      marker_T_effector_(marker_T_effector) {}
+    : geometry_(std::move(geometry)), base_T_camera_(base_T_camera), marker_T_effector_(marker_T_effector) {}
 
 Eigen::Vector3d H4TrueRobot::tilt(const H4Pose& pose) const {
   return tiltVector(geometry_, armFrames(geometry_), pose.data());
@@ -243,8 +233,7 @@ Eigen::Isometry3d H4TrueRobot::baseTEffector(const H4Pose& pose) const {
   Eigen::Matrix3d tilt_rotation = Eigen::Matrix3d::Identity();
   if (omega.norm() > 0.0) tilt_rotation = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
   const Eigen::Matrix3d rotation =
-      tilt_rotation * Eigen::AngleAxisd(geometry_.rotation_ratio * pose[3], Eigen::Vector3d::UnitZ())
-                          .toRotationMatrix();
+      tilt_rotation * Eigen::AngleAxisd(geometry_.rotation_ratio * pose[3], Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return makeIsometry(rotation, pose.head<3>());
 }
 
@@ -264,8 +253,7 @@ std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose) const {
   return q;
 }
 
-std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose, double noise_rad,
-                                            std::mt19937_64& rng) const {
+std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose, double noise_rad, std::mt19937_64& rng) const {
   auto q = joints(pose);
   if (!q || noise_rad <= 0.0) return q;
   std::normal_distribution<double> normal(0.0, noise_rad);
@@ -276,8 +264,7 @@ std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose, double noise_rad
 std::array<Eigen::Vector3d, 4> H4TrueRobot::elbows(const H4Joints& q) const {
   const auto frames = armFrames(geometry_);
   std::array<Eigen::Vector3d, 4> points;
-  for (int i = 0; i < 4; ++i)
-    points[i] = elbow(geometry_.legs[i], frames[i], q[i] + geometry_.legs[i].joint_offset);
+  for (int i = 0; i < 4; ++i) points[i] = elbow(geometry_.legs[i], frames[i], q[i] + geometry_.legs[i].joint_offset);
   return points;
 }
 
@@ -286,8 +273,7 @@ std::optional<H4Pose> H4TrueRobot::pose(const H4Joints& q, const H4Pose& guess) 
   auto* closure = new ForearmClosure{&geometry_, &frames, elbows(q)};
   H4Pose x = guess;
   ceres::Problem problem;  // takes ownership of the cost function
-  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForearmClosure, 4, 4>(closure), nullptr,
-                           x.data());
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ForearmClosure, 4, 4>(closure), nullptr, x.data());
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = 100;
@@ -341,8 +327,8 @@ std::array<std::vector<H4Pose>, 2> straightLineMotions(const H4ProtocolGrid& gri
   return lines;
 }
 
-std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
-                                   double noise_rad, std::mt19937_64& rng) {
+std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H4Pose>& poses, double noise_rad,
+                                   std::mt19937_64& rng) {
   std::vector<H4Joints> joints;
   joints.reserve(poses.size());
   for (std::size_t k = 0; k < poses.size(); ++k) {
@@ -353,8 +339,8 @@ std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H
   return joints;
 }
 
-SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_ikm,
-                            const Eigen::Vector3d& centre, double side) {
+SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_ikm, const Eigen::Vector3d& centre,
+                            double side) {
   SquareTestResult result;
   const double half = 0.5 * side;
   const std::array<Eigen::Vector2d, 4> corners{Eigen::Vector2d(-half, -half), Eigen::Vector2d(half, -half),
@@ -364,7 +350,8 @@ SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_
     const auto q = command_ikm(result.commanded[k]);
     if (!q) throw std::runtime_error("squareTest: the control model cannot reach corner " + std::to_string(k + 1));
     const auto reached = robot.pose(*q, result.commanded[k]);
-    if (!reached) throw std::runtime_error("squareTest: the true robot's FKM failed at corner " + std::to_string(k + 1));
+    if (!reached)
+      throw std::runtime_error("squareTest: the true robot's FKM failed at corner " + std::to_string(k + 1));
     result.reached[k] = *reached;
   }
   for (int k = 0; k < 4; ++k) {
@@ -375,22 +362,20 @@ SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_
   return result;
 }
 
-Eigen::Isometry3d perturbPose(const Eigen::Isometry3d& pose, const H4MeasurementNoise& noise,
-                              std::mt19937_64& rng) {
+Eigen::Isometry3d perturbPose(const Eigen::Isometry3d& pose, const H4MeasurementNoise& noise, std::mt19937_64& rng) {
   std::normal_distribution<double> normal(0.0, 1.0);
   Eigen::Vector3d dt, dr;
   for (int k = 0; k < 3; ++k) dt[k] = noise.translation_m * normal(rng);
   for (int k = 0; k < 3; ++k) dr[k] = noise.rotation_rad * normal(rng);
   Eigen::Isometry3d noisy = pose;
   noisy.translation() += dt;
-  if (dr.norm() > 0.0) noisy.linear() = pose.linear() * Eigen::AngleAxisd(dr.norm(), dr.normalized()).toRotationMatrix();
+  if (dr.norm() > 0.0)
+    noisy.linear() = pose.linear() * Eigen::AngleAxisd(dr.norm(), dr.normalized()).toRotationMatrix();
   return noisy;
 }
 
-std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueRobot& robot,
-                                                         const std::vector<H4Pose>& poses,
-                                                         const H4MeasurementNoise& noise,
-                                                         std::uint64_t seed) {
+std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
+                                                         const H4MeasurementNoise& noise, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::vector<H4SimulatedMeasurement> out;
   out.reserve(poses.size());
@@ -424,8 +409,7 @@ std::vector<mechanism::PoseObservation> toObservations(const std::vector<H4Simul
   return poses;
 }
 
-void writeSimulatedCampaign(const std::filesystem::path& dir,
-                            const std::vector<H4SimulatedMeasurement>& measurements,
+void writeSimulatedCampaign(const std::filesystem::path& dir, const std::vector<H4SimulatedMeasurement>& measurements,
                             const H4MeasurementNoise& noise, const std::vector<std::vector<H4Joints>>& lines) {
   std::filesystem::create_directories(dir);
   const auto poses = toObservations(measurements, noise);
@@ -457,8 +441,7 @@ void writeSimulatedCampaign(const std::filesystem::path& dir,
 }
 
 double smallestImageMargin(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
-                           const std::vector<Eigen::Vector3d>& marker_points, int width, int height,
-                           double focal_px) {
+                           const std::vector<Eigen::Vector3d>& marker_points, int width, int height, double focal_px) {
   const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
   double margin = std::numeric_limits<double>::infinity();
   for (const H4Pose& pose : poses) {

@@ -68,7 +68,9 @@ std::string encodePng(const cv::Mat& gray, PngEncoding encoding) {
   Sink sink{&bytes, false};
   const bool ok = info != nullptr && encodeStored(png, info, gray, &sink);
   png_destroy_write_struct(&png, &info);
-  if (!ok) throw std::runtime_error(sink.overflow ? "PNG encoding failed (output larger than expected)" : "PNG encoding failed (libpng)");
+  if (!ok)
+    throw std::runtime_error(sink.overflow ? "PNG encoding failed (output larger than expected)"
+                                           : "PNG encoding failed (libpng)");
   return bytes;
 }
 
@@ -77,7 +79,8 @@ void writePng(const std::filesystem::path& path, const cv::Mat& gray, PngEncodin
     support::writeFileAtomically(path, encodePng(gray, encoding));
     return;
   }
-  support::writeAtomically(path, [&](const std::filesystem::path& temporary) { return cv::imwrite(temporary.string(), gray); });
+  support::writeAtomically(
+      path, [&](const std::filesystem::path& temporary) { return cv::imwrite(temporary.string(), gray); });
 }
 
 }  // namespace mire::datasets

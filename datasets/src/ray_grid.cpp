@@ -84,7 +84,8 @@ Eigen::Matrix2d RayGrid::inverseJacobian(const Eigen::Vector2d& ray) const {
   using Jet = ceres::Jet<double, 2>;
   const int count = static_cast<int>(params_.size()) - calibration::kIntrinsicCount;
   Jet coefficients[12];
-  for (int i = 0; i < count; ++i) coefficients[i] = Jet(params_[calibration::kIntrinsicCount + static_cast<std::size_t>(i)]);
+  for (int i = 0; i < count; ++i)
+    coefficients[i] = Jet(params_[calibration::kIntrinsicCount + static_cast<std::size_t>(i)]);
   const Jet jx(ray.x(), 0), jy(ray.y(), 1);
   Jet xd, yd;
   calibration::distortLens(lens_, coefficients, count, jx, jy, &xd, &yd);
@@ -100,15 +101,16 @@ Eigen::Vector2d RayGrid::distortionResidual(const Eigen::Vector2d& ray, double u
   return {xd - (u - params_[2]) / params_[0], yd - (v - params_[3]) / params_[1]};
 }
 
-Eigen::Vector2d RayGrid::refine(const Eigen::Vector2d& guess, double u, double v, const Eigen::Matrix2d& inverse_jacobian) const {
+Eigen::Vector2d RayGrid::refine(const Eigen::Vector2d& guess, double u, double v,
+                                const Eigen::Matrix2d& inverse_jacobian) const {
   // The Jacobian changes by ~1e-3 of itself across a pixel: each fixed-Jacobian step divides
   // the bilinear error (< 3.3e-4 px) by ~1e3, two steps reach the Newton step's < 1e-9 px.
   Eigen::Vector2d ray = guess - inverse_jacobian * distortionResidual(guess, u, v);
   return ray - inverse_jacobian * distortionResidual(ray, u, v);
 }
 
-double RayGrid::maxInterpolationErrorPx(const calibration::Camera& camera, int pixel_stride,
-                                        int samples_per_side, bool refined) const {
+double RayGrid::maxInterpolationErrorPx(const calibration::Camera& camera, int pixel_stride, int samples_per_side,
+                                        bool refined) const {
   double worst = 0.0;
   const auto check = [&](int pixel_u, int pixel_v) {
     for (int sv = 0; sv < samples_per_side; ++sv) {

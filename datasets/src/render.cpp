@@ -47,7 +47,8 @@ cv::Mat clutteredBackground(int width, int height, double level, std::uint64_t s
         cv::circle(canvas, centre, static_cast<int>(extent / 2), grey, cv::FILLED, cv::LINE_AA);
         break;
       case 1: {
-        const cv::RotatedRect rect(centre, cv::Size2f(extent, extent * rng.uniform(0.2f, 1.0f)), rng.uniform(0.0f, 180.0f));
+        const cv::RotatedRect rect(centre, cv::Size2f(extent, extent * rng.uniform(0.2f, 1.0f)),
+                                   rng.uniform(0.0f, 180.0f));
         cv::Point2f corners[4];
         rect.points(corners);
         std::vector<cv::Point> polygon;
@@ -59,7 +60,8 @@ cv::Mat clutteredBackground(int width, int height, double level, std::uint64_t s
         std::vector<cv::Point> triangle;
         triangle.reserve(3);
         for (int k = 0; k < 3; ++k)
-          triangle.emplace_back(cvRound(centre.x + rng.uniform(-extent, extent)), cvRound(centre.y + rng.uniform(-extent, extent)));
+          triangle.emplace_back(cvRound(centre.x + rng.uniform(-extent, extent)),
+                                cvRound(centre.y + rng.uniform(-extent, extent)));
         cv::fillConvexPoly(canvas, triangle, grey, cv::LINE_AA);
         break;
       }

@@ -12,16 +12,15 @@
 
 #include <cmath>
 #include <cstdio>
-#include <map>
-#include <optional>
 #include <functional>
+#include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 namespace mire::datasets {
 namespace {
-
 
 // Optional keys of one spec section, with their defaults; errors name the file, the line and
 // the full key (support/yaml.hpp). An absent section reads as all defaults.
@@ -120,8 +119,10 @@ std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vecto
 void writePose(cv::FileStorage& out, const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d t = pose.translation();
   const Eigen::Vector3d r = metrology::rotationVector(pose.linear());
-  out << "t" << "[:" << t.x() << t.y() << t.z() << "]";
-  out << "r" << "[:" << r.x() << r.y() << r.z() << "]";
+  out << "t"
+      << "[:" << t.x() << t.y() << t.z() << "]";
+  out << "r"
+      << "[:" << r.x() << r.y() << r.z() << "]";
 }
 
 void writeFeatures(cv::FileStorage& out, const FeatureTruth& truth) {
@@ -141,8 +142,10 @@ cv::FileStorage openTruth(const SimulationSpec& spec, const char* kind) {
                    ": ground truth. Units: metres, radians (rotation vectors as cv::Rodrigues), pixels "
                    "(OpenCV convention). t, r: cTm (target frame M to camera frame C). features: one row "
                    "per target feature (target.yaml layout): u, v, visible (projected centre of circles).");
-  out << "camera_file" << "camera.yaml";
-  out << "target_file" << "target.yaml";
+  out << "camera_file"
+      << "camera.yaml";
+  out << "target_file"
+      << "target.yaml";
   out << "spec_file" << spec.file.filename().string();
   out << "seed" << static_cast<int>(spec.seed);  // specs limit seeds to 2^30
   out << "noise_gaussian_sigma" << spec.noise.gaussian_sigma;
@@ -206,7 +209,8 @@ void readCalibrationViews(const SpecSection& calibration, SimulationSpec& spec) 
   spec.calibration.views = calibration.integer("views", 25, 1, 10000);
   if (calibration.has("distance_m")) {
     const std::vector<double> range = calibration.numbers("distance_m", 2, 0.0, 1000.0);
-    if (!(range[0] > 0.0 && range[1] >= range[0])) calibration.fail("distance_m", "must be [min, max] with 0 < min <= max");
+    if (!(range[0] > 0.0 && range[1] >= range[0]))
+      calibration.fail("distance_m", "must be [min, max] with 0 < min <= max");
     spec.calibration.min_distance_m = range[0], spec.calibration.max_distance_m = range[1];
   }
   spec.calibration.max_tilt_deg = calibration.number("max_tilt_deg", 50.0, 0.0, 80.0);
@@ -226,7 +230,8 @@ void readPoseList(const support::YamlNode& list, SimulationSpec& spec) {
     SimulatedPose pose;
     pose.id = id.asString();
     if (pose.id.empty() || pose.id == "." || pose.id == ".." ||
-        pose.id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+        pose.id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") !=
+            std::string::npos)
       id.fail("'" + pose.id + "' is not usable as a folder name (letters, digits, '_', '-', '.')");
     const auto [it, inserted] = lines.emplace(pose.id, id.line());
     if (!inserted) id.fail("'" + pose.id + "' is given twice (first at line " + std::to_string(it->second) + ")");
@@ -234,8 +239,10 @@ void readPoseList(const support::YamlNode& list, SimulationSpec& spec) {
     const std::vector<double> r = item.at("r").asDoubles({-100.0, 100.0});
     if (t.size() != 3) item.at("t").fail("must have 3 values (metres)");
     if (r.size() != 3) item.at("r").fail("must have 3 values (a rotation vector, radians)");
-    if (!(t[2] > 0.0)) item.at("t").fail("z = " + support::formatMessageNumber(t[2]) + " m puts the target behind the camera");
-    pose.camera_T_target = metrology::isometryFromVectors(Eigen::Vector3d(t[0], t[1], t[2]), Eigen::Vector3d(r[0], r[1], r[2]));
+    if (!(t[2] > 0.0))
+      item.at("t").fail("z = " + support::formatMessageNumber(t[2]) + " m puts the target behind the camera");
+    pose.camera_T_target =
+        metrology::isometryFromVectors(Eigen::Vector3d(t[0], t[1], t[2]), Eigen::Vector3d(r[0], r[1], r[2]));
     spec.poses.push_back(pose);
   }
   if (spec.poses.empty()) list.fail("is empty");
@@ -250,7 +257,8 @@ void readPoseGrid(const SpecSection& grid, SimulationSpec& spec) {
   if (const auto counts = grid.find("counts")) {
     const auto items = counts->items();
     if (items.size() != 3) counts->fail("must be 3 integers between 1 and 100");
-    for (int i = 0; i < 3; ++i) spec.grid.counts[i] = static_cast<int>(items[static_cast<std::size_t>(i)].asInt(1, 100));
+    for (int i = 0; i < 3; ++i)
+      spec.grid.counts[i] = static_cast<int>(items[static_cast<std::size_t>(i)].asInt(1, 100));
   }
   if (grid.has("theta_deg")) spec.grid.theta_deg = grid.numbers("theta_deg", 0, -360.0, 360.0);
   spec.grid.camera_distance_m = grid.number("camera_distance_m", spec.grid.camera_distance_m, 0.01, 100.0);
@@ -284,7 +292,8 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   SimulationSpec spec;
   spec.file = path;
   const support::YamlNode camera = root.at("camera");
-  spec.camera = camera.isScalar() ? calibration::readCamera(resolve(camera.asString())) : calibration::cameraFromYaml(camera);
+  spec.camera =
+      camera.isScalar() ? calibration::readCamera(resolve(camera.asString())) : calibration::cameraFromYaml(camera);
   spec.target = metrology::Target::fromFile(resolve(root.string("target")));
   const SpecSection top(root);
   spec.seed = static_cast<std::uint64_t>(top.integer("seed", 1, 0, 1 << 30));
@@ -296,8 +305,10 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path) {
   readCalibrationViews(top.child("calibration"), spec);
   readPoses(top.child("poses"), spec);
   const std::string png = top.text("png", "compressed");
-  if (png == "stored") spec.png = PngEncoding::Stored;
-  else if (png != "compressed") top.fail("png", "'" + png + "' is not one of compressed, stored");
+  if (png == "stored")
+    spec.png = PngEncoding::Stored;
+  else if (png != "compressed")
+    top.fail("png", "'" + png + "' is not one of compressed, stored");
   return spec;
 }
 
@@ -310,7 +321,8 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
   std::filesystem::create_directories(output_dir / "images");
 
   cv::FileStorage truth = openTruth(spec, "calibration");
-  truth << "views" << "[";
+  truth << "views"
+        << "[";
   SimulationResult result;
   const auto view_name = [](std::size_t k) {
     char name[32];
@@ -326,13 +338,15 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
     }
     return file + ".png";
   };
-  const std::vector<FeatureTruth> truths =
-      renderItems(renderer, views, spec.images_per_view, spec.noise, spec.seed, spec.png,
-                  [&](std::size_t k, int image) { return output_dir / image_file(k, image); }, progress);
+  const std::vector<FeatureTruth> truths = renderItems(
+      renderer, views, spec.images_per_view, spec.noise, spec.seed, spec.png,
+      [&](std::size_t k, int image) { return output_dir / image_file(k, image); }, progress);
   std::size_t visible = 0, features = 0;
   for (std::size_t k = 0; k < views.size(); ++k) {
-    truth << "{" << "id" << view_name(k);
-    truth << "images" << "[";
+    truth << "{"
+          << "id" << view_name(k);
+    truth << "images"
+          << "[";
     for (int image = 0; image < spec.images_per_view; ++image) truth << image_file(k, image);
     result.images += static_cast<std::size_t>(spec.images_per_view);
     truth << "]";
@@ -357,14 +371,17 @@ SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem
 
   cv::FileStorage truth = openTruth(spec, "poses");
   if (spec.poses_from_grid) {
-    truth.writeComment("Generated set: bTc the camera in the base frame; effector: x, y, z (m), theta (rad) in B; "
-                       "eTm: the board's centre on the effector, printed face towards -z_E.");
-    truth << "bTc" << "{";
+    truth.writeComment(
+        "Generated set: bTc the camera in the base frame; effector: x, y, z (m), theta (rad) in B; "
+        "eTm: the board's centre on the effector, printed face towards -z_E.");
+    truth << "bTc"
+          << "{";
     writePose(truth, poseGridCamera(spec.target, spec.grid));
     truth << "}";
   }
   truth << "images_per_pose" << spec.images_per_pose;
-  truth << "poses" << "[";
+  truth << "poses"
+        << "[";
   std::ostringstream csv;
   csv << "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,"
          "sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n";
@@ -388,9 +405,12 @@ SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem
     const SimulatedPose& pose = spec.poses[k];
     const FeatureTruth& feature_truth = truths[k];
     result.images += static_cast<std::size_t>(spec.images_per_pose);
-    truth << "{" << "id" << pose.id;
+    truth << "{"
+          << "id" << pose.id;
     writePose(truth, pose.camera_T_target);
-    if (pose.has_effector) truth << "effector" << "[:" << pose.effector[0] << pose.effector[1] << pose.effector[2] << pose.effector[3] << "]";
+    if (pose.has_effector)
+      truth << "effector"
+            << "[:" << pose.effector[0] << pose.effector[1] << pose.effector[2] << pose.effector[3] << "]";
     writeFeatures(truth, feature_truth);
     truth << "}";
     const Eigen::Vector3d t = pose.camera_T_target.translation();

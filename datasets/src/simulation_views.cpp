@@ -57,9 +57,9 @@ Eigen::Isometry3d placeTarget(const calibration::Camera& camera, const metrology
   // Facing the camera: target x, y along the image's u, v; z (into the board) along the
   // optical axis. Then the tilt about an in-plane axis, then the roll about the axis.
   const Eigen::Vector3d tilt_axis(std::cos(placement.tilt_axis_rad), std::sin(placement.tilt_axis_rad), 0.0);
-  const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(placement.roll_rad, Eigen::Vector3d::UnitZ()) *
-                                    Eigen::AngleAxisd(placement.tilt_rad, tilt_axis))
-                                       .toRotationMatrix();
+  const Eigen::Matrix3d rotation =
+      (Eigen::AngleAxisd(placement.roll_rad, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(placement.tilt_rad, tilt_axis))
+          .toRotationMatrix();
   const Eigen::Vector3d centre = placement.distance_m * Eigen::Vector3d(ray.x(), ray.y(), 1.0).normalized();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = rotation;
@@ -87,8 +87,8 @@ std::vector<Eigen::Isometry3d> generateCalibrationViews(const calibration::Camer
   std::vector<Eigen::Isometry3d> views;
   for (int k = 0; k < spec.views; ++k) {
     ViewPlacement placement;
-    placement.distance_m =
-        spec.min_distance_m + (spec.max_distance_m - spec.min_distance_m) * (distance_slot[k] + unit(random)) / spec.views;
+    placement.distance_m = spec.min_distance_m +
+                           (spec.max_distance_m - spec.min_distance_m) * (distance_slot[k] + unit(random)) / spec.views;
     placement.tilt_rad = spec.max_tilt_deg * kDegree * (tilt_slot[k] + unit(random)) / spec.views;
     placement.tilt_axis_rad = 2.0 * M_PI * unit(random);
     placement.roll_rad = spec.max_roll_deg * kDegree * (2.0 * unit(random) - 1.0);

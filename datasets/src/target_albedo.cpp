@@ -48,7 +48,8 @@ TargetAlbedo::TargetAlbedo(const metrology::Target& target, float dark_level, fl
     case TargetType::Circles:
     case TargetType::AsymmetricCircles: {
       margin = std::max(spec_.spacing_m, spec_.diameter_m);
-      for (const auto& point : points) discs_.push_back({point.x(), point.y(), 0.25 * spec_.diameter_m * spec_.diameter_m});
+      for (const auto& point : points)
+        discs_.push_back({point.x(), point.y(), 0.25 * spec_.diameter_m * spec_.diameter_m});
       bucket_size_ = spec_.diameter_m;
       break;
     }
@@ -126,8 +127,8 @@ double TargetAlbedo::addArucoMarkers(const metrology::Target& target, double* mi
   // border); the marker corners are the boards' object points, which agree with
   // Target::points() (OpenCV's CharucoBoard / GridBoard layouts, doc/targets.md).
   const bool charuco = spec_.type == metrology::TargetType::Charuco;
-  const cv::Ptr<cv::aruco::Board> board =
-      charuco ? cv::Ptr<cv::aruco::Board>(metrology::charucoBoard(target)) : cv::Ptr<cv::aruco::Board>(metrology::arucoGridBoard(target));
+  const cv::Ptr<cv::aruco::Board> board = charuco ? cv::Ptr<cv::aruco::Board>(metrology::charucoBoard(target))
+                                                  : cv::Ptr<cv::aruco::Board>(metrology::arucoGridBoard(target));
   const int cells = board->dictionary->markerSize + 2;
   tag_cell_ = spec_.marker_size_m / cells;
   for (std::size_t k = 0; k < board->ids.size(); ++k) {

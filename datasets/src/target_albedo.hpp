@@ -44,7 +44,7 @@ class TargetAlbedo {
     int bitmap;     // index into bitmaps_
   };
   struct Bitmap {
-    int size = 0;                  // total_width cells per side
+    int size = 0;                    // total_width cells per side
     std::vector<std::uint8_t> dark;  // size * size, row-major (rows along +y, columns along +x)
   };
 

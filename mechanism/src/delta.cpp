@@ -26,8 +26,7 @@ ParameterSet deltaParameters(const DeltaNominal& n) {
   set.add({"l", n.l, Unit::Metre, false, "forearm (parallelogram) length"});
   for (int i = 0; i < 3; ++i)
     set.add({indexed("alpha", i), n.alpha[static_cast<std::size_t>(i)], Unit::Radian, i == 0,
-             "direction of arm pivot " + std::to_string(i + 1) + " about z_B" +
-                 (i == 0 ? " (defines x_B)" : "")});
+             "direction of arm pivot " + std::to_string(i + 1) + " about z_B" + (i == 0 ? " (defines x_B)" : "")});
   for (int i = 0; i < 3; ++i)
     set.add({indexed("q0", i), n.q0[static_cast<std::size_t>(i)], Unit::Radian, false,
              "joint offset " + std::to_string(i + 1)});
@@ -88,8 +87,7 @@ ParameterSet goughStewartParameters(const GoughStewartNominal& n) {
     const double ab = n.base_angles_deg[static_cast<std::size_t>(i)] * kDeg;
     const double ap = n.platform_angles_deg[static_cast<std::size_t>(i)] * kDeg;
     const Eigen::Vector3d d(n.platform_radius * std::cos(ap) - n.base_radius * std::cos(ab),
-                            n.platform_radius * std::sin(ap) - n.base_radius * std::sin(ab),
-                            n.home_height);
+                            n.platform_radius * std::sin(ap) - n.base_radius * std::sin(ab), n.home_height);
     set.add({indexed("rho0", i), d.norm() - n.home_reading, Unit::Metre, false,
              "leg " + std::to_string(i + 1) + " length at encoder zero"});
   }

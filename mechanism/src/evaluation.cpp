@@ -73,8 +73,8 @@ StraightnessResult straightnessCriterion(const Mechanism& mechanism, const Eigen
       if (!fkm.converged) fkm = mechanism.forwardKinematics(geometric, line_joints[line][k], reference);
       if (!fkm.converged) {
         result.ok = false;
-        result.message = "FKM failed on line " + std::to_string(line + 1) + ", point " + std::to_string(k + 1) +
-                         ": " + fkm.message;
+        result.message =
+            "FKM failed on line " + std::to_string(line + 1) + ", point " + std::to_string(k + 1) + ": " + fkm.message;
         break;
       }
       guess = fkm.pose;
@@ -176,8 +176,8 @@ std::vector<MonteCarloJob> drawSubsets(MonteCarloStudy& study, const MonteCarloO
 }
 
 // One run: identify on the subset, V1/V2 on the other poses, V3 on the lines.
-void identifyAndValidate(MonteCarloRun& run, int size, const std::vector<int>& order, const IdentificationModel& initial,
-                         const std::vector<PoseObservation>& poses,
+void identifyAndValidate(MonteCarloRun& run, int size, const std::vector<int>& order,
+                         const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                          const std::vector<std::vector<Eigen::VectorXd>>& line_joints,
                          const IdentificationOptions& run_options) {
   std::vector<PoseObservation> subset, validation;
@@ -241,8 +241,8 @@ void summariseRuns(MonteCarloSummary& summary, Eigen::Index p) {
     summary.mean = sum / summary.runs_ok;
     for (const MonteCarloRun& run : summary.runs)
       if (run.ok) sum_sq += (run.values - summary.mean).array().square().matrix();
-    summary.sigma = summary.runs_ok > 1 ? (sum_sq / (summary.runs_ok - 1)).cwiseSqrt().eval()
-                                        : Eigen::VectorXd::Zero(p).eval();
+    summary.sigma =
+        summary.runs_ok > 1 ? (sum_sq / (summary.runs_ok - 1)).cwiseSqrt().eval() : Eigen::VectorXd::Zero(p).eval();
   }
   meanSigma(v1, &summary.v1_mean, &summary.v1_sigma);
   meanSigma(v2, &summary.v2_mean, &summary.v2_sigma);
@@ -266,8 +266,7 @@ MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial, const std
   runOnThreads(jobs.size(), options.threads, [&](std::size_t j) {
     const MonteCarloJob& job = jobs[j];
     MonteCarloSummary& summary = study.summaries[job.summary];
-    identifyAndValidate(summary.runs[job.run], summary.subset_size, job.order, initial, poses, line_joints,
-                        run_options);
+    identifyAndValidate(summary.runs[job.run], summary.subset_size, job.order, initial, poses, line_joints, run_options);
     if (options.on_run_done) options.on_run_done();
   });
 

@@ -9,8 +9,8 @@
 #include <Eigen/SVD>
 
 #include <cmath>
-#include <random>
 #include <limits>
+#include <random>
 #include <stdexcept>
 
 #include "mire/mechanism/gauge.hpp"
@@ -229,7 +229,8 @@ CandidateInformation candidateInformation(const DesignModel& model, const Mounti
 Eigen::MatrixXd fisherInformation(const CandidateInformation& info, const std::vector<int>& design) {
   const Eigen::Index p = static_cast<Eigen::Index>(info.free_names.size());
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(p, p);
-  for (int j : design) M.noalias() += info.rows.at(static_cast<std::size_t>(j)).transpose() * info.rows[static_cast<std::size_t>(j)];
+  for (int j : design)
+    M.noalias() += info.rows.at(static_cast<std::size_t>(j)).transpose() * info.rows[static_cast<std::size_t>(j)];
   return M;
 }
 
@@ -247,8 +248,8 @@ Eigen::MatrixXd designCovariance(const CandidateInformation& info, const std::ve
     singular |= l[k] <= cut;
     inv[k] = l[k] > cut ? 1.0 / l[k] : 0.0;
   }
-  Eigen::MatrixXd C = d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) *
-                      d.asDiagonal();
+  Eigen::MatrixXd C =
+      d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
   if (singular) C(0, 0) = std::numeric_limits<double>::infinity();  // marks the design as singular
   return C;
 }
@@ -314,9 +315,12 @@ std::vector<double> predictedPositionSigma(const CandidateInformation& info, con
 
 std::string designCriterionName(DesignCriterion c) {
   switch (c) {
-    case DesignCriterion::D: return "D";
-    case DesignCriterion::A: return "A";
-    case DesignCriterion::E: return "E";
+    case DesignCriterion::D:
+      return "D";
+    case DesignCriterion::A:
+      return "A";
+    case DesignCriterion::E:
+      return "E";
   }
   return "?";
 }

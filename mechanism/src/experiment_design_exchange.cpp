@@ -111,7 +111,8 @@ int bestAddition(const ScaledCandidates& s, const Eigen::MatrixXd& M, DesignCrit
   const std::vector<double> gains = additionGains(s, M, c);
   std::vector<int> order;
   for (int j = 0; j < static_cast<int>(gains.size()); ++j)
-    if (!in_design[static_cast<std::size_t>(j)] && std::isfinite(gains[static_cast<std::size_t>(j)])) order.push_back(j);
+    if (!in_design[static_cast<std::size_t>(j)] && std::isfinite(gains[static_cast<std::size_t>(j)]))
+      order.push_back(j);
   if (order.empty()) return -1;
   if (c != DesignCriterion::E)
     return *std::max_element(order.begin(), order.end(), [&](int a, int b) { return gains[a] < gains[b]; });
@@ -130,7 +131,8 @@ int bestAddition(const ScaledCandidates& s, const Eigen::MatrixXd& M, DesignCrit
 
 Eigen::MatrixXd information(const ScaledCandidates& s, const std::vector<int>& design) {
   Eigen::MatrixXd M = kRidge * Eigen::MatrixXd::Identity(s.p, s.p);
-  for (int j : design) M.noalias() += s.rows[static_cast<std::size_t>(j)].transpose() * s.rows[static_cast<std::size_t>(j)];
+  for (int j : design)
+    M.noalias() += s.rows[static_cast<std::size_t>(j)].transpose() * s.rows[static_cast<std::size_t>(j)];
   return M;
 }
 
@@ -212,8 +214,8 @@ std::vector<int> chooseDesign(const CandidateInformation& info, const DesignOpti
   if (options.count * m < p)
     throw std::invalid_argument("--count " + std::to_string(options.count) + ": " + std::to_string(options.count) +
                                 " poses give " + std::to_string(options.count * m) + " joint readings for " +
-                                std::to_string(p) + " free parameters; at least " +
-                                std::to_string((p + m - 1) / m) + " poses are needed");
+                                std::to_string(p) + " free parameters; at least " + std::to_string((p + m - 1) / m) +
+                                " poses are needed");
   const ScaledCandidates s = scaleCandidates(info);
   std::vector<int> design = greedyDesign(s, options.count, options.criterion);
   std::vector<char> in(s.rows.size(), 0);
@@ -275,10 +277,12 @@ std::string designReportText(const DesignReport& r) {
   char line[256];
   out << "criterion: " << designCriterionName(r.criterion)
       << (r.criterion == DesignCriterion::D ? " (Ds-optimal: log det of the Schur complement, mounting as nuisance)\n"
-          : r.criterion == DesignCriterion::A ? " (A-optimal on the Schur complement, variances relative to one average pose)\n"
-                                              : " (E-optimal: smallest eigenvalue of the scaled Schur complement)\n");
+          : r.criterion == DesignCriterion::A
+              ? " (A-optimal on the Schur complement, variances relative to one average pose)\n"
+              : " (E-optimal: smallest eigenvalue of the scaled Schur complement)\n");
   out << "poses chosen: " << r.design.size() << " in " << std::to_string(r.seconds) << " s\n";
-  out << "predicted sigma (plan | median of " << r.random_designs_used << " random sets of the same size | all candidates):\n";
+  out << "predicted sigma (plan | median of " << r.random_designs_used
+      << " random sets of the same size | all candidates):\n";
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     std::snprintf(line, sizeof line, "  %-8s %-3s %12.5g %12.5g %12.5g %s\n", r.names[i].c_str(),

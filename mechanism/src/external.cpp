@@ -10,8 +10,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/QR>
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <complex>
 #include <stdexcept>
 
@@ -35,8 +35,7 @@ double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 // the axis is anti-parallel to z, unlike a minimal-rotation quaternion).
 Eigen::Matrix3d alignZ(const Eigen::Vector3d& axis) {
   const Eigen::Vector3d z = axis.normalized();
-  const Eigen::Vector3d seed =
-      std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d seed = std::abs(z.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d x = (seed - seed.dot(z) * z).normalized();
   Eigen::Matrix3d R;
   R << x, z.cross(x), z;
@@ -54,8 +53,8 @@ Parameter angle(const std::string& name, const std::string& description) {
 // Unknowns: small tilts of Ac and Am about their x, y axes, and one angle per pose. The
 // residual is the rotation vector of (Ac·Rz(φ)·Amᵀ)ᵀ·cRm.
 template <class T>
-void axisResidual(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0, const T* tilt_c,
-                  const T* tilt_m, const T* phi, const Eigen::Matrix<T, 3, 3>& cRm, T* residual) {
+void axisResidual(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0, const T* tilt_c, const T* tilt_m,
+                  const T* phi, const Eigen::Matrix<T, 3, 3>& cRm, T* residual) {
   T rc[3] = {tilt_c[0], tilt_c[1], T(0)}, rm[3] = {tilt_m[0], tilt_m[1], T(0)};
   Eigen::Matrix<T, 3, 3> Dc, Dm;
   ceres::AngleAxisToRotationMatrix(rc, ceres::ColumnMajorAdapter3x3(Dc.data()));
@@ -113,9 +112,12 @@ ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::V
 
 std::string externalFormName(ExternalForm form) {
   switch (form) {
-    case ExternalForm::AxisAligned: return "axis-aligned";
-    case ExternalForm::Full: return "full";
-    case ExternalForm::CameraFrame: return "camera-frame";
+    case ExternalForm::AxisAligned:
+      return "axis-aligned";
+    case ExternalForm::Full:
+      return "full";
+    case ExternalForm::CameraFrame:
+      return "camera-frame";
   }
   return "?";
 }
@@ -123,8 +125,7 @@ std::string externalFormName(ExternalForm form) {
 ExternalParameterization::ExternalParameterization(ExternalForm form, AxisAlignment alignment)
     : form_(form), alignment_(std::move(alignment)) {
   for (const Eigen::Matrix3d* m : {&alignment_.camera, &alignment_.target})
-    if (!m->allFinite() || !(m->transpose() * *m).isApprox(Eigen::Matrix3d::Identity(), 1e-9) ||
-        m->determinant() < 0.0)
+    if (!m->allFinite() || !(m->transpose() * *m).isApprox(Eigen::Matrix3d::Identity(), 1e-9) || m->determinant() < 0.0)
       throw std::invalid_argument("axis alignment is not a rotation matrix");
   Eigen::Map<Eigen::Matrix3d>{camera_} = alignment_.camera;
   Eigen::Map<Eigen::Matrix3d>{target_} = alignment_.target;
@@ -132,9 +133,12 @@ ExternalParameterization::ExternalParameterization(ExternalForm form, AxisAlignm
 
 int ExternalParameterization::size(ExternalForm form) {
   switch (form) {
-    case ExternalForm::AxisAligned: return 8;
-    case ExternalForm::Full: return 12;
-    case ExternalForm::CameraFrame: return 4;
+    case ExternalForm::AxisAligned:
+      return 8;
+    case ExternalForm::Full:
+      return 12;
+    case ExternalForm::CameraFrame:
+      return 4;
   }
   return 0;
 }
@@ -207,15 +211,14 @@ Eigen::Isometry3d ExternalParameterization::targetFromEffector(const Eigen::Vect
     eTm.translation() = e.segment<3>(6);
     return eTm.inverse();
   }
-  const Eigen::Vector4d me = form_ == ExternalForm::AxisAligned ? Eigen::Vector4d(e.segment<4>(4))
-                                                                : Eigen::Vector4d(e.head<4>());
+  const Eigen::Vector4d me =
+      form_ == ExternalForm::AxisAligned ? Eigen::Vector4d(e.segment<4>(4)) : Eigen::Vector4d(e.head<4>());
   mTe.linear() = alignment_.target * rotZ(me[3]);
   mTe.translation() = alignment_.target * me.head<3>();
   return mTe;
 }
 
-Eigen::Isometry3d ExternalParameterization::effectorInBase(const Eigen::VectorXd& e,
-                                                           const PoseVector& cTm) const {
+Eigen::Isometry3d ExternalParameterization::effectorInBase(const Eigen::VectorXd& e, const PoseVector& cTm) const {
   if (e.size() != size()) throw std::invalid_argument("external parameter vector has the wrong size");
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
@@ -236,13 +239,11 @@ ExternalParameterization::PreparedPose ExternalParameterization::prepare(const P
   return pose;
 }
 
-Eigen::VectorXd ExternalParameterization::valuesFrom(const Eigen::Isometry3d& bTc,
-                                                     const Eigen::Isometry3d& mTe) const {
+Eigen::VectorXd ExternalParameterization::valuesFrom(const Eigen::Isometry3d& bTc, const Eigen::Isometry3d& mTe) const {
   Eigen::VectorXd e(size());
   if (form_ == ExternalForm::Full) {
     const Eigen::Isometry3d cTb = bTc.inverse(), eTm = mTe.inverse();
-    e << cTb.translation(), rotationVector(cTb.linear()), eTm.translation(),
-        rotationVector(eTm.linear());
+    e << cTb.translation(), rotationVector(cTb.linear()), eTm.translation(), rotationVector(eTm.linear());
     return e;
   }
   const Eigen::Vector3d me = alignment_.target.transpose() * mTe.translation();
@@ -281,8 +282,7 @@ Eigen::Vector3d principalRotationAxis(const std::vector<Eigen::Matrix3d>& R) {
       largest = std::max(largest, w.norm());
     }
   if (largest < 2.0 * kPi / 180.0)
-    throw std::invalid_argument(
-        "the measured orientations span less than 2 deg: the rotation axis is undetermined");
+    throw std::invalid_argument("the measured orientations span less than 2 deg: the rotation axis is undetermined");
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
   return eigen.eigenvectors().col(2);
 }
@@ -298,8 +298,7 @@ std::vector<Eigen::Matrix3d> axisResidualWhitening(const std::vector<PoseObserva
   std::vector<Eigen::Matrix3d> whitening(n, Eigen::Matrix3d::Identity());
   if (!*weighted) return whitening;
   for (std::size_t j = 0; j < n; ++j) {
-    ceres::AutoDiffCostFunction<AxisResidualWrtMeasurement, 3, 3> cost(
-        new AxisResidualWrtMeasurement{Ac0, Am0, phi[j]});
+    ceres::AutoDiffCostFunction<AxisResidualWrtMeasurement, 3, 3> cost(new AxisResidualWrtMeasurement{Ac0, Am0, phi[j]});
     const double* parameters[1] = {poses[j].cTm.data() + 3};
     Eigen::Matrix<double, 3, 3, Eigen::RowMajor> Jr;
     double* jacobians[1] = {Jr.data()};
@@ -338,16 +337,15 @@ Eigen::Matrix4d tiltInformation(const std::vector<ceres::CostFunction*>& costs, 
 // Maximum-likelihood refinement (axisResidual) of the tilts of Ac0, Am0 and the per-pose
 // angles φ (eliminated by the Schur complement), and the tilts' covariance.
 AxisAlignment refineAxisAlignment(const Eigen::Matrix3d& Ac0, const Eigen::Matrix3d& Am0,
-                                  const std::vector<Eigen::Matrix3d>& R,
-                                  const std::vector<Eigen::Matrix3d>& whitening, bool weighted,
-                                  std::vector<double> phi) {
+                                  const std::vector<Eigen::Matrix3d>& R, const std::vector<Eigen::Matrix3d>& whitening,
+                                  bool weighted, std::vector<double> phi) {
   const std::size_t n = R.size();
   double tilt_c[2] = {0.0, 0.0}, tilt_m[2] = {0.0, 0.0};
   ceres::Problem problem;
   std::vector<ceres::CostFunction*> costs;
   for (std::size_t j = 0; j < n; ++j) {
-    costs.push_back(new ceres::AutoDiffCostFunction<AxisResidual, 3, 2, 2, 1>(
-        new AxisResidual{&Ac0, &Am0, &R[j], &whitening[j]}));
+    costs.push_back(
+        new ceres::AutoDiffCostFunction<AxisResidual, 3, 2, 2, 1>(new AxisResidual{&Ac0, &Am0, &R[j], &whitening[j]}));
     problem.AddResidualBlock(costs.back(), nullptr, tilt_c, tilt_m, &phi[j]);
   }
   ceres::Solver::Options options;
@@ -392,8 +390,7 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses) {
   return refineAxisAlignment(Ac0, Am0, R, whitening, weighted, std::move(phi));
 }
 
-std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
-                                                  const Eigen::VectorXd& geometric,
+std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
                                                   const std::vector<PoseObservation>& poses) {
   const Eigen::VectorXd start = mechanism.referencePose(geometric);
   std::vector<Eigen::Isometry3d> bTe;
@@ -404,8 +401,7 @@ std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
     bTe.push_back(fkm.bTe);
   }
   if (!failed.empty())
-    throw std::runtime_error("initial external parameters: the FKM did not converge for pose(s) " +
-                             failed);
+    throw std::runtime_error("initial external parameters: the FKM did not converge for pose(s) " + failed);
   return bTe;
 }
 
@@ -511,8 +507,8 @@ ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd&
     v[j] = alignment.camera.transpose() * poses[j].cTm.head<3>();
     p[j] = bTe[j].translation();
   }
-  PlanarMounting planar = form == ExternalForm::CameraFrame ? cameraFrameMounting(phi, v, p)
-                                                            : axisAlignedMounting(phi, v, p, z_ME);
+  PlanarMounting planar =
+      form == ExternalForm::CameraFrame ? cameraFrameMounting(phi, v, p) : axisAlignedMounting(phi, v, p, z_ME);
   const double psi_me = wrap(psi_total - planar.psi_bc);
 
   parameterization = ExternalParameterization(form, alignment);

@@ -19,10 +19,8 @@ namespace mire::mechanism {
 
 namespace {
 
-void checkSizes(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm,
-                std::size_t minimum) {
-  if (bTe.size() != cTm.size())
-    throw std::invalid_argument("mounting: effector and target pose counts differ");
+void checkSizes(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm, std::size_t minimum) {
+  if (bTe.size() != cTm.size()) throw std::invalid_argument("mounting: effector and target pose counts differ");
   if (bTe.size() < minimum)
     throw std::invalid_argument("mounting: at least " + std::to_string(minimum) + " poses are needed");
 }
@@ -36,8 +34,7 @@ Eigen::Matrix3d projectToRotation(const Eigen::Matrix3d& M) {
 
 }  // namespace
 
-Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe,
-                                  const std::vector<PoseVector>& cTm) {
+Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm) {
   checkSizes(bTe, cTm, 4);
   const auto n = static_cast<Eigen::Index>(bTe.size());
   Eigen::Matrix3Xd camera(3, n), base(3, n);
@@ -62,8 +59,7 @@ Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe,
   return m;
 }
 
-Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
-                             const std::vector<PoseVector>& cTm) {
+Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm) {
   checkSizes(bTe, cTm, 3);
   // OpenCV: cam_T_world · world_T_base = cam_T_gripper · gripper_T_base, with cam = M (target),
   // world = C (camera), base = B, gripper = E: mTc_j · cTb = mTe · eTb_j.
@@ -87,9 +83,8 @@ Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
     throw std::invalid_argument(
         "mounting: the measured orientations span less than 2 deg: the hand-eye solve is undetermined");
   cv::Mat R_base2world, t_base2world, R_gripper2cam, t_gripper2cam;
-  cv::calibrateRobotWorldHandEye(R_world2cam, t_world2cam, R_base2gripper, t_base2gripper,
-                                 R_base2world, t_base2world, R_gripper2cam, t_gripper2cam,
-                                 cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH);
+  cv::calibrateRobotWorldHandEye(R_world2cam, t_world2cam, R_base2gripper, t_base2gripper, R_base2world, t_base2world,
+                                 R_gripper2cam, t_gripper2cam, cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH);
   Eigen::Matrix3d Rcb, Rme;
   Eigen::Vector3d tcb, tme;
   cv::cv2eigen(R_base2world, Rcb);
@@ -119,8 +114,8 @@ Eigen::VectorXd mountingWithTargetOrientation(const Eigen::VectorXd& e, const Ei
   return out;
 }
 
-void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form,
-                            ParameterSet& parameters, const std::vector<PoseObservation>& poses) {
+void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form, ParameterSet& parameters,
+                            const std::vector<PoseObservation>& poses) {
   if (mechanism.motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty()) return;
   Eigen::VectorXd e(12);
   const std::vector<std::string> names = form.parameters().names();
@@ -218,9 +213,8 @@ ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::V
   std::vector<PoseVector> cTm;
   cTm.reserve(poses.size());
   for (const PoseObservation& p : poses) cTm.push_back(p.cTm);
-  const Mounting m = mechanism.motionType() == MotionType::Translation
-                         ? mountingFromTranslations(bTe, cTm)
-                         : mountingFromHandEye(bTe, cTm);
+  const Mounting m = mechanism.motionType() == MotionType::Translation ? mountingFromTranslations(bTe, cTm)
+                                                                       : mountingFromHandEye(bTe, cTm);
   parameterization = ExternalParameterization(ExternalForm::Full);
   ParameterSet set = parameterization.parameters();
   set.setValues(parameterization.valuesFrom(m.bTc, m.mTe));

@@ -36,8 +36,7 @@ GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<P
     const std::string& name = r.parameter_names[k];
     if (dependents.count(name)) {
       analysis.gauge.push_back(name);
-      if (!(r.column_norms[static_cast<Eigen::Index>(k)] > 1e-9 * largest))
-        analysis.no_influence.push_back(name);
+      if (!(r.column_norms[static_cast<Eigen::Index>(k)] > 1e-9 * largest)) analysis.no_influence.push_back(name);
     } else if (members.count(name)) {
       analysis.combination_only.push_back(name);
     } else {
@@ -61,8 +60,8 @@ std::string GaugeAnalysis::text() const {
     for (const std::string& n : names) out << " " << n;
     out << "\n";
   };
-  out << "identifiability on model-consistent poses: rank " << report.rank << " of "
-      << report.parameter_names.size() << " free parameters\n";
+  out << "identifiability on model-consistent poses: rank " << report.rank << " of " << report.parameter_names.size()
+      << " free parameters\n";
   list("  identified", identified);
   list("  combination-only", combination_only);
   list("  gauge (held at their current value)", gauge);

@@ -37,9 +37,12 @@ Eigen::VectorXd poseAt(double x, double y, double z) {
 
 std::string h4ModelName(H4ModelKind kind) {
   switch (kind) {
-    case H4ModelKind::Model12: return "h4-model12";
-    case H4ModelKind::Model31: return "h4-model31";
-    case H4ModelKind::Model31Camera: return "h4-model31-camera";
+    case H4ModelKind::Model12:
+      return "h4-model12";
+    case H4ModelKind::Model31:
+      return "h4-model31";
+    case H4ModelKind::Model31Camera:
+      return "h4-model31-camera";
   }
   return "?";
 }
@@ -61,16 +64,14 @@ ParameterSet h4Model12Parameters(const H4Nominal& n) {
 }
 
 ParameterSet model31FromModel12(const ParameterSet& m12, Eigen::Vector3d* origin_shift) {
-  const double R = m12.value("R"), L = m12.value("L"), l = m12.value("l"), h = m12.value("h"),
-               d = m12.value("d");
+  const double R = m12.value("R"), L = m12.value("L"), l = m12.value("l"), h = m12.value("h"), d = m12.value("d");
   std::array<Eigen::Vector3d, 4> P;
   std::array<double, 4> alpha{};
   for (int i = 0; i < 4; ++i) {
     alpha[static_cast<std::size_t>(i)] = m12.value(indexed("alpha", i));
     const double a = alpha[static_cast<std::size_t>(i)];
-    P[static_cast<std::size_t>(i)] =
-        Eigen::Vector3d(kH4Epsilon[static_cast<std::size_t>(i)] * h + R * std::cos(a),
-                        kH4Sigma[static_cast<std::size_t>(i)] * d + R * std::sin(a), 0.0);
+    P[static_cast<std::size_t>(i)] = Eigen::Vector3d(kH4Epsilon[static_cast<std::size_t>(i)] * h + R * std::cos(a),
+                                                     kH4Sigma[static_cast<std::size_t>(i)] * d + R * std::sin(a), 0.0);
   }
   if (origin_shift) *origin_shift = P[0];
   ParameterSet set;
@@ -107,9 +108,8 @@ ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isom
     // P''_i = pivot in the new frame minus the constant σ_i·d·y_B term (eq. 26).
     Ppp[s] = RT * P + alignedCamera_T_base.translation() - kH4Sigma[s] * d * RT * Eigen::Vector3d::UnitY();
     // Axis: R_T·Rz(ψ)·Rx(β) = Rz(ψ')·Rx(β')·Rz(γ); γ folds into the joint offset.
-    const Eigen::Matrix3d M =
-        RT * Eigen::AngleAxisd(m31.value(indexed("psi", i)), Eigen::Vector3d::UnitZ()) *
-        Eigen::AngleAxisd(m31.value(indexed("beta", i)), Eigen::Vector3d::UnitX());
+    const Eigen::Matrix3d M = RT * Eigen::AngleAxisd(m31.value(indexed("psi", i)), Eigen::Vector3d::UnitZ()) *
+                              Eigen::AngleAxisd(m31.value(indexed("beta", i)), Eigen::Vector3d::UnitX());
     psi[s] = std::atan2(M(0, 2), -M(1, 2));
     beta[s] = std::atan2(std::hypot(M(0, 2), M(1, 2)), M(2, 2));
     q0[s] = m31.value(indexed("q0", i)) + std::atan2(M(2, 0), M(2, 1));
@@ -122,10 +122,12 @@ ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isom
   for (int i = 0; i < 4; ++i)
     set.add({indexed("psi", i), psi[static_cast<std::size_t>(i)], Unit::Radian, false, "pivot axis, first Euler angle"});
   for (int i = 0; i < 4; ++i)
-    set.add({indexed("beta", i), beta[static_cast<std::size_t>(i)], Unit::Radian, false, "pivot axis, second Euler angle"});
+    set.add(
+        {indexed("beta", i), beta[static_cast<std::size_t>(i)], Unit::Radian, false, "pivot axis, second Euler angle"});
   for (int i = 0; i < 4; ++i)
     set.add({indexed("q0", i), wrap(q0[static_cast<std::size_t>(i)]), Unit::Radian, false, "joint offset"});
-  for (int i = 0; i < 4; ++i) set.add({indexed("l", i), m31.value(indexed("l", i)), Unit::Metre, false, "forearm length"});
+  for (int i = 0; i < 4; ++i)
+    set.add({indexed("l", i), m31.value(indexed("l", i)), Unit::Metre, false, "forearm length"});
   for (int i = 0; i < 4; ++i) set.add({indexed("L", i), m31.value(indexed("L", i)), Unit::Metre, false, "arm length"});
   set.add({"h", m31.value("h"), Unit::Metre, false, "half nacelle width"});
   return set;
@@ -136,8 +138,7 @@ ParameterSet H4Model31Kinematics::nominal(const H4Nominal& n) const {
   return model31FromModel12(h4Model12Parameters(n));
 }
 ParameterSet H4Model31CameraKinematics::nominal(const H4Nominal& n) const {
-  return model31CameraFromModel31(model31FromModel12(h4Model12Parameters(n)),
-                                  Eigen::Isometry3d::Identity());
+  return model31CameraFromModel31(model31FromModel12(h4Model12Parameters(n)), Eigen::Isometry3d::Identity());
 }
 
 Eigen::VectorXd H4Model12Kinematics::referencePose(const Eigen::VectorXd& g) const {
@@ -191,8 +192,7 @@ std::unique_ptr<Mechanism> makeH4Mechanism(H4ModelKind kind, const H4Nominal& no
     }
     case H4ModelKind::Model31Camera: {
       if (nominal.amplification != 1.0)
-        throw std::invalid_argument(
-            "H4 model 31 in the camera frame assumes an amplification ratio of 1 (paper §3.1)");
+        throw std::invalid_argument("H4 model 31 in the camera frame assumes an amplification ratio of 1 (paper §3.1)");
       H4Model31CameraKinematics k;
       return std::make_unique<MechanismAdapter<H4Model31CameraKinematics>>(k, k.nominal(nominal));
     }

@@ -35,14 +35,13 @@ double conditionOf(const Eigen::VectorXd& singular_values) {
 std::string UnidentifiableCombination::text() const {
   std::string out = "unidentifiable direction:";
   for (const auto& [name, coefficient] : direction)
-    out += " " + (coefficient < 0 ? std::string("-") : std::string("+")) +
-           formatCoefficient(std::abs(coefficient)) + "·δ" + name;
+    out += " " + (coefficient < 0 ? std::string("-") : std::string("+")) + formatCoefficient(std::abs(coefficient)) +
+           "·δ" + name;
   if (identifiable_sums.empty()) {
     out += "; " + dependent + " has no influence on the residuals";
   } else {
     out += "; only";
-    for (std::size_t i = 0; i < identifiable_sums.size(); ++i)
-      out += (i ? ", " : " ") + identifiable_sums[i];
+    for (std::size_t i = 0; i < identifiable_sums.size(); ++i) out += (i ? ", " : " ") + identifiable_sums[i];
     out += " identifiable";
   }
   return out;
@@ -51,8 +50,8 @@ std::string UnidentifiableCombination::text() const {
 std::string IdentifiabilityReport::text() const {
   std::ostringstream out;
   out << "Identifiability of " << parameter_names.size() << " parameters (" << scaling << ")\n";
-  out << "  rank " << rank << " of " << parameter_names.size() << "; condition number "
-      << condition_number << " (unscaled SI: " << condition_number_unscaled << ")";
+  out << "  rank " << rank << " of " << parameter_names.size() << "; condition number " << condition_number
+      << " (unscaled SI: " << condition_number_unscaled << ")";
   if (!fullRank()) out << "; identifiable subset: " << condition_number_identifiable;
   out << "\n  singular values:";
   for (Eigen::Index i = 0; i < singular_values.size(); ++i) out << " " << singular_values[i];
@@ -99,8 +98,7 @@ std::vector<Eigen::Index> pivotedQrStage(IdentifiabilityReport& report, const Ei
   for (Eigen::Index k = 0; k < Js.cols(); ++k) {
     const Eigen::Index column = permutation[k];
     (k < report.rank ? identifiable_columns : dependent_columns).push_back(column);
-    (k < report.rank ? report.identifiable : report.unidentifiable)
-        .push_back(names[static_cast<std::size_t>(column)]);
+    (k < report.rank ? report.identifiable : report.unidentifiable).push_back(names[static_cast<std::size_t>(column)]);
   }
   if (!identifiable_columns.empty()) {
     Eigen::MatrixXd sub(Js.rows(), static_cast<Eigen::Index>(identifiable_columns.size()));
@@ -143,8 +141,7 @@ void nullSpaceStage(IdentifiabilityReport& report, const Eigen::MatrixXd& V, con
       combination.direction.emplace_back(name, coefficient);
       // Invariant along the direction: ξ_k − c_k·ξ_dep.
       combination.identifiable_sums.push_back(name + (coefficient > 0 ? " - " : " + ") +
-                                              formatCoefficient(std::abs(coefficient)) + "·" +
-                                              combination.dependent);
+                                              formatCoefficient(std::abs(coefficient)) + "·" + combination.dependent);
     }
     report.combinations.push_back(std::move(combination));
   }
@@ -167,8 +164,7 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
 
   report.column_norms = J.colwise().norm().transpose();
   Eigen::VectorXd scale(n);  // D = diag(1/‖J_k‖); an all-zero column keeps scale 1
-  for (Eigen::Index k = 0; k < n; ++k)
-    scale[k] = report.column_norms[k] > 0.0 ? 1.0 / report.column_norms[k] : 1.0;
+  for (Eigen::Index k = 0; k < n; ++k) scale[k] = report.column_norms[k] > 0.0 ? 1.0 / report.column_norms[k] : 1.0;
   const Eigen::MatrixXd Js = J * scale.asDiagonal();
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Js, Eigen::ComputeFullV);
   singularValueStage(report, J, svd, options);

@@ -29,19 +29,18 @@ class TiedSubsetManifold final : public ceres::Manifold {
   int TangentSize() const override { return static_cast<int>(E_.cols()); }
   bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
     Eigen::Map<Eigen::VectorXd>(x_plus_delta, E_.rows()) =
-        Eigen::Map<const Eigen::VectorXd>(x, E_.rows()) +
-        E_ * Eigen::Map<const Eigen::VectorXd>(delta, E_.cols());
+        Eigen::Map<const Eigen::VectorXd>(x, E_.rows()) + E_ * Eigen::Map<const Eigen::VectorXd>(delta, E_.cols());
     return true;
   }
   bool PlusJacobian(const double*, double* jacobian) const override {
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        jacobian, E_.rows(), E_.cols()) = E_;
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(jacobian, E_.rows(), E_.cols()) =
+        E_;
     return true;
   }
   bool Minus(const double* y, const double* x, double* y_minus_x) const override {
     // Least-squares inverse of Plus: mean over each group's members.
-    const Eigen::VectorXd diff = Eigen::Map<const Eigen::VectorXd>(y, E_.rows()) -
-                                 Eigen::Map<const Eigen::VectorXd>(x, E_.rows());
+    const Eigen::VectorXd diff =
+        Eigen::Map<const Eigen::VectorXd>(y, E_.rows()) - Eigen::Map<const Eigen::VectorXd>(x, E_.rows());
     Eigen::Map<Eigen::VectorXd>(y_minus_x, E_.cols()) =
         (E_.transpose() * diff).cwiseQuotient(E_.colwise().sum().transpose());
     return true;
@@ -49,8 +48,8 @@ class TiedSubsetManifold final : public ceres::Manifold {
   bool MinusJacobian(const double*, double* jacobian) const override {
     Eigen::MatrixXd pinv = E_.transpose();
     for (Eigen::Index k = 0; k < pinv.rows(); ++k) pinv.row(k) /= E_.col(k).sum();
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        jacobian, E_.cols(), E_.rows()) = pinv;
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(jacobian, E_.cols(), E_.rows()) =
+        pinv;
     return true;
   }
 
@@ -61,8 +60,7 @@ class TiedSubsetManifold final : public ceres::Manifold {
 // Gaussian prior on one entry of a parameter block: r = (x_k − μ)/σ.
 class PriorCost final : public ceres::CostFunction {
  public:
-  PriorCost(int block_size, int index, double mean, double sigma)
-      : index_(index), mean_(mean), sigma_(sigma) {
+  PriorCost(int block_size, int index, double mean, double sigma) : index_(index), mean_(mean), sigma_(sigma) {
     set_num_residuals(1);
     mutable_parameter_block_sizes()->push_back(block_size);
   }
@@ -102,8 +100,7 @@ void evaluateRange(const IdentificationModel& model, const std::vector<PoseObser
   if (jacobian) jacobian->resize(residuals->size(), G + E);
   for (std::size_t k = 0; k < count; ++k) {
     const std::size_t j = first + k;
-    const auto cost = model.mechanism->makeJointResidual(model.external, poses[j].cTm,
-                                                         poses[j].joints, whitening[j]);
+    const auto cost = model.mechanism->makeJointResidual(model.external, poses[j].cTm, poses[j].joints, whitening[j]);
     const double* parameters[2] = {g.data(), e.data()};
     RowMatrix jg(J, G), je(J, E);
     double* jacobians[2] = {jg.data(), je.data()};
@@ -128,22 +125,19 @@ void throwIfUnreachable(const std::vector<std::string>& unreachable) {
 
 // The same for every pose.
 void evaluateAll(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
-                 const std::vector<Eigen::MatrixXd>& whitening, Eigen::VectorXd* residuals,
-                 Eigen::MatrixXd* jacobian) {
+                 const std::vector<Eigen::MatrixXd>& whitening, Eigen::VectorXd* residuals, Eigen::MatrixXd* jacobian) {
   std::vector<std::string> unreachable;
   evaluateRange(model, poses, whitening, 0, poses.size(), residuals, jacobian, &unreachable);
   throwIfUnreachable(unreachable);
 }
 
-std::vector<Eigen::MatrixXd> identityWhitening(const IdentificationModel& model, std::size_t n,
-                                               double scale) {
+std::vector<Eigen::MatrixXd> identityWhitening(const IdentificationModel& model, std::size_t n, double scale) {
   const int J = model.mechanism->jointCount();
   return std::vector<Eigen::MatrixXd>(n, Eigen::MatrixXd::Identity(J, J) * scale);
 }
 
 // W_j = L⁻¹ with Σq = J Σ_X Jᵀ = L Lᵀ (pose covariance propagated through the IKM).
-std::vector<Eigen::MatrixXd> poseWhitening(const IdentificationModel& model,
-                                           const std::vector<PoseObservation>& poses) {
+std::vector<Eigen::MatrixXd> poseWhitening(const IdentificationModel& model, const std::vector<PoseObservation>& poses) {
   std::vector<Eigen::MatrixXd> out;
   const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
   for (const PoseObservation& p : poses) {
@@ -159,44 +153,34 @@ std::vector<Eigen::MatrixXd> poseWhitening(const IdentificationModel& model,
 
 }  // namespace
 
-Eigen::VectorXd IdentificationModel::geometricValues() const {
-  return parameters.values().head(geometricCount());
-}
-Eigen::VectorXd IdentificationModel::externalValues() const {
-  return parameters.values().tail(external.size());
-}
+Eigen::VectorXd IdentificationModel::geometricValues() const { return parameters.values().head(geometricCount()); }
+Eigen::VectorXd IdentificationModel::externalValues() const { return parameters.values().tail(external.size()); }
 IkmResult IdentificationModel::predictJoints(const PoseVector& cTm) const {
   return mechanism->predictJoints(external, geometricValues(), externalValues(), cTm);
 }
 
-IdentificationModel makeIdentificationModel(std::shared_ptr<const Mechanism> mechanism,
-                                            const ParameterSet& geometric,
+IdentificationModel makeIdentificationModel(std::shared_ptr<const Mechanism> mechanism, const ParameterSet& geometric,
                                             const ExternalParameterization& external,
                                             const ParameterSet& external_values) {
   if (!mechanism) throw std::invalid_argument("no mechanism given");
   if (geometric.names() != mechanism->nominal().names())
     throw std::invalid_argument("geometric parameters do not match mechanism " + mechanism->name());
   if (external_values.names() != external.parameters().names())
-    throw std::invalid_argument("external parameters do not match the " +
-                                externalFormName(external.form()) + " form");
+    throw std::invalid_argument("external parameters do not match the " + externalFormName(external.form()) + " form");
   IdentificationModel model{std::move(mechanism), external, geometric};
   model.parameters.append(external_values);
   return model;
 }
 
-IdentificationModel makeInitialModel(std::shared_ptr<const Mechanism> mechanism,
-                                     const ParameterSet& geometric,
-                                     const std::vector<PoseObservation>& poses, ExternalForm form,
-                                     double z_ME) {
+IdentificationModel makeInitialModel(std::shared_ptr<const Mechanism> mechanism, const ParameterSet& geometric,
+                                     const std::vector<PoseObservation>& poses, ExternalForm form, double z_ME) {
   if (!mechanism) throw std::invalid_argument("no mechanism given");
   ExternalParameterization parameterization(form);
-  const ParameterSet external =
-      estimateExternal(*mechanism, geometric.values(), poses, form, parameterization, z_ME);
+  const ParameterSet external = estimateExternal(*mechanism, geometric.values(), poses, form, parameterization, z_ME);
   return makeIdentificationModel(std::move(mechanism), geometric, parameterization, external);
 }
 
-std::vector<std::string> unreachablePoses(const IdentificationModel& model,
-                                          const std::vector<PoseObservation>& poses) {
+std::vector<std::string> unreachablePoses(const IdentificationModel& model, const std::vector<PoseObservation>& poses) {
   std::vector<std::string> ids;
   const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
   for (const PoseObservation& p : poses)
@@ -208,8 +192,7 @@ double IdentificationResult::sigmaOf(const std::string& name) const {
   return sigma[static_cast<Eigen::Index>(model.parameters.index(name))];
 }
 
-Eigen::MatrixXd identificationJacobian(const IdentificationModel& model,
-                                       const std::vector<PoseObservation>& poses) {
+Eigen::MatrixXd identificationJacobian(const IdentificationModel& model, const std::vector<PoseObservation>& poses) {
   validatePoses(poses, model.mechanism->jointCount());
   Eigen::VectorXd r;
   Eigen::MatrixXd J;
@@ -218,8 +201,7 @@ Eigen::MatrixXd identificationJacobian(const IdentificationModel& model,
   return J.lazyProduct(model.parameters.expansion());
 }
 
-IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model,
-                                             const std::vector<PoseObservation>& poses,
+IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
                                              const IdentifiabilityOptions& options) {
   return analyzeJacobian(identificationJacobian(model, poses), model.parameters.freeNames(), options);
 }
@@ -264,11 +246,11 @@ void prepareFreeParameters(IdentificationModel& model, const std::vector<PoseObs
   if (free_count == 0) throw std::invalid_argument("identification: no free parameter left (every one is fixed)");
   if (static_cast<std::size_t>(J) * poses.size() + options.priors.size() <= free_count)
     throw std::invalid_argument("identification: " + std::to_string(poses.size()) + " poses give " +
-                                std::to_string(J * poses.size()) + " residuals for " +
-                                std::to_string(free_count) + " unknowns");
+                                std::to_string(J * poses.size()) + " residuals for " + std::to_string(free_count) +
+                                " unknowns");
   if (const auto ids = unreachablePoses(model, poses); !ids.empty())
-    throw std::runtime_error("the IKM has no solution (a leg cannot reach the pose) at the initial parameters for pose(s) " +
-                             joinIds(ids));
+    throw std::runtime_error(
+        "the IKM has no solution (a leg cannot reach the pose) at the initial parameters for pose(s) " + joinIds(ids));
 }
 
 bool everyPoseHasCovariance(const std::vector<PoseObservation>& poses) {
@@ -317,9 +299,9 @@ std::unique_ptr<ceres::CostFunction> poseCost(const IdentificationModel& model, 
 
 // Large problems: chunks of poses, each one compressed block (pose_chunk_cost.hpp). A chunk
 // of 512 H4 poses is a 2048-row QR in the L2 cache.
-void addPoseChunks(ceres::Problem& problem, const IdentificationModel& model,
-                   const std::vector<PoseObservation>& poses, const std::vector<Eigen::MatrixXd>& whitening,
-                   const IdentificationOptions& options, double* g, double* e) {
+void addPoseChunks(ceres::Problem& problem, const IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                   const std::vector<Eigen::MatrixXd>& whitening, const IdentificationOptions& options, double* g,
+                   double* e) {
   const int J = model.mechanism->jointCount();
   const std::size_t chunk = std::max<std::size_t>(1, detail::RowCompressor::kBlock / static_cast<std::size_t>(J));
   const std::shared_ptr<const ceres::LossFunction> loss = makeLoss(options);
@@ -327,9 +309,9 @@ void addPoseChunks(ceres::Problem& problem, const IdentificationModel& model,
     std::vector<std::unique_ptr<ceres::CostFunction>> costs;
     for (std::size_t j = first; j < std::min(poses.size(), first + chunk); ++j)
       costs.push_back(poseCost(model, poses[j], whitening[j]));
-    problem.AddResidualBlock(new detail::PoseChunkCost(std::move(costs), loss, J, model.geometricCount(),
-                                                       model.external.size()),
-                             nullptr, g, e);
+    problem.AddResidualBlock(
+        new detail::PoseChunkCost(std::move(costs), loss, J, model.geometricCount(), model.external.size()), nullptr, g,
+        e);
   }
 }
 
@@ -408,7 +390,8 @@ std::vector<Eigen::MatrixXd> solveWeighted(IdentificationResult& result, const s
   for (std::size_t j = 0; j < poses.size(); ++j)
     change = std::max(change, (updated[j] - whitening[j]).norm() / whitening[j].norm());
   whitening = std::move(updated);
-  if (change > 1e-2) solveOnce(result, poses, whitening, expansions, options);  // a 1 % weight change moves the solution ≪ σ
+  if (change > 1e-2)
+    solveOnce(result, poses, whitening, expansions, options);  // a 1 % weight change moves the solution ≪ σ
   return whitening;
 }
 
@@ -423,8 +406,7 @@ struct SolutionJacobian {
 };
 
 // Per-pose residuals (rad, and their χ²) and the RMS joint residual from the whitened r.
-void fillPoseResiduals(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                       const Eigen::VectorXd& r) {
+void fillPoseResiduals(IdentificationResult& result, const std::vector<PoseObservation>& poses, const Eigen::VectorXd& r) {
   const int J = result.model.mechanism->jointCount();
   result.poses.resize(poses.size());
   double sum_sq_rad = 0.0;
@@ -466,8 +448,8 @@ struct PriorRows {
 PriorRows priorRows(const ParameterSet& params, const std::vector<GaussianPrior>& priors) {
   const std::vector<std::size_t> free_indices = params.freeIndices();
   PriorRows out;
-  out.rows = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(priors.size()),
-                                   static_cast<Eigen::Index>(free_indices.size()));
+  out.rows =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(priors.size()), static_cast<Eigen::Index>(free_indices.size()));
   for (std::size_t k = 0; k < priors.size(); ++k) {
     const GaussianPrior& prior = priors[k];
     const std::size_t leader = params.tieLeader(params.index(prior.name));
@@ -526,17 +508,17 @@ KeptRows keptRows(const Eigen::VectorXd& r, const std::vector<bool>& keep, const
   KeptRows out;
   for (bool k : keep) out.rows += k ? J : 0;
   if (out.rows + prior.rows.rows() <= static_cast<Eigen::Index>(free_count))
-    throw std::runtime_error("identification: " + std::to_string(outlier_count) + " of " +
-                             std::to_string(keep.size()) + " poses are outliers; the others cannot determine the " +
-                             std::to_string(free_count) + " free parameters (check the poses file)");
+    throw std::runtime_error("identification: " + std::to_string(outlier_count) + " of " + std::to_string(keep.size()) +
+                             " poses are outliers; the others cannot determine the " + std::to_string(free_count) +
+                             " free parameters (check the poses file)");
   out.chi2 = prior.chi2;
   for (std::size_t j = 0; j < keep.size(); ++j)
     if (keep[j]) out.chi2 += r.segment(static_cast<Eigen::Index>(j) * J, J).squaredNorm();
   return out;
 }
 
-KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>& keep, const PriorRows& prior,
-                      int J, std::size_t free_count, std::size_t outlier_count) {
+KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>& keep, const PriorRows& prior, int J,
+                      std::size_t free_count, std::size_t outlier_count) {
   const KeptRows kept = keptRows(solution.r, keep, prior, J, free_count, outlier_count);
   KeptSystem out;
   out.whole = kept.rows == solution.whitened.rows() && prior.rows.rows() == 0;
@@ -566,12 +548,14 @@ bool covarianceFromSvd(IdentificationResult& result, const Eigen::JacobiSVD<Eige
   Eigen::VectorXd inv_s2 = Eigen::VectorXd::Zero(s.size());
   bool deficient = false;
   for (Eigen::Index k = 0; k < s.size(); ++k) {
-    if (s[k] > cutoff) inv_s2[k] = 1.0 / (s[k] * s[k]);
-    else deficient = true;
+    if (s[k] > cutoff)
+      inv_s2[k] = 1.0 / (s[k] * s[k]);
+    else
+      deficient = true;
   }
   const Eigen::MatrixXd scaled_v = svd.matrixV() * inv_s2.asDiagonal();
   result.information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
-  result.covariance_scale2 = !result.weighted ? scale2
+  result.covariance_scale2 = !result.weighted          ? scale2
                              : options.scale_on_misfit ? misfitScale2(chi2_kept, dof_kept, options.outlier_probability)
                                                        : 1.0;
   result.covariance_method = result.weighted && result.covariance_scale2 == 1.0 ? "measured" : "residual-scaled";
@@ -592,8 +576,9 @@ bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, do
 // Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).
 // ∂r/∂δ of the kept rows (`rows`: the kept poses' rows, then zero rows for the priors); an
 // empty matrix when the alignment is not estimated (Full form) or exact.
-Eigen::MatrixXd alignmentResidualSensitivity(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                                             const std::vector<bool>& keep, Eigen::Index rows) {
+Eigen::MatrixXd alignmentResidualSensitivity(const IdentificationResult& result,
+                                             const std::vector<PoseObservation>& poses, const std::vector<bool>& keep,
+                                             Eigen::Index rows) {
   const AxisAlignment& alignment = result.model.external.alignment();
   if (result.model.external.form() == ExternalForm::Full || alignment.covariance.isZero()) return {};
   const int J = result.model.mechanism->jointCount();
@@ -611,8 +596,9 @@ Eigen::MatrixXd alignmentResidualSensitivity(const IdentificationResult& result,
     Eigen::Index out_row = 0;
     for (std::size_t j = 0; j < poses.size(); ++j) {
       if (!keep[j]) continue;
-      dr.block(out_row, k, J, 1) = (rp.segment(static_cast<Eigen::Index>(j) * J, J) -
-                                    rm.segment(static_cast<Eigen::Index>(j) * J, J)) / (2.0 * kStep);
+      dr.block(out_row, k, J, 1) =
+          (rp.segment(static_cast<Eigen::Index>(j) * J, J) - rm.segment(static_cast<Eigen::Index>(j) * J, J)) /
+          (2.0 * kStep);
       out_row += J;
     }
   }
@@ -747,8 +733,7 @@ bool postprocessDirect(IdentificationResult& result, const std::vector<PoseObser
 
 // Preprocess (checks, free set, weights) / minimise (Ceres) / postprocess (outliers,
 // covariance, alignment uncertainty, identifiability, σ), as Ceres cuts a solve.
-IdentificationResult identify(const IdentificationModel& initial,
-                              const std::vector<PoseObservation>& poses,
+IdentificationResult identify(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                               const IdentificationOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
   checkIdentificationInput(initial, poses, options);

@@ -77,7 +77,8 @@ SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
   shared.covariance = Eigen::MatrixXd::Constant(n, n, std::nan(""));
   const auto valueRow = [&](std::size_t r) {
     Eigen::RowVectorXd v(n);
-    for (Eigen::Index k = 0; k < n; ++k) v[k] = table.number(r, table.column(shared.names[static_cast<std::size_t>(k)]));
+    for (Eigen::Index k = 0; k < n; ++k)
+      v[k] = table.number(r, table.column(shared.names[static_cast<std::size_t>(k)]));
     return v;
   };
   std::map<std::string, std::set<int>> seen;
@@ -92,7 +93,8 @@ SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
     } else if (kind == "sensitivity") {
       const std::string& id = table.rows[r][id_col];
       const int axis = axisIndex(row);
-      if (axis < 0) throw std::runtime_error(table.where(r) + ": column 'row': '" + row + "' is not one of tx ty tz rx ry rz");
+      if (axis < 0)
+        throw std::runtime_error(table.where(r) + ": column 'row': '" + row + "' is not one of tx ty tz rx ry rz");
       if (!seen[id].insert(axis).second)
         throw std::runtime_error(table.where(r) + ": duplicate row '" + row + "' of pose '" + id + "'");
       shared.sensitivity.try_emplace(id, Eigen::MatrixXd::Zero(6, n)).first->second.row(axis) = valueRow(r);
@@ -236,9 +238,8 @@ void replaceFitTerm(IdentificationResult& result, const std::vector<PoseObservat
   if (!result.weighted || result.whitening.size() < poses.size()) return;
   const FitTerm fit = independentFitTerm(result, poses, shared);
   if (fit.dof < 1 || !(fit.expected_chi2 > 0.0)) return;
-  const double scale2 = result.covariance_scale2 == 1.0
-                            ? 1.0
-                            : misfitScale2(fit.chi2 * fit.dof / fit.expected_chi2, fit.dof, 1e-3);
+  const double scale2 =
+      result.covariance_scale2 == 1.0 ? 1.0 : misfitScale2(fit.chi2 * fit.dof / fit.expected_chi2, fit.dof, 1e-3);
   result.covariance += fit.covariance * scale2 - result.information_inverse * result.covariance_scale2;
   result.covariance_scale2 = scale2;
   result.covariance_method = scale2 == 1.0 ? "measured" : "residual-scaled";

@@ -6,11 +6,11 @@
 #include <fstream>
 #include <map>
 #include <set>
-#include <unordered_map>
-#include <unordered_set>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
@@ -28,8 +28,8 @@ std::vector<std::string> jointColumns(int joint_count) {
 }
 
 // Row index of every id, rejecting duplicates with both lines.
-void checkUniqueId(std::unordered_map<std::string, std::size_t>& seen, const support::CsvTable& table,
-                   std::size_t row, const std::string& id, const char* what) {
+void checkUniqueId(std::unordered_map<std::string, std::size_t>& seen, const support::CsvTable& table, std::size_t row,
+                   const std::string& id, const char* what) {
   if (id.empty()) throw std::runtime_error(table.where(row) + ": empty " + what);
   const auto [it, inserted] = seen.emplace(id, row);
   if (!inserted)
@@ -40,8 +40,7 @@ void checkUniqueId(std::unordered_map<std::string, std::size_t>& seen, const sup
 // Side file of `mire measure`: pose_id,part,row,tx,ty,tz,rx,ry,rz; the `total` part.
 std::map<std::string, PoseCovariance> readCovarianceCsv(const std::filesystem::path& path) {
   const support::CsvTable table = support::readCsv(path);
-  const std::size_t id_col = table.column("pose_id"), part_col = table.column("part"),
-                    row_col = table.column("row");
+  const std::size_t id_col = table.column("pose_id"), part_col = table.column("part"), row_col = table.column("row");
   const std::vector<std::string> axes{"tx", "ty", "tz", "rx", "ry", "rz"};
   std::vector<std::size_t> value_cols;
   value_cols.reserve(axes.size());
@@ -55,7 +54,8 @@ std::map<std::string, PoseCovariance> readCovarianceCsv(const std::filesystem::p
     int index = -1;
     for (int k = 0; k < 6; ++k)
       if (axes[static_cast<std::size_t>(k)] == axis) index = k;
-    if (index < 0) throw std::runtime_error(table.where(r) + ": column 'row': '" + axis + "' is not one of tx ty tz rx ry rz");
+    if (index < 0)
+      throw std::runtime_error(table.where(r) + ": column 'row': '" + axis + "' is not one of tx ty tz rx ry rz");
     if (!rows_seen[id].insert(index).second)
       throw std::runtime_error(table.where(r) + ": duplicate row '" + axis + "' of pose '" + id + "'");
     auto& covariance = covariances.try_emplace(id, PoseCovariance::Zero()).first->second;
@@ -80,7 +80,8 @@ std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
   const std::size_t id_col = table.column("pose_id");
   for (const char* name : {"images_used", "images_total", "rms_px"}) table.column(name);  // required by §10
   std::vector<std::size_t> pose_cols, sigma_cols;
-  for (const char* name : {"tx_m", "ty_m", "tz_m", "rx_rad", "ry_rad", "rz_rad"}) pose_cols.push_back(table.column(name));
+  for (const char* name : {"tx_m", "ty_m", "tz_m", "rx_rad", "ry_rad", "rz_rad"})
+    pose_cols.push_back(table.column(name));
   for (const char* name : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm", "sigma_rx_deg", "sigma_ry_deg", "sigma_rz_deg"})
     sigma_cols.push_back(table.column(name));
   std::map<std::string, PoseCovariance> side;
@@ -202,8 +203,8 @@ ObservationSet readObservations(const std::filesystem::path& poses_csv, const st
     for (const auto& row : pose_rows) {
       const auto it = by_id.find(row.observation.id);
       if (it == by_id.end())
-        throw std::runtime_error(poses_csv.string() + ":" + std::to_string(row.line) + ": pose '" +
-                                 row.observation.id + "' has no joints in " + joints_csv.string());
+        throw std::runtime_error(poses_csv.string() + ":" + std::to_string(row.line) + ": pose '" + row.observation.id +
+                                 "' has no joints in " + joints_csv.string());
       pair(row, *it->second);
       used.insert(row.observation.id);
     }

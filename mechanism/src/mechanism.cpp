@@ -5,9 +5,12 @@ namespace mire::mechanism {
 
 std::string motionTypeName(MotionType type) {
   switch (type) {
-    case MotionType::Schoenflies: return "schoenflies";
-    case MotionType::Translation: return "translation";
-    case MotionType::Spatial: return "spatial";
+    case MotionType::Schoenflies:
+      return "schoenflies";
+    case MotionType::Translation:
+      return "translation";
+    case MotionType::Spatial:
+      return "spatial";
   }
   return "?";
 }

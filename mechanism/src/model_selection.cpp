@@ -33,8 +33,8 @@ IdentificationModel initialModel(const SelectionCandidate& c, const std::vector<
 
 // Mean squared held-out joint residual of each fold, the fit on the other folds warm-started
 // at the all-pose solution (its optimum depends on the training poses only).
-std::vector<double> foldScores(const IdentificationModel& fitted, const std::vector<PoseObservation>& poses,
-                               int folds, unsigned seed) {
+std::vector<double> foldScores(const IdentificationModel& fitted, const std::vector<PoseObservation>& poses, int folds,
+                               unsigned seed) {
   std::vector<std::size_t> order(poses.size());
   std::iota(order.begin(), order.end(), 0);
   std::mt19937 rng(seed);
@@ -85,7 +85,8 @@ ModelScore scoreModel(const SelectionCandidate& c, const std::vector<PoseObserva
     const std::vector<double> folds = foldScores(fit.model, poses, options.folds, options.seed);
     double mean = 0.0, var = 0.0;
     for (double f : folds) mean += f / static_cast<double>(folds.size());
-    for (double f : folds) var += (f - mean) * (f - mean) / std::max<double>(1.0, static_cast<double>(folds.size()) - 1);
+    for (double f : folds)
+      var += (f - mean) * (f - mean) / std::max<double>(1.0, static_cast<double>(folds.size()) - 1);
     s.cv_mse = mean;
     s.cv_se = std::sqrt(var / static_cast<double>(folds.size()));
     if (!lines.empty()) {
@@ -113,7 +114,9 @@ bool nested(const ModelScore& a, const ModelScore& b) {
   // Model 12 is model 31 at ψ_i = α_i + π, β_i = π/2 (doc/mechanism-models.md); the Delta is
   // its per-leg model with equal legs (doc/mechanisms.md).
   // Only a model-31 variant that frees h and the forearms nests every model-12 variant.
-  const auto frees = [&b](const char* n) { return std::find(b.free_names.begin(), b.free_names.end(), n) != b.free_names.end(); };
+  const auto frees = [&b](const char* n) {
+    return std::find(b.free_names.begin(), b.free_names.end(), n) != b.free_names.end();
+  };
   return (a.model_name == "h4-12" && (b.model_name == "h4-31c" || b.model_name == "h4-31") && frees("h") && frees("l1")) ||
          (a.model_name == "delta" && b.model_name == "delta-legs");
 }
@@ -124,7 +127,8 @@ std::vector<NestedTest> nestedTests(const std::vector<ModelScore>& scores) {
   for (std::size_t i = 0; i < scores.size(); ++i) {
     int best = -1;
     for (std::size_t j = 0; j < scores.size(); ++j)
-      if (nested(scores[i], scores[j]) && (best < 0 || scores[j].parameters < scores[static_cast<std::size_t>(best)].parameters))
+      if (nested(scores[i], scores[j]) &&
+          (best < 0 || scores[j].parameters < scores[static_cast<std::size_t>(best)].parameters))
         best = static_cast<int>(j);
     if (best < 0) continue;
     const ModelScore& a = scores[i];

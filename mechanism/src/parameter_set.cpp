@@ -1,34 +1,43 @@
 #include "mire/mechanism/parameter_set.hpp"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace mire::mechanism {
 
 std::string unitName(Unit unit) {
   switch (unit) {
-    case Unit::Metre: return "m";
-    case Unit::Radian: return "rad";
-    case Unit::Dimensionless: return "1";
+    case Unit::Metre:
+      return "m";
+    case Unit::Radian:
+      return "rad";
+    case Unit::Dimensionless:
+      return "1";
   }
   return "?";
 }
 
 std::string displayUnitName(Unit unit) {
   switch (unit) {
-    case Unit::Metre: return "mm";
-    case Unit::Radian: return "deg";
-    case Unit::Dimensionless: return "1";
+    case Unit::Metre:
+      return "mm";
+    case Unit::Radian:
+      return "deg";
+    case Unit::Dimensionless:
+      return "1";
   }
   return "?";
 }
 
 double toDisplay(Unit unit, double value_in_si) {
   switch (unit) {
-    case Unit::Metre: return value_in_si * 1e3;
-    case Unit::Radian: return value_in_si * 180.0 / 3.14159265358979323846;
-    case Unit::Dimensionless: return value_in_si;
+    case Unit::Metre:
+      return value_in_si * 1e3;
+    case Unit::Radian:
+      return value_in_si * 180.0 / 3.14159265358979323846;
+    case Unit::Dimensionless:
+      return value_in_si;
   }
   return value_in_si;
 }
@@ -36,16 +45,14 @@ double toDisplay(Unit unit, double value_in_si) {
 namespace {
 
 void requireFinite(const std::string& name, double value) {
-  if (!std::isfinite(value))
-    throw std::invalid_argument("parameter '" + name + "': value is not finite");
+  if (!std::isfinite(value)) throw std::invalid_argument("parameter '" + name + "': value is not finite");
 }
 
 }  // namespace
 
 void ParameterSet::add(Parameter parameter) {
   if (parameter.name.empty()) throw std::invalid_argument("parameter with an empty name");
-  if (contains(parameter.name))
-    throw std::invalid_argument("parameter '" + parameter.name + "' defined twice");
+  if (contains(parameter.name)) throw std::invalid_argument("parameter '" + parameter.name + "' defined twice");
   requireFinite(parameter.name, parameter.value);
   leader_.push_back(parameters_.size());
   parameters_.push_back(std::move(parameter));
@@ -110,8 +117,8 @@ void ParameterSet::tie(const std::vector<std::string>& names) {
   for (const std::string& n : names) members.push_back(index(n));
   for (std::size_t m : members) {
     if (parameters_[m].unit != parameters_[members[0]].unit)
-      throw std::invalid_argument("cannot tie '" + parameters_[m].name + "' and '" +
-                                  parameters_[members[0]].name + "': units differ");
+      throw std::invalid_argument("cannot tie '" + parameters_[m].name + "' and '" + parameters_[members[0]].name +
+                                  "': units differ");
     if (leader_[m] != m || isTied(m))
       throw std::invalid_argument("parameter '" + parameters_[m].name + "' is already tied");
   }
@@ -137,8 +144,8 @@ Eigen::VectorXd ParameterSet::values() const {
 
 void ParameterSet::setValues(const Eigen::VectorXd& values) {
   if (static_cast<std::size_t>(values.size()) != parameters_.size())
-    throw std::invalid_argument("parameter vector has " + std::to_string(values.size()) +
-                                " values, expected " + std::to_string(parameters_.size()));
+    throw std::invalid_argument("parameter vector has " + std::to_string(values.size()) + " values, expected " +
+                                std::to_string(parameters_.size()));
   for (std::size_t i = 0; i < parameters_.size(); ++i)
     requireFinite(parameters_[i].name, values[static_cast<Eigen::Index>(i)]);
   for (std::size_t i = 0; i < parameters_.size(); ++i)
@@ -160,8 +167,8 @@ std::vector<std::string> ParameterSet::freeNames() const {
 
 Eigen::MatrixXd ParameterSet::expansion() const {
   const std::vector<std::size_t> free = freeIndices();
-  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(parameters_.size()),
-                                            static_cast<Eigen::Index>(free.size()));
+  Eigen::MatrixXd E =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(parameters_.size()), static_cast<Eigen::Index>(free.size()));
   for (std::size_t k = 0; k < free.size(); ++k)
     for (std::size_t i = 0; i < parameters_.size(); ++i)
       if (leader_[i] == free[k]) E(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = 1.0;

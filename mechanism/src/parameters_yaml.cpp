@@ -41,8 +41,9 @@ std::vector<std::string> knownKeys(const ParameterSet& parameters, const std::ve
 [[noreturn]] void unknownKey(const ParameterFile& file, const ParameterFileEntry& entry, const ParameterSet& parameters,
                              const std::vector<std::string>& also_allowed) {
   const std::string hint = support::closestName(entry.key, knownKeys(parameters, also_allowed));
-  throw std::runtime_error(file.where(entry) + ": unknown parameter name '" + entry.key + "'" +
-                           (hint.empty() ? " (known: " + joined(parameters.names()) + ")" : " (did you mean '" + hint + "'?)"));
+  throw std::runtime_error(
+      file.where(entry) + ": unknown parameter name '" + entry.key + "'" +
+      (hint.empty() ? " (known: " + joined(parameters.names()) + ")" : " (did you mean '" + hint + "'?)"));
 }
 
 // An angle beyond one turn is degrees typed where radians are expected (alpha1: 45).
@@ -54,8 +55,8 @@ void checkAngle(const ParameterFile& file, const ParameterFileEntry& entry, cons
                            support::formatMessageNumber(value * kTwoPi / 360.0) + ")");
 }
 
-void checkNoneMissing(const ParameterFile& file, const ParameterSet& parameters, const std::vector<std::string>& set_names,
-                      const std::vector<std::string>& may_default) {
+void checkNoneMissing(const ParameterFile& file, const ParameterSet& parameters,
+                      const std::vector<std::string>& set_names, const std::vector<std::string>& may_default) {
   std::vector<std::string> missing;
   for (const auto& name : parameters.names())
     if (!listed(set_names, name) && !listed(may_default, name)) missing.push_back(name);
@@ -63,7 +64,8 @@ void checkNoneMissing(const ParameterFile& file, const ParameterSet& parameters,
   const int line = file.entries.empty() ? 1 : file.entries.front().line;
   throw std::runtime_error(file.path.string() + ":" + std::to_string(line) + ": missing " +
                            (missing.size() == 1 ? "parameter '" : "parameters '") + joined(missing) +
-                           "' (a parameter file gives every parameter of the model: " + joined(parameters.names()) + ")");
+                           "' (a parameter file gives every parameter of the model: " + joined(parameters.names()) +
+                           ")");
 }
 
 }  // namespace
@@ -103,9 +105,9 @@ ParameterFile readParameterFile(const std::filesystem::path& path) {
 }
 
 const std::vector<std::string>& parameterFileMetadataKeys() {
-  static const std::vector<std::string> keys{"model", "variant", "external_form", "mechanism", "units",
-                                             "poses", "rms_joint_residual_rad", "residual_scale",
-                                             "condition_number", "created_by"};
+  static const std::vector<std::string> keys{
+      "model",          "variant",          "external_form", "mechanism", "units", "poses", "rms_joint_residual_rad",
+      "residual_scale", "condition_number", "created_by"};
   return keys;
 }
 
@@ -121,7 +123,8 @@ std::vector<std::string> applyParameterFile(const ParameterFile& file, Parameter
     if (parameters.contains(name)) {
       const double value = file.number(entry);
       if (is_sigma) {
-        if (value < 0.0) throw std::runtime_error(file.where(entry) + ": key '" + entry.key + "': negative standard deviation");
+        if (value < 0.0)
+          throw std::runtime_error(file.where(entry) + ": key '" + entry.key + "': negative standard deviation");
         continue;
       }
       checkAngle(file, entry, parameters.at(name), value);
@@ -165,10 +168,8 @@ std::string parameterFileString(const ParameterSet& parameters, const Eigen::Vec
   return out.str();
 }
 
-void writeParameterFile(const std::filesystem::path& path, const ParameterSet& parameters,
-                        const Eigen::VectorXd& sigma,
-                        const std::vector<std::pair<std::string, std::string>>& metadata,
-                        const std::string& comment) {
+void writeParameterFile(const std::filesystem::path& path, const ParameterSet& parameters, const Eigen::VectorXd& sigma,
+                        const std::vector<std::pair<std::string, std::string>>& metadata, const std::string& comment) {
   support::writeFileAtomically(path, parameterFileString(parameters, sigma, metadata, comment));
 }
 

@@ -1,8 +1,8 @@
 #include "mire/mechanism/pose.hpp"
 
+#include <stdexcept>
 #include <string_view>
 #include <unordered_set>
-#include <stdexcept>
 
 #include <Eigen/Cholesky>
 
@@ -15,8 +15,7 @@ Eigen::Vector3d rotationVector(const Eigen::Matrix3d& rotation) {
 
 Eigen::Matrix3d fromRotationVector(const Eigen::Vector3d& rotation_vector) {
   const double angle = rotation_vector.norm();
-  return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
-                     : Eigen::Matrix3d::Identity();
+  return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
 }
 
 Eigen::Isometry3d toIsometry(const PoseVector& pose) {

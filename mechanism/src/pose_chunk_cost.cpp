@@ -15,8 +15,7 @@ using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::Ro
 // ρ(s) and the rescaling Ceres applies to a block's residual r and Jacobian J under a loss
 // (Triggs et al., as in Ceres' Corrector): r̃ = r·√ρ′/(1 − α), J̃ = √ρ′ (J − α/s · r rᵀJ),
 // with α the root of ½α² − α − ρ″s/ρ′ = 0; α = 0 where ρ″ ≤ 0 (Huber, Cauchy).
-double applyLoss(const ceres::LossFunction* loss, Eigen::Ref<Eigen::VectorXd> r,
-                 Eigen::Ref<Eigen::MatrixXd> J) {
+double applyLoss(const ceres::LossFunction* loss, Eigen::Ref<Eigen::VectorXd> r, Eigen::Ref<Eigen::MatrixXd> J) {
   const double s = r.squaredNorm();
   if (loss == nullptr) return s;
   double rho[3];
@@ -37,8 +36,7 @@ double applyLoss(const ceres::LossFunction* loss, Eigen::Ref<Eigen::VectorXd> r,
 }  // namespace
 
 PoseChunkCost::PoseChunkCost(std::vector<std::unique_ptr<ceres::CostFunction>> poses,
-                             std::shared_ptr<const ceres::LossFunction> loss, int joints, int geometric,
-                             int external)
+                             std::shared_ptr<const ceres::LossFunction> loss, int joints, int geometric, int external)
     : poses_(std::move(poses)), loss_(std::move(loss)), joints_(joints), geometric_(geometric), external_(external) {
   set_num_residuals(geometric + external + 1);
   mutable_parameter_block_sizes()->push_back(geometric);
@@ -87,10 +85,8 @@ bool PoseChunkCost::Evaluate(double const* const* parameters, double* residuals,
   // the difference is the orthogonal part's norm², up to rounding).
   out.head(P) = R.col(P).head(P);
   out[P] = std::sqrt(std::max(0.0, rho_sum - out.head(P).squaredNorm()));
-  if (jacobians[0] != nullptr)
-    Eigen::Map<RowMajor>(jacobians[0], M, geometric_) = R.leftCols(geometric_);
-  if (jacobians[1] != nullptr)
-    Eigen::Map<RowMajor>(jacobians[1], M, external_) = R.middleCols(geometric_, external_);
+  if (jacobians[0] != nullptr) Eigen::Map<RowMajor>(jacobians[0], M, geometric_) = R.leftCols(geometric_);
+  if (jacobians[1] != nullptr) Eigen::Map<RowMajor>(jacobians[1], M, external_) = R.middleCols(geometric_, external_);
   return true;
 }
 

@@ -5,10 +5,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/pose.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/mechanism/translating_target.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 
@@ -99,7 +99,8 @@ ParameterSet geometricPart(const IdentificationModel& id) {
   for (int k = 0; k < G; ++k) {
     std::vector<std::string> group;
     for (int j = 0; j < G; ++j)
-      if (all.tieLeader(static_cast<std::size_t>(j)) == static_cast<std::size_t>(k)) group.push_back(all[static_cast<std::size_t>(j)].name);
+      if (all.tieLeader(static_cast<std::size_t>(j)) == static_cast<std::size_t>(k))
+        group.push_back(all[static_cast<std::size_t>(j)].name);
     if (group.size() > 1) geometric.tie(group);
   }
   return geometric;
@@ -269,8 +270,8 @@ void writePredictionCovarianceCsv(const std::filesystem::path& path, const Predi
   out << '\n';
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::string& name = names[static_cast<std::size_t>(i)];
-    out << name << ',' << support::formatNumber(m.geometric.contains(name) ? m.geometric.value(name)
-                                                                            : m.mounting.value(name));
+    out << name << ','
+        << support::formatNumber(m.geometric.contains(name) ? m.geometric.value(name) : m.mounting.value(name));
     for (Eigen::Index j = 0; j < n; ++j) out << ',' << support::formatNumber(C(i, j));
     out << '\n';
   }
@@ -420,7 +421,8 @@ PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& join
   const std::vector<std::string> mnames = m.mounting.names();
   for (std::size_t k : layout.mounting)
     for (std::size_t j = 0; j < mnames.size(); ++j)
-      if (mnames[j] == m.covariance_names[k]) J.col(static_cast<Eigen::Index>(k)) = dM.col(static_cast<Eigen::Index>(j));
+      if (mnames[j] == m.covariance_names[k])
+        J.col(static_cast<Eigen::Index>(k)) = dM.col(static_cast<Eigen::Index>(j));
   out.cTm_covariance = J * m.covariance * J.transpose();
   return out;
 }

@@ -43,8 +43,7 @@ RegisteredModel makeRegisteredModel(const std::string& name, const H4Nominal& h4
     out.nominal = out.mechanism->nominal();
     out.external_form = ExternalForm::CameraFrame;
   } else if (name == "delta" || name == "delta-legs") {
-    out.mechanism =
-        makeDeltaMechanism(name == "delta" ? DeltaModelKind::Simple : DeltaModelKind::Legs);
+    out.mechanism = makeDeltaMechanism(name == "delta" ? DeltaModelKind::Simple : DeltaModelKind::Legs);
     out.nominal = out.mechanism->nominal();
   } else if (name == "gough-stewart") {
     out.mechanism = makeGoughStewartMechanism();

@@ -27,7 +27,7 @@ std::vector<Quantity> quantities() {
   return {
       {"rms_high", "reprojection rms", "px", false, [](const MeasuredPose& p) { return p.estimate.rms_px; }},
       {"few_images", "images used", "", true, [](const MeasuredPose& p) { return double(p.images_used); }},
-      {"sigma_t_high", "translation sigma", "mm",  false,
+      {"sigma_t_high", "translation sigma", "mm", false,
        [](const MeasuredPose& p) { return 1e3 * blockSigma(p.estimate.covariance_noise, 0); }},
       {"sigma_r_high", "rotation sigma", "deg", false,
        [](const MeasuredPose& p) { return 180.0 / M_PI * blockSigma(p.estimate.covariance_noise, 3); }},
@@ -53,13 +53,11 @@ void screenQuantity(const Quantity& quantity, const ScreeningOptions& options, s
     if (!(z > limit)) continue;
     const double ratio = std::exp(z);
     (*poses)[i].flags.push_back(std::string(quantity.code) + ":" + format("%.3gx", ratio));
-    result->reasons[i].push_back(std::string(quantity.description) + " " +
-                                 format("%.4g", quantity.value((*poses)[i])) + " " + quantity.unit + " is " +
-                                 format("%.3g", ratio) + (quantity.low_is_bad ? "x below" : "x above") +
-                                 " the campaign median " + format("%.4g", std::exp(centre)) + " " + quantity.unit +
-                                 " (limit: factor " + format("%.3g", std::exp(limit)) + ", max(" +
-                                 format("%g", options.k) + " x 1.4826 MAD, ln " + format("%g", options.min_ratio) +
-                                 ") on log scale)");
+    result->reasons[i].push_back(
+        std::string(quantity.description) + " " + format("%.4g", quantity.value((*poses)[i])) + " " + quantity.unit +
+        " is " + format("%.3g", ratio) + (quantity.low_is_bad ? "x below" : "x above") + " the campaign median " +
+        format("%.4g", std::exp(centre)) + " " + quantity.unit + " (limit: factor " + format("%.3g", std::exp(limit)) +
+        ", max(" + format("%g", options.k) + " x 1.4826 MAD, ln " + format("%g", options.min_ratio) + ") on log scale)");
   }
 }
 

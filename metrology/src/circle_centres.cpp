@@ -75,7 +75,8 @@ CentreResult refineOne(const cv::Mat& gray, Eigen::Vector2d centre, const std::v
     cv::Mat dark = cv::Mat::zeros(in_cell.size(), CV_8UC1);
     for (int v = v0; v <= v1; ++v)
       for (int u = u0; u <= u1; ++u)
-        if (in_cell.at<unsigned char>(v - v0, u - u0) && gray.at<unsigned char>(v, u) < middle) dark.at<unsigned char>(v - v0, u - u0) = 255;
+        if (in_cell.at<unsigned char>(v - v0, u - u0) && gray.at<unsigned char>(v, u) < middle)
+          dark.at<unsigned char>(v - v0, u - u0) = 255;
     if (!dark.at<unsigned char>(seed)) return result;  // the centre is not on ink
     cv::Mat disc = cv::Mat::zeros(dark.rows + 2, dark.cols + 2, CV_8UC1);
     cv::floodFill(dark, disc, seed, cv::Scalar(0), nullptr, cv::Scalar(0), cv::Scalar(0),
@@ -122,7 +123,8 @@ std::vector<bool> refineCircleCentres(const cv::Mat& gray, const Target& target,
     for (std::size_t j = 0; j < n; ++j)
       if (j != i) nearest = std::min(nearest, (detection->pixels[j] - detection->pixels[i]).norm());
     for (std::size_t j = 0; j < n; ++j)
-      if (j != i && (detection->pixels[j] - detection->pixels[i]).norm() < 3.0 * nearest) others.push_back(detection->pixels[j]);
+      if (j != i && (detection->pixels[j] - detection->pixels[i]).norm() < 3.0 * nearest)
+        others.push_back(detection->pixels[j]);
     const double radius_px = std::isfinite(nearest) ? 0.5 * ratio * nearest : 5.0;
     const CentreResult centre = refineOne(gray, detection->pixels[i], others, radius_px);
     if (!centre.ok) continue;
@@ -132,7 +134,8 @@ std::vector<bool> refineCircleCentres(const cv::Mat& gray, const Target& target,
   }
   refined.found = detection->found && !refined.ids.empty();
   const std::size_t dropped = n - refined.ids.size();
-  refined.reason = dropped == 0 ? detection->reason : std::to_string(dropped) + " circles dropped in sub-pixel refinement";
+  refined.reason =
+      dropped == 0 ? detection->reason : std::to_string(dropped) + " circles dropped in sub-pixel refinement";
   *detection = refined;
   return ok;
 }

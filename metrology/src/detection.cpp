@@ -69,8 +69,7 @@ struct GridCandidate {
 // mirrors the board.
 std::optional<GridCandidate> evaluateOrdering(const Target& target, const cv::Mat& gray,
                                               const std::vector<cv::Point2f>& model,
-                                              const std::vector<cv::Point2f>& opencv_grid,
-                                              const GridSymmetry& symmetry) {
+                                              const std::vector<cv::Point2f>& opencv_grid, const GridSymmetry& symmetry) {
   const TargetSpec& spec = target.spec();
   const int cols = spec.cols;
   const int rows = spec.rows;
@@ -79,7 +78,8 @@ std::optional<GridCandidate> evaluateOrdering(const Target& target, const cv::Ma
   candidate.symmetry = symmetry;
   std::vector<cv::Point2f> pixels(model.size());
   for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) pixels[r * cols + c] = opencv_grid[opencvIndex(candidate.symmetry, cols, rows, c, r)];
+    for (int c = 0; c < cols; ++c)
+      pixels[r * cols + c] = opencv_grid[opencvIndex(candidate.symmetry, cols, rows, c, r)];
   const cv::Mat h = cv::findHomography(model, pixels, 0);
   if (h.empty()) return std::nullopt;
   candidate.homography = cv::Matx33d(h);
@@ -110,7 +110,8 @@ std::optional<GridCandidate> evaluateOrdering(const Target& target, const cv::Ma
 std::vector<GridCandidate> gridCandidates(const Target& target, const cv::Mat& gray,
                                           const std::vector<cv::Point2f>& opencv_grid) {
   std::vector<cv::Point2f> model;  // frame M (x, y) of each feature
-  for (const Eigen::Vector3d& point : target.points()) model.emplace_back(static_cast<float>(point.x()), static_cast<float>(point.y()));
+  for (const Eigen::Vector3d& point : target.points())
+    model.emplace_back(static_cast<float>(point.x()), static_cast<float>(point.y()));
   const bool square = target.spec().cols == target.spec().rows;
   std::vector<GridCandidate> candidates;
   for (int t = 0; t < 2; ++t) {
@@ -150,9 +151,9 @@ std::vector<GridCandidate> fittingCandidates(const std::vector<GridCandidate>& c
       std::any_of(fitting.begin(), fitting.end(), [](const GridCandidate& c) { return c.dark_origin == 0; });
   if (any_dark || any_unknown) {
     const int wanted = any_dark ? 1 : 0;
-    fitting.erase(std::remove_if(fitting.begin(), fitting.end(),
-                                 [&](const GridCandidate& c) { return c.dark_origin != wanted; }),
-                  fitting.end());
+    fitting.erase(
+        std::remove_if(fitting.begin(), fitting.end(), [&](const GridCandidate& c) { return c.dark_origin != wanted; }),
+        fitting.end());
   }
   return fitting;
 }
@@ -182,10 +183,9 @@ Detection orderGrid(const Target& target, const cv::Mat& gray, const std::vector
     return result;
   }
   // Ambiguous boards: x_M points as much as possible towards the image's right.
-  const GridCandidate& chosen =
-      *std::max_element(fitting.begin(), fitting.end(), [](const GridCandidate& a, const GridCandidate& b) {
-        return a.x_axis_rightness < b.x_axis_rightness;
-      });
+  const GridCandidate& chosen = *std::max_element(
+      fitting.begin(), fitting.end(),
+      [](const GridCandidate& a, const GridCandidate& b) { return a.x_axis_rightness < b.x_axis_rightness; });
 
   result.found = true;
   for (int r = 0; r < rows; ++r) {
@@ -261,7 +261,8 @@ cv::Mat toGray(const cv::Mat& image) {
     cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
     return gray;
   }
-  throw std::invalid_argument("detection: image must be 8-bit grey (or BGR), got OpenCV type " + std::to_string(image.type()));
+  throw std::invalid_argument("detection: image must be 8-bit grey (or BGR), got OpenCV type " +
+                              std::to_string(image.type()));
 }
 
 Detection refineChessboard(const Target& target, const cv::Mat& gray, const Detection& initial,
@@ -314,7 +315,8 @@ Detection detectChessboard(const Target& target, const cv::Mat& gray, const Dete
 Detection refineChessboard(const Target& target, const cv::Mat& gray, const Detection& initial,
                            const DetectionOptions& options) {
   std::vector<cv::Point2f> corners;
-  for (const Eigen::Vector2d& p : initial.pixels) corners.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+  for (const Eigen::Vector2d& p : initial.pixels)
+    corners.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
   const int window = detail::chessboardWindow(detail::neighbourSpacingPx(target, initial), options);
   std::vector<cv::Point2f> refined = corners;
   cv::cornerSubPix(gray, refined, cv::Size(window, window), cv::Size(-1, -1),
@@ -341,14 +343,16 @@ cv::Ptr<cv::FeatureDetector> circleBlobDetector(const cv::Mat& gray, const Targe
   params.blobColor = 0;  // dark discs on light paper
   params.minArea = 8.0f;
   // A disc can cover a large part of the image at close range.
-  params.maxArea = static_cast<float>(gray.total()) / static_cast<float>(std::max(1, target.spec().cols * target.spec().rows / 2));
+  params.maxArea =
+      static_cast<float>(gray.total()) / static_cast<float>(std::max(1, target.spec().cols * target.spec().rows / 2));
   params.minDistBetweenBlobs = 3.0f;
   return cv::SimpleBlobDetector::create(params);
 }
 
 Detection detectCircles(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
   const cv::Size pattern(target.spec().cols, target.spec().rows);
-  const int grid_flag = target.spec().type == TargetType::Circles ? cv::CALIB_CB_SYMMETRIC_GRID : cv::CALIB_CB_ASYMMETRIC_GRID;
+  const int grid_flag =
+      target.spec().type == TargetType::Circles ? cv::CALIB_CB_SYMMETRIC_GRID : cv::CALIB_CB_ASYMMETRIC_GRID;
   const cv::Ptr<cv::FeatureDetector> blobs = circleBlobDetector(gray, target);
   std::vector<cv::Point2f> centres;
   bool found = cv::findCirclesGrid(gray, pattern, centres, grid_flag, blobs);
@@ -384,7 +388,8 @@ Detection detectTarget(const Target& target, const cv::Mat& image, const Detecti
   return {};
 }
 
-Detection refineDetection(const Target& target, const cv::Mat& image, const Detection& initial, const DetectionOptions& options) {
+Detection refineDetection(const Target& target, const cv::Mat& image, const Detection& initial,
+                          const DetectionOptions& options) {
   const cv::Mat gray = toGray(image);
   if (!initial.found || initial.ids.empty()) return initial;
   switch (target.spec().type) {

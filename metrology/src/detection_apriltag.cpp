@@ -1,13 +1,13 @@
 // AprilTag grids through AprilTag 3 (layout: doc/targets.md; detection.hpp).
-#include "mire/metrology/apriltag_family.hpp"
 #include "detection_internal.hpp"
+#include "mire/metrology/apriltag_family.hpp"
 
 #include <apriltag/apriltag.h>
 #include <apriltag/common/zarray.h>
 
 #include <array>
-#include <stdexcept>
 #include <memory>
+#include <stdexcept>
 
 namespace mire::metrology::detail {
 
@@ -65,7 +65,8 @@ std::vector<TagDetection> detectAprilTags(const cv::Mat& gray, const std::string
 
 namespace detail {
 
-std::vector<Detection> detectAprilTagCandidates(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
+std::vector<Detection> detectAprilTagCandidates(const Target& target, const cv::Mat& gray,
+                                                const DetectionOptions& options) {
   // Repeated ids and ids outside the layout are sorted out by the layout's geometry
   // (detection_tag_layout.cpp).
   std::vector<SquareInstance> instances;

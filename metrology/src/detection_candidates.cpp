@@ -7,7 +7,8 @@
 
 namespace mire::metrology {
 
-std::vector<Detection> detectTargetCandidates(const Target& target, const cv::Mat& image, const DetectionOptions& options) {
+std::vector<Detection> detectTargetCandidates(const Target& target, const cv::Mat& image,
+                                              const DetectionOptions& options) {
   const TargetType type = target.spec().type;
   if (type != TargetType::AprilTag && type != TargetType::ArucoGrid) return {detectTarget(target, image, options)};
   cv::Mat gray = image;

@@ -58,7 +58,8 @@ std::vector<double> charucoSpacingsPx(const Target& target, const std::vector<in
     const int id = ids[i];
     for (const int neighbour : {id % cols + 1 < cols ? id + 1 : -1, id % cols > 0 ? id - 1 : -1, id + cols, id - cols}) {
       const auto other = by_id.find(neighbour);
-      if (other != by_id.end()) spacings[i] = std::min(spacings[i], static_cast<double>(cv::norm(other->second - pixels[i])));
+      if (other != by_id.end())
+        spacings[i] = std::min(spacings[i], static_cast<double>(cv::norm(other->second - pixels[i])));
     }
     smallest = std::min(smallest, spacings[i]);
   }
@@ -69,8 +70,8 @@ std::vector<double> charucoSpacingsPx(const Target& target, const std::vector<in
 
 // cornerSubPix as for chessboards, with a window per corner that stays inside the squares'
 // margin around the markers (a marker edge inside the window would pull the corner).
-void refineCharucoCorners(const Target& target, const cv::Mat& gray, const DetectionOptions& options, std::vector<int>* ids,
-                          std::vector<cv::Point2f>* pixels) {
+void refineCharucoCorners(const Target& target, const cv::Mat& gray, const DetectionOptions& options,
+                          std::vector<int>* ids, std::vector<cv::Point2f>* pixels) {
   const std::vector<double> spacings = charucoSpacingsPx(target, *ids, *pixels);
   const TargetSpec& spec = target.spec();
   const double clear_fraction = 0.5 * (spec.square_size_m - spec.marker_size_m) / spec.square_size_m;
@@ -79,7 +80,9 @@ void refineCharucoCorners(const Target& target, const cv::Mat& gray, const Detec
   for (std::size_t i = 0; i < ids->size(); ++i) {
     int window = options.subpixel_window_px;
     if (window <= 0)
-      window = std::isfinite(spacings[i]) ? std::clamp(static_cast<int>(std::floor(0.8 * clear_fraction * spacings[i])), 2, 15) : 3;
+      window = std::isfinite(spacings[i])
+                   ? std::clamp(static_cast<int>(std::floor(0.8 * clear_fraction * spacings[i])), 2, 15)
+                   : 3;
     std::vector<cv::Point2f> refined = {(*pixels)[i]};
     cv::cornerSubPix(gray, refined, cv::Size(window, window), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
@@ -98,7 +101,8 @@ void refineCharucoCorners(const Target& target, const cv::Mat& gray, const Detec
 Detection detectCharuco(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
   const cv::Ptr<cv::aruco::CharucoBoard> board = charucoBoard(target);
   // Markers that fit the board (foreign and repeated ids sorted out as for tag layouts).
-  const std::vector<SquareInstance> instances = detectArucoMarkers(gray, board->dictionary, cv::aruco::CORNER_REFINE_NONE);
+  const std::vector<SquareInstance> instances =
+      detectArucoMarkers(gray, board->dictionary, cv::aruco::CORNER_REFINE_NONE);
   const std::vector<std::vector<int>> groups = groupLayoutInstances(boardLayout(*board), instances);
   std::vector<std::vector<cv::Point2f>> marker_corners;
   std::vector<int> marker_ids;
@@ -106,7 +110,8 @@ Detection detectCharuco(const Target& target, const cv::Mat& gray, const Detecti
     for (const int i : groups.front()) {
       marker_ids.push_back(instances[i].id);
       std::vector<cv::Point2f> corners;
-      for (const Eigen::Vector2d& corner : instances[i].corners) corners.emplace_back(static_cast<float>(corner.x()), static_cast<float>(corner.y()));
+      for (const Eigen::Vector2d& corner : instances[i].corners)
+        corners.emplace_back(static_cast<float>(corner.x()), static_cast<float>(corner.y()));
       marker_corners.push_back(corners);
     }
   }
@@ -115,7 +120,8 @@ Detection detectCharuco(const Target& target, const cv::Mat& gray, const Detecti
   std::vector<cv::Point2f> pixels;
   std::vector<int> ids;
   if (!marker_ids.empty())
-    cv::aruco::interpolateCornersCharuco(marker_corners, marker_ids, gray, board, pixels, ids, cv::noArray(), cv::noArray(), 2);
+    cv::aruco::interpolateCornersCharuco(marker_corners, marker_ids, gray, board, pixels, ids, cv::noArray(),
+                                         cv::noArray(), 2);
   if (options.subpixel && !ids.empty()) refineCharucoCorners(target, gray, options, &ids, &pixels);
   for (std::size_t i = 0; i < ids.size(); ++i) {
     result.ids.push_back(ids[i]);
@@ -129,7 +135,8 @@ Detection detectCharuco(const Target& target, const cv::Mat& gray, const Detecti
   return result;
 }
 
-std::vector<Detection> detectArucoGridCandidates(const Target& target, const cv::Mat& gray, const DetectionOptions& options) {
+std::vector<Detection> detectArucoGridCandidates(const Target& target, const cv::Mat& gray,
+                                                 const DetectionOptions& options) {
   const cv::Ptr<cv::aruco::GridBoard> board = arucoGridBoard(target);
   // Of OpenCV's marker corner refinements, SUBPIX measured best on renders (0.19 px RMS against
   // 0.61 for CONTOUR and 0.69 for APRILTAG, tests/metrology/test_detection_tag_layouts.cpp).

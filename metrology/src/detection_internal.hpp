@@ -34,12 +34,14 @@ std::vector<bool> refineCircleCentres(const cv::Mat& gray, const Target& target,
 
 // AprilTag 3 detection of a tag grid or layout (detection_apriltag.cpp): every candidate, best
 // first (detection_tag_layout.cpp).
-std::vector<Detection> detectAprilTagCandidates(const Target& target, const cv::Mat& gray, const DetectionOptions& options);
+std::vector<Detection> detectAprilTagCandidates(const Target& target, const cv::Mat& gray,
+                                                const DetectionOptions& options);
 Detection detectAprilTagGrid(const Target& target, const cv::Mat& gray, const DetectionOptions& options);
 
 // ChArUco boards and ArUco grids through OpenCV's aruco module (detection_charuco.cpp).
 Detection detectCharuco(const Target& target, const cv::Mat& gray, const DetectionOptions& options);
-std::vector<Detection> detectArucoGridCandidates(const Target& target, const cv::Mat& gray, const DetectionOptions& options);
+std::vector<Detection> detectArucoGridCandidates(const Target& target, const cv::Mat& gray,
+                                                 const DetectionOptions& options);
 
 // One square marker (AprilTag or ArUco) found in an image: its id and corners in the target's
 // corner order (top-left, top-right, bottom-right, bottom-left of the upright marker).
@@ -57,7 +59,8 @@ using SquareLayout = std::map<int, std::array<Eigen::Vector2d, 4>>;
 // instance that fits the others; the instances left over form the next groups (so each
 // instance of a single-marker layout is a group of its own). Groups rank by size, then
 // by image area.
-std::vector<std::vector<int>> groupLayoutInstances(const SquareLayout& layout, const std::vector<SquareInstance>& instances);
+std::vector<std::vector<int>> groupLayoutInstances(const SquareLayout& layout,
+                                                   const std::vector<SquareInstance>& instances);
 
 // One detection per group of groupLayoutInstances (features 4k + j, k = Target::tagIndex),
 // best first; `what` names the markers in reasons ("tags", "markers").

@@ -65,8 +65,8 @@ struct Group {
 // the available instance it predicts best if within one marker side (ids on a target are at
 // least one side apart, so a wrong instance misses by more; lens distortion over the board
 // stays well below it), refit, three rounds.
-Group growGroup(const SquareLayout& layout, const std::vector<SquareInstance>& instances, const std::vector<bool>& available,
-                int seed) {
+Group growGroup(const SquareLayout& layout, const std::vector<SquareInstance>& instances,
+                const std::vector<bool>& available, int seed) {
   Group group;
   group.members = {seed};
   for (int round = 0; round < 3; ++round) {
@@ -99,7 +99,8 @@ bool better(const Group& a, const Group& b) {
 
 }  // namespace
 
-std::vector<std::vector<int>> groupLayoutInstances(const SquareLayout& layout, const std::vector<SquareInstance>& instances) {
+std::vector<std::vector<int>> groupLayoutInstances(const SquareLayout& layout,
+                                                   const std::vector<SquareInstance>& instances) {
   std::vector<bool> available(instances.size(), false);
   for (std::size_t i = 0; i < instances.size(); ++i) available[i] = layout.count(instances[i].id) > 0;
   std::vector<std::vector<int>> groups;
@@ -139,8 +140,8 @@ std::vector<Detection> layoutDetections(const Target& target, const std::vector<
       detection.reason = std::to_string(group.size()) + " of " + std::to_string(expected) + " " + what + " found";
     const std::size_t others = on_target - group.size();
     if (others > 0)
-      detection.reason += (detection.reason.empty() ? "" : "; ") + std::to_string(others) + " other instance(s) of the " +
-                          what + " ids, not fitting this group, left out";
+      detection.reason += (detection.reason.empty() ? "" : "; ") + std::to_string(others) +
+                          " other instance(s) of the " + what + " ids, not fitting this group, left out";
     candidates.push_back(std::move(detection));
   }
   return candidates;

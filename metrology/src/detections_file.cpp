@@ -12,7 +12,9 @@
 namespace mire::metrology {
 namespace {
 
-[[noreturn]] void failAt(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
+[[noreturn]] void failAt(const std::string& where, const std::string& what) {
+  throw std::runtime_error(where + ": " + what);
+}
 
 // Adds one feature to the image's entry (created in order of first appearance).
 void addFeature(DetectionsFile* file, std::map<std::string, std::size_t>* index, const std::string& image, int id,
@@ -33,7 +35,8 @@ void readImageSize(const std::filesystem::path& path, DetectionsFile* file) {
     std::istringstream values(line.substr(key.size()));
     int width = 0, height = 0;
     if (!(values >> width >> height) || width <= 0 || height <= 0)
-      failAt(path.string() + ":" + std::to_string(number), "image_size_px must be two positive integers (width height)");
+      failAt(path.string() + ":" + std::to_string(number),
+             "image_size_px must be two positive integers (width height)");
     file->width = width, file->height = height;
   }
 }
@@ -57,8 +60,9 @@ DetectionsFile readMireCsv(const std::filesystem::path& path, const Target& targ
     const int k = static_cast<int>(feature);
     const Eigen::Vector3d point(table.number(row, x), table.number(row, y), table.number(row, z));
     if ((point - target.points()[static_cast<std::size_t>(k)]).norm() > 1e-9)
-      failAt(table.where(row), "feature " + std::to_string(k) + " is at (" + table.rows[row][x] + ", " + table.rows[row][y] +
-                                   ", " + table.rows[row][z] + ") m in the file but not on this target (another target.yaml?)");
+      failAt(table.where(row), "feature " + std::to_string(k) + " is at (" + table.rows[row][x] + ", " +
+                                   table.rows[row][y] + ", " + table.rows[row][z] +
+                                   ") m in the file but not on this target (another target.yaml?)");
     if (!seen.emplace(std::make_pair(name, k), true).second)
       failAt(table.where(row), "feature " + std::to_string(k) + " of image '" + name + "' given twice");
     addFeature(&file, &index, name, k, Eigen::Vector2d(table.number(row, u), table.number(row, v)));
@@ -87,7 +91,8 @@ DetectionsFile readMrcalVnlog(const std::filesystem::path& path, const Target& t
     const std::string where = path.string() + ":" + std::to_string(number);
     std::istringstream fields(line);
     std::string name, x, y, level, extra;
-    if (!(fields >> name >> x >> y >> level) || (fields >> extra)) failAt(where, "expected 4 fields: filename x y level");
+    if (!(fields >> name >> x >> y >> level) || (fields >> extra))
+      failAt(where, "expected 4 fields: filename x y level");
     if (rows_of_image.find(name) == rows_of_image.end()) order.push_back(name);
     const int k = rows_of_image[name]++;
     if (x == "-" && y == "-") continue;  // corner (or board) not seen
@@ -103,13 +108,14 @@ DetectionsFile readMrcalVnlog(const std::filesystem::path& path, const Target& t
     if (!std::isfinite(u) || !std::isfinite(v)) failAt(where, "x and y must be finite");
     if (l < 0) continue;  // mrcal: a negative level marks a point to ignore
     if (k >= count)
-      failAt(where, "image '" + name + "' has more than " + std::to_string(count) + " corners (the target's cols x rows)");
+      failAt(where,
+             "image '" + name + "' has more than " + std::to_string(count) + " corners (the target's cols x rows)");
     addFeature(&file, &index, name, k, Eigen::Vector2d(u, v));
   }
   for (const std::string& name : order)
     if (rows_of_image[name] != 1 && rows_of_image[name] != count)
-      failAt(path.string(), "image '" + name + "' has " + std::to_string(rows_of_image[name]) + " corner rows, the target " +
-                                std::to_string(count) + " (cols x rows)");
+      failAt(path.string(), "image '" + name + "' has " + std::to_string(rows_of_image[name]) +
+                                " corner rows, the target " + std::to_string(count) + " (cols x rows)");
   if (file.images.empty()) failAt(path.string(), "no detections");
   return file;
 }
@@ -124,7 +130,8 @@ std::string detectionsCsv(const Target& target, const std::vector<ImageDetection
   out << kDetectionsCsvHeader << "\n";
   for (const ImageDetections& image : images) {
     if (image.image.find_first_of(",\"\n") != std::string::npos)
-      throw std::runtime_error("image name '" + image.image + "' contains ',', '\"' or a line break: cannot be written to CSV");
+      throw std::runtime_error("image name '" + image.image +
+                               "' contains ',', '\"' or a line break: cannot be written to CSV");
     for (std::size_t i = 0; i < image.ids.size(); ++i) {
       const Eigen::Vector3d& p = target.points()[static_cast<std::size_t>(image.ids[i])];
       out << image.image << "," << image.ids[i] << "," << support::formatNumber(image.pixels[i].x()) << ","

@@ -175,8 +175,7 @@ Scatter averageTracks(const std::map<int, Track>& tracks, const std::vector<bool
   const int kept_count = result->images_used;
   Eigen::Vector2d observation_sigma(kSpreadFloorPx, kSpreadFloorPx);
   if (kept_count >= 3) observation_sigma = pooledRobustSigma(residualsPerImage(tracks, kept), kept);
-  const int min_observations =
-      std::max(1, static_cast<int>(std::ceil(options.min_feature_fraction * kept_count - 1e-9)));
+  const int min_observations = std::max(1, static_cast<int>(std::ceil(options.min_feature_fraction * kept_count - 1e-9)));
   Scatter scatter_total;
   for (const auto& [id, track] : tracks) {
     const Eigen::Vector2d centre = trackMedian(track, kept);
@@ -231,8 +230,8 @@ void featureCovariances(const Scatter& scatter, const AveragingOptions& options,
     return;
   }
   const std::vector<double> scales = relativeScales(scatter.sample_covariance, result->pooled_covariance);
-  const double prior = options.pooled_prior_dof > 0.0 ? options.pooled_prior_dof
-                                                      : empiricalPriorDof(scales, result->observations);
+  const double prior =
+      options.pooled_prior_dof > 0.0 ? options.pooled_prior_dof : empiricalPriorDof(scales, result->observations);
   result->prior_dof = prior;
   for (std::size_t i = 0; i < result->ids.size(); ++i) {
     const double n = result->observations[i];

@@ -87,8 +87,8 @@ double refine(const calibration::Camera& camera, const std::vector<Eigen::Vector
   ceres::Problem problem;
   for (std::size_t i = 0; i < features.size(); ++i) {
     const auto& point = points[static_cast<std::size_t>(features.ids[i])];
-    problem.AddResidualBlock(makeCost(camera, point, features.pixels[i], whitening[i]).release(), nullptr,
-                             pose, camera_params.data());
+    problem.AddResidualBlock(makeCost(camera, point, features.pixels[i], whitening[i]).release(), nullptr, pose,
+                             camera_params.data());
   }
   problem.SetParameterBlockConstant(camera_params.data());
   ceres::Solver::Options solver_options;
@@ -108,8 +108,8 @@ double refine(const calibration::Camera& camera, const std::vector<Eigen::Vector
 
 // Whitened Jacobians with the given whitening; J_p columns in (angle-axis, t) order.
 void jacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
-               const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening,
-               const double pose[6], Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics) {
+               const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening, const double pose[6],
+               Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics) {
   const Eigen::Index n = static_cast<Eigen::Index>(features.size());
   const int k = static_cast<int>(camera.params.size());
   jacobian_pose->setZero(2 * n, 6);
@@ -173,8 +173,7 @@ std::string ippeSolutions(const calibration::Camera& camera, const std::vector<E
 // Ceres refinement of each IPPE solution in front of the camera through the full distortion
 // model; the finite ones, cheapest first.
 std::vector<Candidate> refinedCandidates(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
-                                         const AveragedFeatures& features,
-                                         const std::vector<Eigen::Matrix2d>& whitening,
+                                         const AveragedFeatures& features, const std::vector<Eigen::Matrix2d>& whitening,
                                          const std::vector<cv::Mat>& rvecs, const std::vector<cv::Mat>& tvecs,
                                          const PoseOptions& options) {
   std::vector<Candidate> candidates;
@@ -188,8 +187,7 @@ std::vector<Candidate> refinedCandidates(const calibration::Camera& camera, cons
     candidate.cost = refine(camera, points, features, whitening, candidate.pose, options.max_iterations);
     if (std::isfinite(candidate.cost)) candidates.push_back(candidate);
   }
-  std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
   return candidates;
 }
 
@@ -205,12 +203,11 @@ void chooseCandidate(const std::vector<Candidate>& candidates, const PoseOptions
   const Candidate& second = candidates[1];
   const Eigen::Isometry3d other = isometryFromParameters(second.pose);
   // Both IPPE solutions may refine to the same minimum: then there is no ambiguity.
-  const bool distinct = rotationDistance(other, estimate->cTm) > 1e-6 ||
-                        (other.translation() - estimate->translation).norm() > 1e-9;
+  const bool distinct =
+      rotationDistance(other, estimate->cTm) > 1e-6 || (other.translation() - estimate->translation).norm() > 1e-9;
   if (distinct) {
     estimate->alternative_cTm = other;
-    estimate->ambiguity_cost_ratio =
-        best.cost > 0.0 ? second.cost / best.cost : std::numeric_limits<double>::infinity();
+    estimate->ambiguity_cost_ratio = best.cost > 0.0 ? second.cost / best.cost : std::numeric_limits<double>::infinity();
     estimate->ambiguous = estimate->ambiguity_cost_ratio < options.ambiguity_ratio;
   }
 }
@@ -255,8 +252,7 @@ bool estimatePrecision(const calibration::Camera& camera, const std::vector<Eige
   }
   estimate->covariance_pixel_noise = 0.5 * (noise + noise.transpose());
   const bool inflate = options.inflate_by_residuals && !estimate->scatter_from_residuals;
-  estimate->covariance_noise =
-      estimate->covariance_pixel_noise * (inflate ? std::max(1.0, estimate->reduced_chi2) : 1.0);
+  estimate->covariance_noise = estimate->covariance_pixel_noise * (inflate ? std::max(1.0, estimate->reduced_chi2) : 1.0);
   estimate->covariance_intrinsics = precision.covariance_intrinsics;
   estimate->intrinsics_sensitivity = precision.intrinsics_sensitivity;
   estimate->covariance = estimate->covariance_noise + estimate->covariance_intrinsics;
@@ -287,9 +283,8 @@ PosePrecision posePrecision(const calibration::Camera& camera, const Eigen::Matr
 }
 
 void reprojectionJacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
-                           const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
-                           Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics,
-                           const PoseOptions& options) {
+                           const AveragedFeatures& features, const Eigen::Isometry3d& cTm, Eigen::MatrixXd* jacobian_pose,
+                           Eigen::MatrixXd* jacobian_intrinsics, const PoseOptions& options) {
   const auto whitening = whiteningMatrices(features, options);
   const Eigen::Vector3d r = rotationVector(cTm.linear());
   const double pose[6] = {r.x(), r.y(), r.z(), cTm.translation().x(), cTm.translation().y(), cTm.translation().z()};
@@ -313,8 +308,7 @@ PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<E
   estimate.reason = ippeSolutions(camera, points, features, &rvecs, &tvecs);
   if (!estimate.reason.empty()) return estimate;
   const auto whitening = whiteningMatrices(features, options);
-  const std::vector<Candidate> candidates =
-      refinedCandidates(camera, points, features, whitening, rvecs, tvecs, options);
+  const std::vector<Candidate> candidates = refinedCandidates(camera, points, features, whitening, rvecs, tvecs, options);
   if (candidates.empty()) {
     estimate.reason = "the pose refinement failed from every IPPE solution";
     return estimate;

@@ -59,7 +59,7 @@ AveragedFeatures singleImage(const Detection& detection) {
 
 // One tested image: its own pose, residuals and the pose covariance per unit noise.
 struct ImagePose {
-  int index = 0;  // into the input
+  int index = 0;                     // into the input
   Eigen::Matrix<double, 6, 1> pose;  // (t, r)
   Eigen::Isometry3d cTm;
   std::vector<Eigen::Vector2d> residuals;  // observed − projected, per feature of the detection
@@ -86,8 +86,8 @@ bool fitImage(const calibration::Camera& camera, const std::vector<Eigen::Vector
 // Each feature's centre residual over the images in `members`: the mean, or (robust, when
 // the images may hold two views) the per-axis median.
 std::map<int, std::pair<Eigen::Vector2d, int>> centreResiduals(const std::vector<ImagePose>& images,
-                                                              const std::vector<int>& members,
-                                                              const std::vector<Detection>& detections, bool robust) {
+                                                               const std::vector<int>& members,
+                                                               const std::vector<Detection>& detections, bool robust) {
   std::map<int, std::vector<Eigen::Vector2d>> tracks;
   for (const int m : members) {
     const ImagePose& image = images[static_cast<std::size_t>(m)];
@@ -235,7 +235,8 @@ std::vector<int> largerOfTwoClusters(const std::vector<ImagePose>& images, const
     }
     for (int c = 0; c < 2; ++c)
       if (information[static_cast<std::size_t>(c)].trace() > 0.0)
-        centre[static_cast<std::size_t>(c)] = information[static_cast<std::size_t>(c)].fullPivLu().solve(weighted[static_cast<std::size_t>(c)]);
+        centre[static_cast<std::size_t>(c)] =
+            information[static_cast<std::size_t>(c)].fullPivLu().solve(weighted[static_cast<std::size_t>(c)]);
   }
   std::array<std::vector<int>, 2> clusters;
   for (int j = 0; j < n; ++j) clusters[static_cast<std::size_t>(label[static_cast<std::size_t>(j)])].push_back(j);
@@ -305,8 +306,8 @@ void markDuplicates(const std::vector<Detection>& detections, const std::vector<
   for (const auto& [first, list] : copies)
     result->notes.push_back(std::to_string(list.size()) + " frame(s) identical to " +
                             shortName(names, static_cast<std::size_t>(first)) + " (features equal to " +
-                            toleranceText(options.duplicate_tolerance_px) + " px) counted once: " +
-                            nameList(names, list));
+                            toleranceText(options.duplicate_tolerance_px) +
+                            " px) counted once: " + nameList(names, list));
 }
 
 // The images outside `group` fail the pose (or, split allowed and a majority kept, are left
@@ -318,8 +319,10 @@ void decide(const std::vector<ImagePose>& images, const Eigen::MatrixXd& statist
   std::vector<int> kept, moved;
   for (int a = 0; a < n; ++a) {
     const int index = images[static_cast<std::size_t>(a)].index;
-    if (std::find(group.begin(), group.end(), a) != group.end()) kept.push_back(index);
-    else moved.push_back(index);
+    if (std::find(group.begin(), group.end(), a) != group.end())
+      kept.push_back(index);
+    else
+      moved.push_back(index);
   }
   if (moved.empty()) return;
   std::ostringstream text;
@@ -382,8 +385,10 @@ IntegrityResult checkStaticPose(const calibration::Camera& camera, const std::ve
     if (!result.use[j]) continue;
     ImagePose image;
     image.index = static_cast<int>(j);
-    if (fitImage(bare, points, detections[j], &image)) images.push_back(std::move(image));
-    else result.notes.push_back(shortName(names, j) + ": no pose from this image alone; not tested for motion");
+    if (fitImage(bare, points, detections[j], &image))
+      images.push_back(std::move(image));
+    else
+      result.notes.push_back(shortName(names, j) + ": no pose from this image alone; not tested for motion");
   }
   result.tested_images = static_cast<int>(images.size());
   if (images.size() < 2) return result;

@@ -91,8 +91,10 @@ bool detectAll(const Target& target, const std::vector<cv::Mat>& images, const s
   for (std::size_t j = 0; j < images.size() && reference == images.size(); ++j) {
     (*detections)[j] = copy_of[j] >= 0 ? (*detections)[static_cast<std::size_t>(copy_of[j])]
                                        : detectTarget(target, images[j], options.detection);
-    if ((*detections)[j].found) reference = j;
-    else result->warnings.push_back(imageName(names, j) + ": target not found (" + (*detections)[j].reason + ")");
+    if ((*detections)[j].found)
+      reference = j;
+    else
+      result->warnings.push_back(imageName(names, j) + ": target not found (" + (*detections)[j].reason + ")");
   }
   if (reference == images.size()) {
     result->error = "target not found in any of the " + std::to_string(images.size()) + " images";
@@ -171,8 +173,7 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
 }
 
 PoseMeasurement measurePoseFromFiles(const calibration::Camera& camera, const Target& target,
-                                     const std::vector<std::filesystem::path>& files,
-                                     const MeasurementOptions& options) {
+                                     const std::vector<std::filesystem::path>& files, const MeasurementOptions& options) {
   std::vector<cv::Mat> images;
   std::vector<std::string> names;
   for (const auto& file : files) {
@@ -192,8 +193,10 @@ PoseMeasurement measurePoseFromFiles(const calibration::Camera& camera, const Ta
       failed.error = file.string() + ": not an 8-bit image";
       return failed;
     }
-    if (image.channels() == 3) cv::cvtColor(image, image, cv::COLOR_BGR2GRAY);
-    else if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2GRAY);
+    if (image.channels() == 3)
+      cv::cvtColor(image, image, cv::COLOR_BGR2GRAY);
+    else if (image.channels() == 4)
+      cv::cvtColor(image, image, cv::COLOR_BGRA2GRAY);
     images.push_back(image);
     names.push_back(file.string());
   }

@@ -162,8 +162,8 @@ PosePrediction predictPoseCovariance(const calibration::Camera& camera, const st
                                      const Eigen::Isometry3d& cTm, const PredictionOptions& options) {
   PosePrediction prediction;
   const BoardImageGeometry board = boardImageGeometry(camera, points, cTm);
-  prediction.systematic_px = board.valid ? options.systematicSigma(board.square_px, board.edge_angle_rad)
-                                         : options.systematic_px;
+  prediction.systematic_px =
+      board.valid ? options.systematicSigma(board.square_px, board.edge_angle_rad) : options.systematic_px;
   const double variance = std::pow(options.featureSigma(prediction.systematic_px), 2);
   AveragedFeatures features;
   for (std::size_t i = 0; i < points.size(); ++i) {

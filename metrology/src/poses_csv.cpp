@@ -72,11 +72,10 @@ std::string posesCovarianceCsvString(const std::vector<MeasuredPose>& poses) {
   std::ostringstream out;
   out << "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
   for (const MeasuredPose& pose : poses) {
-    const std::pair<const char*, const Matrix6d*> parts[] = {
-        {"total", &pose.estimate.covariance},
-        {"features", &pose.estimate.covariance_noise},
-        {"intrinsics", &pose.estimate.covariance_intrinsics},
-        {"pixel_noise", &pose.estimate.covariance_pixel_noise}};
+    const std::pair<const char*, const Matrix6d*> parts[] = {{"total", &pose.estimate.covariance},
+                                                             {"features", &pose.estimate.covariance_noise},
+                                                             {"intrinsics", &pose.estimate.covariance_intrinsics},
+                                                             {"pixel_noise", &pose.estimate.covariance_pixel_noise}};
     for (const auto& [name, matrix] : parts)
       for (int r = 0; r < 6; ++r) {
         out << pose.pose_id << ',' << name << ',' << kComponents[r];
@@ -100,6 +99,5 @@ std::filesystem::path covarianceSidePath(const std::filesystem::path& poses_csv)
   result.replace_filename(poses_csv.stem().string() + "_covariance.csv");
   return result;
 }
-
 
 }  // namespace mire::metrology

@@ -5,7 +5,6 @@
 #include "mire/metrology/aruco_boards.hpp"
 #include "mire/support/yaml.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -40,16 +39,17 @@ std::string joined(const std::vector<std::string>& names) {
 
 // The number of markers/tags a target needs from its dictionary, and the family's size.
 void requireIds(long long first, long long count, long long available, const std::string& dictionary) {
-  require(first >= 0 && first + count <= available,
-          "ids " + std::to_string(first) + ".." + std::to_string(first + count - 1) + " do not exist in " + dictionary +
-              " (ids 0.." + std::to_string(available - 1) + ")");
+  require(first >= 0 && first + count <= available, "ids " + std::to_string(first) + ".." +
+                                                        std::to_string(first + count - 1) + " do not exist in " +
+                                                        dictionary + " (ids 0.." + std::to_string(available - 1) + ")");
 }
 
 void validateAprilTag(const TargetSpec& spec) {
   require(isPositiveFinite(spec.tag_size_m), "tag_size_m must be positive");
   const detail::TagFamilyPtr family = detail::createTagFamily(spec.family);
   if (!family)
-    throw std::invalid_argument("unknown AprilTag family '" + spec.family + "' (known: " + joined(detail::tagFamilyNames()) + ")");
+    throw std::invalid_argument("unknown AprilTag family '" + spec.family +
+                                "' (known: " + joined(detail::tagFamilyNames()) + ")");
   if (spec.tags.empty()) {
     require(spec.cols >= 1 && spec.rows >= 1, "cols and rows must be at least 1 for an apriltag grid (got " +
                                                   std::to_string(spec.cols) + " x " + std::to_string(spec.rows) + ")");
@@ -80,7 +80,8 @@ void validateAprilTag(const TargetSpec& spec) {
 void validateAruco(const TargetSpec& spec) {
   const cv::Ptr<cv::aruco::Dictionary> dictionary = arucoDictionary(spec.dictionary);
   if (!dictionary)
-    throw std::invalid_argument("unknown dictionary '" + spec.dictionary + "' (known: " + joined(arucoDictionaryNames()) + ")");
+    throw std::invalid_argument("unknown dictionary '" + spec.dictionary +
+                                "' (known: " + joined(arucoDictionaryNames()) + ")");
   require(isPositiveFinite(spec.marker_size_m), "marker_size_m must be positive");
   const long long available = dictionary->bytesList.rows;
   if (spec.type == TargetType::Charuco) {
@@ -98,9 +99,8 @@ void validateSpec(const TargetSpec& spec) {
   if (spec.type == TargetType::AprilTag) return validateAprilTag(spec);
   const int minimum = spec.type == TargetType::ArucoGrid ? 1 : 3;  // OpenCV's grid finders need 3
   require(spec.cols >= minimum && spec.rows >= minimum,
-          "cols and rows must be at least " + std::to_string(minimum) + " for a " +
-              targetTypeName(spec.type) + " target (got " + std::to_string(spec.cols) + " x " +
-              std::to_string(spec.rows) + ")");
+          "cols and rows must be at least " + std::to_string(minimum) + " for a " + targetTypeName(spec.type) +
+              " target (got " + std::to_string(spec.cols) + " x " + std::to_string(spec.rows) + ")");
   switch (spec.type) {
     case TargetType::Chessboard:
       require(isPositiveFinite(spec.square_size_m), "square_size_m must be positive");
@@ -109,8 +109,7 @@ void validateSpec(const TargetSpec& spec) {
     case TargetType::AsymmetricCircles: {
       require(isPositiveFinite(spec.spacing_m), "spacing_m must be positive");
       require(isPositiveFinite(spec.diameter_m), "diameter_m must be positive");
-      const double nearest =
-          spec.type == TargetType::Circles ? spec.spacing_m : spec.spacing_m * std::sqrt(2.0);
+      const double nearest = spec.type == TargetType::Circles ? spec.spacing_m : spec.spacing_m * std::sqrt(2.0);
       require(spec.diameter_m < nearest, "diameter_m must be smaller than the distance between neighbouring centres (" +
                                              std::to_string(nearest) + " m)");
       break;
@@ -186,8 +185,10 @@ double length(const support::YamlNode& root, const char* key) {
   const double value = root.number(key, {-1e300, 1e300});
   if (!(value > 0.0)) root.at(key).fail("must be a positive length in metres");
   if (value > kLengthRange.max)  // the usual slip: a length written in millimetres
-    root.at(key).fail(support::formatMessageNumber(value) + " m is not a printed target; lengths are in metres, not "
-                      "millimetres (25 mm is " + std::string(key) + ": 0.025)");
+    root.at(key).fail(support::formatMessageNumber(value) +
+                      " m is not a printed target; lengths are in metres, not "
+                      "millimetres (25 mm is " +
+                      std::string(key) + ": 0.025)");
   return value;
 }
 
@@ -391,12 +392,14 @@ std::string Target::yamlString() const {
       out << "family: " << spec_.family << "\n";
       out << "tag_size_m: " << support::formatYamlNumber(spec_.tag_size_m) << "\n";
       if (spec_.tags.empty()) {
-        if (spec_.tag_spacing_m > 0.0) out << "tag_spacing_m: " << support::formatYamlNumber(spec_.tag_spacing_m) << "\n";
+        if (spec_.tag_spacing_m > 0.0)
+          out << "tag_spacing_m: " << support::formatYamlNumber(spec_.tag_spacing_m) << "\n";
         out << "first_id: " << spec_.first_id << "\n";
       } else {
         out << "tags:\n";
         for (const TagPlacement& tag : spec_.tags)
-          out << "  - {id: " << tag.id << ", x: " << support::formatYamlNumber(tag.x_m) << ", y: " << support::formatYamlNumber(tag.y_m) << "}\n";
+          out << "  - {id: " << tag.id << ", x: " << support::formatYamlNumber(tag.x_m)
+              << ", y: " << support::formatYamlNumber(tag.y_m) << "}\n";
       }
       break;
     case TargetType::Charuco:

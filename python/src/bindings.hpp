@@ -42,8 +42,8 @@ void bindCameras(py::module_& m);
 void bindCalibration(py::module_& m);
 void bindTargets(py::module_& m);
 void bindMeasurement(py::module_& m);
-void bindMechanisms(py::module_& m);     // calls bindIdentification
+void bindMechanisms(py::module_& m);  // calls bindIdentification
 void bindIdentification(py::module_& m);
-void bindExperiment(py::module_& m);     // plan / select (after bindMechanisms)
+void bindExperiment(py::module_& m);  // plan / select (after bindMechanisms)
 
 }  // namespace mire::python

@@ -54,8 +54,8 @@ void bindViews(py::module_& m) {
       .def(py::init([](const std::string& name, std::vector<int> ids, const py::handle& pixels) {
              cal::CalibrationView view{name, std::move(ids), toPoints2(pixels, "CalibrationView: pixels")};
              if (view.ids.size() != view.pixels.size())
-               throw py::value_error("CalibrationView '" + name + "': " + std::to_string(view.ids.size()) + " ids but " +
-                                     std::to_string(view.pixels.size()) + " pixels");
+               throw py::value_error("CalibrationView '" + name + "': " + std::to_string(view.ids.size()) +
+                                     " ids but " + std::to_string(view.pixels.size()) + " pixels");
              return view;
            }),
            py::arg("name"), py::arg("ids"), py::arg("pixels"))
@@ -76,8 +76,8 @@ void bindViews(py::module_& m) {
       .def_readonly("tilt_deg", &VR::tilt_deg)
       .def_readonly("ids", &VR::ids)
       .def_property_readonly("pixels", [](const VR& v) { return toArray(v.pixels); })
-      .def_property_readonly("residuals", [](const VR& v) { return toArray(v.residuals); },
-                             "projected − observed (N, 2), px")
+      .def_property_readonly(
+          "residuals", [](const VR& v) { return toArray(v.residuals); }, "projected − observed (N, 2), px")
       .def_property_readonly("inlier", [](const VR& v) {
         py::array_t<bool> out(static_cast<py::ssize_t>(v.inlier.size()));
         for (std::size_t i = 0; i < v.inlier.size(); ++i) out.mutable_at(static_cast<py::ssize_t>(i)) = v.inlier[i];
@@ -128,7 +128,8 @@ void bindResult(py::module_& m) {
         const auto points = toPoints2(pixels, "projectionUncertaintyPx: pixels");
         py::array_t<double> out(static_cast<py::ssize_t>(points.size()));
         for (std::size_t i = 0; i < points.size(); ++i)
-          out.mutable_at(static_cast<py::ssize_t>(i)) = cal::projectionUncertaintyPx(result, points[i], workingDistance(result, distance_m));
+          out.mutable_at(static_cast<py::ssize_t>(i)) =
+              cal::projectionUncertaintyPx(result, points[i], workingDistance(result, distance_m));
         return out;
       },
       py::arg("result"), py::arg("pixels"), py::arg("distance_m") = 0.0,
@@ -175,9 +176,9 @@ cal::CalibrationResult calibrateFromImages(const metrology::Target& target, cons
       width = gray.cols;
       height = gray.rows;
     } else if (gray.cols != width || gray.rows != height) {
-      throw std::runtime_error("image '" + name + "' is " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) +
-                               ", the first image is " + std::to_string(width) + "x" + std::to_string(height) +
-                               ": one camera, one size");
+      throw std::runtime_error("image '" + name + "' is " + std::to_string(gray.cols) + "x" +
+                               std::to_string(gray.rows) + ", the first image is " + std::to_string(width) + "x" +
+                               std::to_string(height) + ": one camera, one size");
     }
     metrology::Detection found;
     {

@@ -67,12 +67,14 @@ py::array_t<double> unprojectPixels(const Camera& camera, const py::handle& pixe
 calibration::CameraFormat formatOf(const std::optional<std::string>& name, const std::filesystem::path& path) {
   if (name) {
     const auto format = calibration::cameraFormatFromName(*name);
-    if (!format) throw py::value_error("unknown camera format '" + *name + "' (known: opencv, ros, visp, kalibr, mrcal)");
+    if (!format)
+      throw py::value_error("unknown camera format '" + *name + "' (known: opencv, ros, visp, kalibr, mrcal)");
     return *format;
   }
   const auto format = calibration::cameraFormatFromExtension(path);
   if (!format)
-    throw py::value_error(path.string() + ": cannot tell the camera format from the name; pass format= "
+    throw py::value_error(path.string() +
+                          ": cannot tell the camera format from the name; pass format= "
                           "(opencv, ros, visp, kalibr, mrcal)");
   return *format;
 }
@@ -82,7 +84,8 @@ void bindCameraClass(py::module_& m) {
       .value("OpenCV", calibration::LensModel::OpenCV)
       .value("Fisheye", calibration::LensModel::Fisheye);
 
-  py::class_<Camera>(m, "Camera", "A calibrated camera: fx fy cx cy + lens coefficients (OpenCV's order and pixel convention).")
+  py::class_<Camera>(m, "Camera",
+                     "A calibrated camera: fx fy cx cy + lens coefficients (OpenCV's order and pixel convention).")
       .def(py::init<>())
       .def(py::init([](int width, int height, std::vector<double> params, calibration::LensModel lens) {
              Camera camera;
@@ -133,7 +136,8 @@ void bindCameraFiles(py::module_& m) {
   m.def("cameraFormatFromName", &calibration::cameraFormatFromName);
   m.def("cameraFormatFromExtension", &calibration::cameraFormatFromExtension);
   m.def("detectCameraFormat", &calibration::detectCameraFormat, py::arg("path"));
-  m.def("readCamera", &calibration::readCamera, py::arg("path"), "Reads a camera in any readable format (from the content).");
+  m.def("readCamera", &calibration::readCamera, py::arg("path"),
+        "Reads a camera in any readable format (from the content).");
   m.def("readCameraYaml", &calibration::readCameraYaml, py::arg("path"));
   m.def("readCameraVispXml", &calibration::readCameraVispXml, py::arg("path"));
   m.def("readCameraKalibrYaml", &calibration::readCameraKalibrYaml, py::arg("path"));
@@ -142,7 +146,8 @@ void bindCameraFiles(py::module_& m) {
   m.def("cameraRosYamlString", &calibration::cameraRosYamlString, py::arg("camera"), py::arg("camera_name") = "camera");
   m.def("cameraKalibrYamlString", &calibration::cameraKalibrYamlString, py::arg("camera"));
   m.def("cameraMrcalString", &calibration::cameraMrcalString, py::arg("camera"));
-  m.def("cameraString", &calibration::cameraString, py::arg("camera"), py::arg("format"), py::arg("camera_name") = "camera");
+  m.def("cameraString", &calibration::cameraString, py::arg("camera"), py::arg("format"),
+        py::arg("camera_name") = "camera");
   m.def(
       "writeCamera",
       [](const Camera& camera, const std::filesystem::path& path, const std::optional<std::string>& format,

@@ -10,9 +10,10 @@ DoubleArray requirePoints(const py::handle& object, int dim, const std::string& 
   if (!array) throw py::type_error(what + ": expected an array of numbers");
   if (array.ndim() == 1 && array.shape(0) == dim) return array.reshape({py::ssize_t{1}, py::ssize_t{dim}});
   if (array.ndim() != 2 || array.shape(1) != dim)
-    throw py::value_error(what + ": expected an (N, " + std::to_string(dim) + ") array, got " +
-                          std::to_string(array.ndim()) + " dimension(s) of sizes " +
-                          py::str(py::cast(std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()))).cast<std::string>());
+    throw py::value_error(
+        what + ": expected an (N, " + std::to_string(dim) + ") array, got " + std::to_string(array.ndim()) +
+        " dimension(s) of sizes " +
+        py::str(py::cast(std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()))).cast<std::string>());
   return array;
 }
 
@@ -59,7 +60,8 @@ Eigen::Matrix4d toMatrix(const Eigen::Isometry3d& transform) { return transform.
 Eigen::Isometry3d toIsometry(const Eigen::Matrix4d& matrix, const std::string& what) {
   if (!matrix.allFinite()) throw py::value_error(what + ": non-finite entries");
   const Eigen::Matrix3d r = matrix.topLeftCorner<3, 3>();
-  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-6 || matrix.row(3).transpose() != Eigen::Vector4d(0, 0, 0, 1))
+  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+      matrix.row(3).transpose() != Eigen::Vector4d(0, 0, 0, 1))
     throw py::value_error(what + ": not a rigid transform (4x4, orthonormal rotation, last row 0 0 0 1)");
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
   transform.linear() = r;

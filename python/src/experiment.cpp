@@ -47,7 +47,10 @@ std::vector<Eigen::VectorXd> poseRows(const mech::Mechanism& mechanism, const Ei
 void bindWorkspace(py::module_& m) {
   using I = mech::Interval;
   py::class_<I>(m, "Interval")
-      .def(py::init([](double min, double max) { return I{min, max}; }), py::arg("min") = 0.0, py::arg("max") = 0.0)
+      .def(py::init([](double min, double max) {
+             return I{min, max};
+           }),
+           py::arg("min") = 0.0, py::arg("max") = 0.0)
       .def_readwrite("min", &I::min)
       .def_readwrite("max", &I::max)
       .def("width", &I::width)
@@ -67,12 +70,18 @@ void bindWorkspace(py::module_& m) {
       .def_readwrite("rotations", &W::rotations, "list of Interval [rad] (assign a new list; a copy is returned)")
       .def_readwrite("joint_margin", &W::joint_margin)
       .def_readwrite("min_jacobian_ratio", &W::min_jacobian_ratio);
-  m.def("protocolWorkspace", [](const std::shared_ptr<mech::Mechanism>& mechanism, const Eigen::VectorXd& geometric) {
-    return mech::protocolWorkspace(*mechanism, geometric);
-  }, py::arg("mechanism"), py::arg("geometric"));
-  m.def("validateWorkspace", [](const W& workspace, const std::shared_ptr<mech::Mechanism>& mechanism) {
-    mech::validateWorkspace(workspace, *mechanism);
-  }, py::arg("workspace"), py::arg("mechanism"));
+  m.def(
+      "protocolWorkspace",
+      [](const std::shared_ptr<mech::Mechanism>& mechanism, const Eigen::VectorXd& geometric) {
+        return mech::protocolWorkspace(*mechanism, geometric);
+      },
+      py::arg("mechanism"), py::arg("geometric"));
+  m.def(
+      "validateWorkspace",
+      [](const W& workspace, const std::shared_ptr<mech::Mechanism>& mechanism) {
+        mech::validateWorkspace(workspace, *mechanism);
+      },
+      py::arg("workspace"), py::arg("mechanism"));
   m.def(
       "generateCandidatePoses",
       [](const std::shared_ptr<mech::Mechanism>& mechanism, const Eigen::VectorXd& geometric, const W& workspace,
@@ -82,10 +91,11 @@ void bindWorkspace(py::module_& m) {
       },
       py::arg("mechanism"), py::arg("geometric"), py::arg("workspace"), py::arg("count"), py::arg("seed") = 1u,
       "Candidate poses (count, poseDof) drawn uniformly in the workspace, reproducible for a seed.");
-  m.def("candidateAcceptable",
-        [](const std::shared_ptr<mech::Mechanism>& mechanism, const Eigen::VectorXd& geometric, const W& workspace,
-           const Eigen::VectorXd& pose) { return mech::candidateAcceptable(*mechanism, geometric, workspace, pose); },
-        py::arg("mechanism"), py::arg("geometric"), py::arg("workspace"), py::arg("pose"));
+  m.def(
+      "candidateAcceptable",
+      [](const std::shared_ptr<mech::Mechanism>& mechanism, const Eigen::VectorXd& geometric, const W& workspace,
+         const Eigen::VectorXd& pose) { return mech::candidateAcceptable(*mechanism, geometric, workspace, pose); },
+      py::arg("mechanism"), py::arg("geometric"), py::arg("workspace"), py::arg("pose"));
 }
 
 void bindModels(py::module_& m) {
@@ -129,7 +139,8 @@ void bindDesignOptions(py::module_& m) {
       .def_readonly("model", &C::model)
       .def_readonly("free_names", &C::free_names)
       .def_readonly("geometric_free", &C::geometric_free)
-      .def_property_readonly("poses", [](const C& c) { return fromRows(c.poses); }, "(N, poseDof)")
+      .def_property_readonly(
+          "poses", [](const C& c) { return fromRows(c.poses); }, "(N, poseDof)")
       .def_readonly("observations", &C::observations)
       .def_readonly("rows", &C::rows, "whitened Jacobian rows per candidate (jointCount, free)");
 }
@@ -186,17 +197,15 @@ void bindSelectionInputs(py::module_& m) {
   py::class_<C>(m, "SelectionCandidate")
       .def_readonly("label", &C::label)
       .def_readonly("model", &C::model)
-      .def_property_readonly("variant", [](const C& c) { return c.variant ? std::string(1, c.variant) : std::string(); },
-                             "H4 variant letter, '' for a plain registry model");
+      .def_property_readonly(
+          "variant", [](const C& c) { return c.variant ? std::string(1, c.variant) : std::string(); },
+          "H4 variant letter, '' for a plain registry model");
   m.def("parseSelectionCandidates", &parseSelectionCandidates, py::arg("text"), py::arg("make") = py::none(),
         "'h4-12:A,B,C,D,h4-31c:E,F,G,H' or 'delta,delta-legs'; `make(name)` -> DesignModel (default "
         "makeDesignModel(name)).");
   m.def("defaultSelectionModels", &mech::defaultSelectionModels, py::arg("joint_count"), py::arg("unit"));
   using O = mech::SelectionOptions;
-  py::class_<O>(m, "SelectionOptions")
-      .def(py::init<>())
-      .def_readwrite("folds", &O::folds)
-      .def_readwrite("seed", &O::seed);
+  py::class_<O>(m, "SelectionOptions").def(py::init<>()).def_readwrite("folds", &O::folds).def_readwrite("seed", &O::seed);
 }
 
 void bindSelectionResult(py::module_& m) {

@@ -71,17 +71,21 @@ void bindModel(py::module_& m) {
       .def("externalValues", &IM::externalValues)
       .def("predictJoints", &IM::predictJoints, py::arg("cTm"))
       .def("copy", [](const IM& s) { return IM(s); });
-  m.def("makeIdentificationModel",
-        [](const MechanismPtr& mechanism, const mech::ParameterSet& geometric, const mech::ExternalParameterization& external,
-           const mech::ParameterSet& values) { return mech::makeIdentificationModel(mechanism, geometric, external, values); },
-        py::arg("mechanism"), py::arg("geometric"), py::arg("external"), py::arg("external_values"));
-  m.def("makeInitialModel",
-        [](const MechanismPtr& mechanism, const mech::ParameterSet& geometric, const std::vector<mech::PoseObservation>& poses,
-           mech::ExternalForm form, double z_ME) {
-          py::gil_scoped_release release;
-          return mech::makeInitialModel(mechanism, geometric, poses, form, z_ME);
-        },
-        py::arg("mechanism"), py::arg("geometric"), py::arg("poses"), py::arg("form"), py::arg("z_ME") = 0.0);
+  m.def(
+      "makeIdentificationModel",
+      [](const MechanismPtr& mechanism, const mech::ParameterSet& geometric,
+         const mech::ExternalParameterization& external, const mech::ParameterSet& values) {
+        return mech::makeIdentificationModel(mechanism, geometric, external, values);
+      },
+      py::arg("mechanism"), py::arg("geometric"), py::arg("external"), py::arg("external_values"));
+  m.def(
+      "makeInitialModel",
+      [](const MechanismPtr& mechanism, const mech::ParameterSet& geometric,
+         const std::vector<mech::PoseObservation>& poses, mech::ExternalForm form, double z_ME) {
+        py::gil_scoped_release release;
+        return mech::makeInitialModel(mechanism, geometric, poses, form, z_ME);
+      },
+      py::arg("mechanism"), py::arg("geometric"), py::arg("poses"), py::arg("form"), py::arg("z_ME") = 0.0);
   m.def("unreachablePoses", &mech::unreachablePoses, py::arg("model"), py::arg("poses"));
 
   py::enum_<mech::RobustLoss>(m, "RobustLoss")
@@ -89,7 +93,9 @@ void bindModel(py::module_& m) {
       .value("Huber", mech::RobustLoss::Huber)
       .value("Cauchy", mech::RobustLoss::Cauchy);
   py::class_<mech::GaussianPrior>(m, "GaussianPrior")
-      .def(py::init([](std::string name, double mean, double sigma) { return mech::GaussianPrior{std::move(name), mean, sigma}; }),
+      .def(py::init([](std::string name, double mean, double sigma) {
+             return mech::GaussianPrior{std::move(name), mean, sigma};
+           }),
            py::arg("name"), py::arg("mean"), py::arg("sigma"))
       .def_readwrite("name", &mech::GaussianPrior::name)
       .def_readwrite("mean", &mech::GaussianPrior::mean)
@@ -140,8 +146,8 @@ void bindResult(py::module_& m) {
       .def_readonly("solve_seconds", &R::solve_seconds)
       .def_readonly("solver_report", &R::solver_report);
   const auto release = py::call_guard<py::gil_scoped_release>();
-  m.def("identify", &mech::identify, py::arg("model"), py::arg("poses"), py::arg("options") = mech::IdentificationOptions{},
-        release);
+  m.def("identify", &mech::identify, py::arg("model"), py::arg("poses"),
+        py::arg("options") = mech::IdentificationOptions{}, release);
   m.def("identificationJacobian", &mech::identificationJacobian, py::arg("model"), py::arg("poses"), release);
   m.def("analyzeIdentifiability", &mech::analyzeIdentifiability, py::arg("model"), py::arg("poses"),
         py::arg("options") = mech::IdentifiabilityOptions{}, release);
@@ -157,7 +163,9 @@ void bindResult(py::module_& m) {
   m.def(
       "alignTranslatingTarget",
       [](const MechanismPtr& mechanism, const mech::ExternalParameterization& form, mech::ParameterSet& parameters,
-         const std::vector<mech::PoseObservation>& poses) { mech::alignTranslatingTarget(*mechanism, form, parameters, poses); },
+         const std::vector<mech::PoseObservation>& poses) {
+        mech::alignTranslatingTarget(*mechanism, form, parameters, poses);
+      },
       py::arg("mechanism"), py::arg("form"), py::arg("parameters"), py::arg("poses"), "Updates `parameters` in place.");
 }
 
@@ -201,17 +209,20 @@ void bindEvaluation(py::module_& m) {
       .def_readonly("pose_count", &J::pose_count)
       .def_readonly("unreachable", &J::unreachable);
   m.def("jointResidualCriteria", &mech::jointResidualCriteria, py::arg("model"), py::arg("validation"));
-  m.def("straightness", [](const py::handle& points) { return mech::straightness(toPoints3(points, "straightness: points")); },
-        py::arg("points"));
+  m.def(
+      "straightness",
+      [](const py::handle& points) { return mech::straightness(toPoints3(points, "straightness: points")); },
+      py::arg("points"));
   using S = mech::StraightnessResult;
   py::class_<S>(m, "StraightnessResult")
       .def_readonly("per_line_m", &S::per_line_m)
       .def_readonly("v3_m", &S::v3_m)
-      .def_property_readonly("points", [](const S& s) {
-        py::list out;
-        for (const auto& line : s.points) out.append(toArray(line));
-        return out;
-      })
+      .def_property_readonly("points",
+                             [](const S& s) {
+                               py::list out;
+                               for (const auto& line : s.points) out.append(toArray(line));
+                               return out;
+                             })
       .def_readonly("ok", &S::ok)
       .def_readonly("message", &S::message);
   m.def(
@@ -227,9 +238,12 @@ void bindEvaluation(py::module_& m) {
       },
       py::arg("mechanism"), py::arg("geometric"), py::arg("lines"),
       "V3 (eq. 29) from recorded lines: a list of (N_i, jointCount) joint arrays.");
-  m.def("commandJoints", [](const MechanismPtr& mechanism, const Eigen::VectorXd& geometric,
-                            const std::vector<Eigen::VectorXd>& poses) { return mech::commandJoints(*mechanism, geometric, poses); },
-        py::arg("mechanism"), py::arg("geometric"), py::arg("poses"));
+  m.def(
+      "commandJoints",
+      [](const MechanismPtr& mechanism, const Eigen::VectorXd& geometric, const std::vector<Eigen::VectorXd>& poses) {
+        return mech::commandJoints(*mechanism, geometric, poses);
+      },
+      py::arg("mechanism"), py::arg("geometric"), py::arg("poses"));
   m.def("squareCorners", &mech::squareCorners, py::arg("centre"), py::arg("side"));
   m.def("squareSideErrors", &mech::squareSideErrors, py::arg("reached_corners"), py::arg("side"));
 }

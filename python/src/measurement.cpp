@@ -62,14 +62,16 @@ void bindResults(py::module_& m) {
   py::class_<A>(m, "AveragedFeatures")
       .def_readonly("ids", &A::ids)
       .def_property_readonly("pixels", [](const A& a) { return toArray(a.pixels); })
-      .def_property_readonly("covariance", [](const A& a) {
-        py::array_t<double> out({static_cast<py::ssize_t>(a.covariance.size()), py::ssize_t{2}, py::ssize_t{2}});
-        auto view = out.mutable_unchecked<3>();
-        for (std::size_t i = 0; i < a.covariance.size(); ++i)
-          for (int r = 0; r < 2; ++r)
-            for (int c = 0; c < 2; ++c) view(static_cast<py::ssize_t>(i), r, c) = a.covariance[i](r, c);
-        return out;
-      })
+      .def_property_readonly(
+          "covariance",
+          [](const A& a) {
+            py::array_t<double> out({static_cast<py::ssize_t>(a.covariance.size()), py::ssize_t{2}, py::ssize_t{2}});
+            auto view = out.mutable_unchecked<3>();
+            for (std::size_t i = 0; i < a.covariance.size(); ++i)
+              for (int r = 0; r < 2; ++r)
+                for (int c = 0; c < 2; ++c) view(static_cast<py::ssize_t>(i), r, c) = a.covariance[i](r, c);
+            return out;
+          })
       .def_readonly("observations", &A::observations)
       .def_readonly("images_used", &A::images_used)
       .def_readonly("images_total", &A::images_total)
@@ -81,7 +83,8 @@ void bindResults(py::module_& m) {
   py::class_<E>(m, "PoseEstimate", "cTm with its precision; covariances in (tx ty tz rx ry rz) order, SI.")
       .def_readonly("valid", &E::valid)
       .def_readonly("reason", &E::reason)
-      .def_property_readonly("cTm", [](const E& e) { return toMatrix(e.cTm); }, "4×4 camera <- target")
+      .def_property_readonly(
+          "cTm", [](const E& e) { return toMatrix(e.cTm); }, "4×4 camera <- target")
       .def_readonly("translation", &E::translation)
       .def_readonly("rotation_vector", &E::rotation_vector)
       .def_readonly("covariance_pixel_noise", &E::covariance_pixel_noise)
@@ -95,8 +98,9 @@ void bindResults(py::module_& m) {
       .def_readonly("ambiguous", &E::ambiguous)
       .def_readonly("ambiguity_cost_ratio", &E::ambiguity_cost_ratio)
       .def_property_readonly("alternative_cTm", [](const E& e) { return toMatrix(e.alternative_cTm); })
-      .def_property_readonly("sigmas", [](const E& e) { return Eigen::Matrix<double, 6, 1>(E::sigmas(e.covariance)); },
-                             "1-σ of (tx ty tz rx ry rz), m and rad");
+      .def_property_readonly(
+          "sigmas", [](const E& e) { return Eigen::Matrix<double, 6, 1>(E::sigmas(e.covariance)); },
+          "1-σ of (tx ty tz rx ry rz), m and rad");
   using P = met::PoseMeasurement;
   py::class_<P>(m, "PoseMeasurement")
       .def_readonly("ok", &P::ok)
@@ -107,8 +111,9 @@ void bindResults(py::module_& m) {
       .def_readonly("features", &P::features)
       .def_readonly("estimate", &P::estimate)
       .def_readonly("detections", &P::detections)
-      .def_property_readonly("flags", [](const P& p) { return met::measurementFlags(p); },
-                             "the codes `mire measure` writes in poses.csv's flags column");
+      .def_property_readonly(
+          "flags", [](const P& p) { return met::measurementFlags(p); },
+          "the codes `mire measure` writes in poses.csv's flags column");
 }
 
 met::PoseMeasurement measureArrays(const calibration::Camera& camera, const met::Target& target, const py::list& images,

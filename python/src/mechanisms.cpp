@@ -78,11 +78,14 @@ void bindParameters(py::module_& m) {
       .def("freeCount", &PS::freeCount)
       .def("freeNames", &PS::freeNames)
       .def("expansion", &PS::expansion)
-      .def("asDict", [](const PS& s) {
-        py::dict out;
-        for (const auto& p : s.parameters()) out[py::str(p.name)] = p.value;
-        return out;
-      }, "{name: value (SI)}");
+      .def(
+          "asDict",
+          [](const PS& s) {
+            py::dict out;
+            for (const auto& p : s.parameters()) out[py::str(p.name)] = p.value;
+            return out;
+          },
+          "{name: value (SI)}");
 }
 
 void bindExternal(py::module_& m) {
@@ -98,7 +101,8 @@ void bindExternal(py::module_& m) {
       .def_readwrite("covariance", &mech::AxisAlignment::covariance);
   using EP = mech::ExternalParameterization;
   py::class_<EP>(m, "ExternalParameterization")
-      .def(py::init<mech::ExternalForm, mech::AxisAlignment>(), py::arg("form"), py::arg("alignment") = mech::AxisAlignment{})
+      .def(py::init<mech::ExternalForm, mech::AxisAlignment>(), py::arg("form"),
+           py::arg("alignment") = mech::AxisAlignment{})
       .def("form", &EP::form)
       .def("alignment", &EP::alignment)
       .def("size", py::overload_cast<>(&EP::size, py::const_))
@@ -112,16 +116,17 @@ void bindExternal(py::module_& m) {
 }
 
 // Vectorised IKM: poses (N, poseDof) -> joints (N, jointCount), NaN rows where unreachable.
-Eigen::MatrixXd ikmRows(const mech::Mechanism& mechanism, const Eigen::VectorXd& geometric,
-                        const Eigen::MatrixXd& poses) {
+Eigen::MatrixXd ikmRows(const mech::Mechanism& mechanism, const Eigen::VectorXd& geometric, const Eigen::MatrixXd& poses) {
   if (poses.cols() != mechanism.poseDof())
     throw py::value_error("ikm: poses must have " + std::to_string(mechanism.poseDof()) + " columns (" +
                           py::str(py::cast(mechanism.poseComponentNames())).cast<std::string>() + ")");
   Eigen::MatrixXd joints(poses.rows(), mechanism.jointCount());
   for (Eigen::Index i = 0; i < poses.rows(); ++i) {
     const auto result = mechanism.inverseKinematics(geometric, mechanism.poseToTransform(poses.row(i).transpose()));
-    if (result.reachable()) joints.row(i) = result.joints.transpose();
-    else joints.row(i).setConstant(kNaN);
+    if (result.reachable())
+      joints.row(i) = result.joints.transpose();
+    else
+      joints.row(i).setConstant(kNaN);
   }
   return joints;
 }
@@ -180,11 +185,15 @@ void bindMechanism(py::module_& m) {
       .def("nominal", &M::nominal)
       .def("geometricCount", &M::geometricCount)
       .def("poseToTransform", [](const M& s, const Eigen::VectorXd& pose) { return toMatrix(s.poseToTransform(pose)); })
-      .def("transformToPose", [](const M& s, const Eigen::Matrix4d& bTe) { return s.transformToPose(toIsometry(bTe, "bTe")); })
+      .def("transformToPose",
+           [](const M& s, const Eigen::Matrix4d& bTe) { return s.transformToPose(toIsometry(bTe, "bTe")); })
       .def("referencePose", &M::referencePose)
-      .def("inverseKinematics", [](const M& s, const Eigen::VectorXd& geometric, const Eigen::Matrix4d& bTe) {
-        return s.inverseKinematics(geometric, toIsometry(bTe, "bTe"));
-      }, py::arg("geometric"), py::arg("bTe"))
+      .def(
+          "inverseKinematics",
+          [](const M& s, const Eigen::VectorXd& geometric, const Eigen::Matrix4d& bTe) {
+            return s.inverseKinematics(geometric, toIsometry(bTe, "bTe"));
+          },
+          py::arg("geometric"), py::arg("bTe"))
       .def("forwardKinematics", &M::forwardKinematics, py::arg("geometric"), py::arg("joints"), py::arg("initial_pose"),
            py::arg("options") = mech::FkmOptions{})
       .def("predictJoints", &M::predictJoints, py::arg("external"), py::arg("geometric"), py::arg("external_values"),
@@ -214,9 +223,12 @@ void bindH4AndRegistry(py::module_& m) {
       .def_readwrite("alpha", &mech::H4Nominal::alpha)
       .def_readwrite("q0", &mech::H4Nominal::q0)
       .def_readwrite("amplification", &mech::H4Nominal::amplification);
-  m.def("makeH4Mechanism", [](mech::H4ModelKind kind, const mech::H4Nominal& nominal) {
-    return MechanismPtr(mech::makeH4Mechanism(kind, nominal));
-  }, py::arg("kind"), py::arg("nominal") = mech::H4Nominal{});
+  m.def(
+      "makeH4Mechanism",
+      [](mech::H4ModelKind kind, const mech::H4Nominal& nominal) {
+        return MechanismPtr(mech::makeH4Mechanism(kind, nominal));
+      },
+      py::arg("kind"), py::arg("nominal") = mech::H4Nominal{});
   m.def("h4Model12Parameters", &mech::h4Model12Parameters, py::arg("nominal") = mech::H4Nominal{});
   m.def("model31FromModel12", [](const mech::ParameterSet& p) { return mech::model31FromModel12(p); });
 
@@ -239,12 +251,14 @@ mech::PoseObservation makeObservation(std::string id, const mech::PoseVector& cT
 }
 
 // Observations from arrays: ids (N), cTm (N, 6) [m, rad], joints (N, J), covariances (N, 6, 6) or None.
-std::vector<mech::PoseObservation> observationsFromArrays(const std::vector<std::string>& ids, const Eigen::MatrixXd& poses,
-                                                          const Eigen::MatrixXd& joints, const py::object& covariances) {
+std::vector<mech::PoseObservation> observationsFromArrays(const std::vector<std::string>& ids,
+                                                          const Eigen::MatrixXd& poses, const Eigen::MatrixXd& joints,
+                                                          const py::object& covariances) {
   const auto n = static_cast<Eigen::Index>(ids.size());
   if (poses.rows() != n || poses.cols() != 6)
     throw py::value_error("observationsFromArrays: poses must be (" + std::to_string(n) + ", 6): tx ty tz rx ry rz");
-  if (joints.rows() != n) throw py::value_error("observationsFromArrays: joints must have " + std::to_string(n) + " rows");
+  if (joints.rows() != n)
+    throw py::value_error("observationsFromArrays: joints must have " + std::to_string(n) + " rows");
   const bool has_covariances = !covariances.is_none();
   DoubleArray cov;
   if (has_covariances) {
@@ -261,7 +275,8 @@ std::vector<mech::PoseObservation> observationsFromArrays(const std::vector<std:
         for (int k = 0; k < 6; ++k) matrix(r, k) = cov.at(i, r, k);
       c = matrix;
     }
-    out.push_back(makeObservation(ids[static_cast<std::size_t>(i)], poses.row(i).transpose(), joints.row(i).transpose(), c));
+    out.push_back(
+        makeObservation(ids[static_cast<std::size_t>(i)], poses.row(i).transpose(), joints.row(i).transpose(), c));
   }
   return out;
 }
@@ -269,7 +284,8 @@ std::vector<mech::PoseObservation> observationsFromArrays(const std::vector<std:
 void bindObservations(py::module_& m) {
   using O = mech::PoseObservation;
   py::class_<O>(m, "PoseObservation")
-      .def(py::init(&makeObservation), py::arg("id"), py::arg("cTm"), py::arg("joints"), py::arg("covariance") = py::none())
+      .def(py::init(&makeObservation), py::arg("id"), py::arg("cTm"), py::arg("joints"),
+           py::arg("covariance") = py::none())
       .def_readwrite("id", &O::id)
       .def_readwrite("cTm", &O::cTm)
       .def_readwrite("joints", &O::joints)
@@ -278,7 +294,9 @@ void bindObservations(py::module_& m) {
         py::arg("covariances") = py::none());
   m.def("validatePoses", &mech::validatePoses, py::arg("poses"), py::arg("joint_count"));
   m.def("toPoseVector", [](const Eigen::Matrix4d& t) { return mech::toPoseVector(toIsometry(t, "transform")); });
-  m.def("toIsometry", [](const mech::PoseVector& p) { return toMatrix(mech::toIsometry(p)); }, "4×4 from (tx ty tz rx ry rz)");
+  m.def(
+      "toIsometry", [](const mech::PoseVector& p) { return toMatrix(mech::toIsometry(p)); },
+      "4×4 from (tx ty tz rx ry rz)");
 
   py::class_<mech::PoseRow>(m, "PoseRow")
       .def_readonly("observation", &mech::PoseRow::observation)
@@ -289,16 +307,18 @@ void bindObservations(py::module_& m) {
       .def_readonly("pose_id", &mech::JointRow::pose_id)
       .def_readonly("joints", &mech::JointRow::joints)
       .def_readonly("line", &mech::JointRow::line);
-  m.def("readJointsCsv", py::overload_cast<const std::filesystem::path&, const std::vector<std::string>&>(&mech::readJointsCsv),
+  m.def("readJointsCsv",
+        py::overload_cast<const std::filesystem::path&, const std::vector<std::string>&>(&mech::readJointsCsv),
         py::arg("joints_csv"), py::arg("joint_columns"));
-  m.def("readJointsCsv", py::overload_cast<const std::filesystem::path&, int>(&mech::readJointsCsv), py::arg("joints_csv"),
-        py::arg("joint_count") = 4);
+  m.def("readJointsCsv", py::overload_cast<const std::filesystem::path&, int>(&mech::readJointsCsv),
+        py::arg("joints_csv"), py::arg("joint_count") = 4);
   py::class_<mech::ObservationSet>(m, "ObservationSet")
       .def_readonly("poses", &mech::ObservationSet::poses)
       .def_readonly("unused_joint_ids", &mech::ObservationSet::unused_joint_ids);
   m.def("readObservations",
         py::overload_cast<const std::filesystem::path&, const std::filesystem::path&,
-                          const std::optional<std::filesystem::path>&, const std::vector<std::string>&>(&mech::readObservations),
+                          const std::optional<std::filesystem::path>&, const std::vector<std::string>&>(
+            &mech::readObservations),
         py::arg("poses_csv"), py::arg("joints_csv"), py::arg("covariance_csv"), py::arg("joint_columns"));
   m.def("readObservations",
         py::overload_cast<const std::filesystem::path&, const std::filesystem::path&,
@@ -310,7 +330,8 @@ void bindObservations(py::module_& m) {
       .def_readwrite("joints", &mech::LineRecord::joints);
   m.def("readLinesCsv", py::overload_cast<const std::filesystem::path&, int>(&mech::readLinesCsv), py::arg("lines_csv"),
         py::arg("joint_count") = 4);
-  m.def("readLinesCsv", py::overload_cast<const std::filesystem::path&, const std::vector<std::string>&>(&mech::readLinesCsv),
+  m.def("readLinesCsv",
+        py::overload_cast<const std::filesystem::path&, const std::vector<std::string>&>(&mech::readLinesCsv),
         py::arg("lines_csv"), py::arg("joint_columns"));
 
   py::class_<mech::ParameterFileEntry>(m, "ParameterFileEntry")
@@ -320,18 +341,22 @@ void bindObservations(py::module_& m) {
   py::class_<mech::ParameterFile>(m, "ParameterFile")
       .def_readonly("path", &mech::ParameterFile::path)
       .def_readonly("entries", &mech::ParameterFile::entries)
-      .def("find", [](const mech::ParameterFile& f, const std::string& key) -> std::optional<mech::ParameterFileEntry> {
-        const auto* entry = f.find(key);
-        return entry ? std::optional<mech::ParameterFileEntry>(*entry) : std::nullopt;
-      })
+      .def("find",
+           [](const mech::ParameterFile& f, const std::string& key) -> std::optional<mech::ParameterFileEntry> {
+             const auto* entry = f.find(key);
+             return entry ? std::optional<mech::ParameterFileEntry>(*entry) : std::nullopt;
+           })
       .def("number", &mech::ParameterFile::number);
   m.def("readParameterFile", &mech::readParameterFile, py::arg("path"));
-  m.def("applyParameterFile", [](const mech::ParameterFile& file, mech::ParameterSet parameters,
-                                 const std::vector<std::string>& also_allowed, const std::vector<std::string>& may_default) {
-    mech::applyParameterFile(file, parameters, also_allowed, may_default);
-    return parameters;
-  }, py::arg("file"), py::arg("parameters"), py::arg("also_allowed") = std::vector<std::string>{},
-        py::arg("may_default") = std::vector<std::string>{}, "Returns a copy of `parameters` with the file's values.");
+  m.def(
+      "applyParameterFile",
+      [](const mech::ParameterFile& file, mech::ParameterSet parameters, const std::vector<std::string>& also_allowed,
+         const std::vector<std::string>& may_default) {
+        mech::applyParameterFile(file, parameters, also_allowed, may_default);
+        return parameters;
+      },
+      py::arg("file"), py::arg("parameters"), py::arg("also_allowed") = std::vector<std::string>{},
+      py::arg("may_default") = std::vector<std::string>{}, "Returns a copy of `parameters` with the file's values.");
   m.def("writeParameterFile", &mech::writeParameterFile, py::arg("path"), py::arg("parameters"),
         py::arg("sigma") = Eigen::VectorXd(), py::arg("metadata") = std::vector<std::pair<std::string, std::string>>{},
         py::arg("comment") = "");

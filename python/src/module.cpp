@@ -12,7 +12,8 @@ PYBIND11_MODULE(mire, m) {
   mp::bindTargets(metrology);  // before calibration: calibrateFromImages takes a Target
   mp::bindCalibration(calibration);
   mp::bindMeasurement(metrology);
-  auto mechanism = m.def_submodule("mechanism", "mechanisms, identification, evaluation, plan/select (mire::mechanism)");
+  auto mechanism =
+      m.def_submodule("mechanism", "mechanisms, identification, evaluation, plan/select (mire::mechanism)");
   mp::bindMechanisms(mechanism);
   mp::bindExperiment(mechanism);
 #ifdef MIRE_VERSION

@@ -22,8 +22,10 @@ void bindSpec(py::module_& m) {
   m.def("targetTypeName", &met::targetTypeName);
   py::class_<met::TagPlacement>(m, "TagPlacement")
       .def(py::init<>())
-      .def(py::init([](int id, double x, double y) { return met::TagPlacement{id, x, y}; }), py::arg("id"),
-           py::arg("x_m"), py::arg("y_m"))
+      .def(py::init([](int id, double x, double y) {
+             return met::TagPlacement{id, x, y};
+           }),
+           py::arg("id"), py::arg("x_m"), py::arg("y_m"))
       .def_readwrite("id", &met::TagPlacement::id)
       .def_readwrite("x_m", &met::TagPlacement::x_m)
       .def_readwrite("y_m", &met::TagPlacement::y_m);
@@ -48,7 +50,8 @@ void bindSpec(py::module_& m) {
       .def(py::init<met::TargetSpec>(), py::arg("spec"))
       .def_static("fromFile", &met::Target::fromFile, py::arg("path"))
       .def("spec", &met::Target::spec)
-      .def("points", [](const met::Target& t) { return toArray(t.points()); }, "Feature points (N, 3) in frame M, m.")
+      .def(
+          "points", [](const met::Target& t) { return toArray(t.points()); }, "Feature points (N, 3) in frame M, m.")
       .def("isRotationallyAmbiguous", &met::Target::isRotationallyAmbiguous)
       .def("featureSpacing", &met::Target::featureSpacing)
       .def("tagIndex", &met::Target::tagIndex, py::arg("tag_id"))

@@ -46,8 +46,7 @@ CsvTable readCsv(const std::filesystem::path& path) {
     }
     if (cells.size() != table.header.size()) {
       throw std::runtime_error(path.string() + ":" + std::to_string(line_number) + ": expected " +
-                               std::to_string(table.header.size()) + " columns, found " +
-                               std::to_string(cells.size()));
+                               std::to_string(table.header.size()) + " columns, found " + std::to_string(cells.size()));
     }
     table.rows.push_back(std::move(cells));
     table.line_numbers.push_back(line_number);

@@ -163,7 +163,9 @@ void OutputTransaction::commitFolder(const Entry& entry) {
   if (entry.mode == FolderCommit::MergeFiles) {
     for (const auto& child : fs::directory_iterator(entry.temporary)) {
       fs::rename(child.path(), entry.final_path / child.path().filename(), ec);
-      if (ec) throw std::runtime_error((entry.final_path / child.path().filename()).string() + ": cannot replace: " + ec.message());
+      if (ec)
+        throw std::runtime_error((entry.final_path / child.path().filename()).string() +
+                                 ": cannot replace: " + ec.message());
     }
     removeQuietly(entry.temporary);
     return;
@@ -188,8 +190,7 @@ void OutputTransaction::commit() {
   const auto hold = holdInterruptCleanup();  // an interrupt lands before or after, not during
   for (const Entry& entry : entries_) {
     std::error_code ec;
-    if (!fs::exists(entry.temporary, ec))
-      throw std::runtime_error(entry.final_path.string() + ": was not written");
+    if (!fs::exists(entry.temporary, ec)) throw std::runtime_error(entry.final_path.string() + ": was not written");
   }
   for (const Entry& entry : entries_) {
     if (entry.folder) {

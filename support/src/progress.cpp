@@ -39,8 +39,8 @@ void Progress::draw(bool force) {
   const double fraction = total_ == 0 ? 1.0 : static_cast<double>(done_) / static_cast<double>(total_);
   const int filled = static_cast<int>(fraction * kWidth);
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::fprintf(stderr, "\r\033[K%s [%.*s%*s] %zu/%zu  %.1f s", label_.c_str(), filled,
-               "##############################", kWidth - filled, "", done_, total_, elapsed);
+  std::fprintf(stderr, "\r\033[K%s [%.*s%*s] %zu/%zu  %.1f s", label_.c_str(), filled, "##############################",
+               kWidth - filled, "", done_, total_, elapsed);
   std::fflush(stderr);
 }
 

@@ -88,7 +88,7 @@ bool parseBased(const std::string& digits, int base, double& value) {
   const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), parsed, base);
   if (result.ptr != digits.data() + digits.size()) return false;
   value = result.ec == std::errc::result_out_of_range ? std::numeric_limits<double>::infinity()
-                                                       : static_cast<double>(parsed);
+                                                      : static_cast<double>(parsed);
   return true;
 }
 
@@ -105,8 +105,10 @@ std::optional<double> parseNumber(const std::string& raw) {
   if (low == ".inf") return sign * std::numeric_limits<double>::infinity();
   if (low == ".nan" && sign > 0) return std::numeric_limits<double>::quiet_NaN();
   double value = 0.0;
-  if (low.compare(0, 2, "0x") == 0) return parseBased(low.substr(2), 16, value) ? std::optional(sign * value) : std::nullopt;
-  if (low.compare(0, 2, "0o") == 0) return parseBased(low.substr(2), 8, value) ? std::optional(sign * value) : std::nullopt;
+  if (low.compare(0, 2, "0x") == 0)
+    return parseBased(low.substr(2), 16, value) ? std::optional(sign * value) : std::nullopt;
+  if (low.compare(0, 2, "0o") == 0)
+    return parseBased(low.substr(2), 8, value) ? std::optional(sign * value) : std::nullopt;
   if (text.empty() || !(std::isdigit(static_cast<unsigned char>(text[0])) || text[0] == '.')) return std::nullopt;
   const auto result = std::from_chars(text.data(), text.data() + text.size(), value, std::chars_format::general);
   if (result.ptr != text.data() + text.size()) return std::nullopt;
@@ -162,8 +164,9 @@ YamlFile YamlFile::parse(const std::string& raw_text, const std::string& name) {
   YamlNode::Tree root;
   for (const auto& document : documents) {
     if (document->kind == Kind::Null) continue;
-    if (root) throw YamlError(name + ":" + std::to_string(document->line) +
-                              ": a second YAML document ('---'); a mire file holds one");
+    if (root)
+      throw YamlError(name + ":" + std::to_string(document->line) +
+                      ": a second YAML document ('---'); a mire file holds one");
     root = document;
   }
   if (!root) root = std::make_shared<const YamlTreeNode>();
@@ -248,8 +251,7 @@ void YamlNode::checkKeys(const std::vector<std::string>& known) const {
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
     const std::string path = key_.empty() ? key : key_ + "." + key;
     const std::string hint = closestName(key, known);
-    std::string message = file_ + ":" + std::to_string(entry.first->line) +
-                          ": unknown key '" + path + "'";
+    std::string message = file_ + ":" + std::to_string(entry.first->line) + ": unknown key '" + path + "'";
     if (!hint.empty()) {
       message += " (did you mean '" + hint + "'?)";
     } else {
@@ -323,8 +325,7 @@ std::int64_t YamlNode::asInt(std::int64_t min, std::int64_t max) const {
   if (*value != std::floor(*value)) fail("'" + text + "' is not an integer");
   const std::string bounds = "(" + std::to_string(min) + ".." + std::to_string(max) + ")";
   // Compare as doubles first: the value may exceed what an int64 holds.
-  if (*value < static_cast<double>(min) || *value > static_cast<double>(max))
-    fail(text + " is out of range " + bounds);
+  if (*value < static_cast<double>(min) || *value > static_cast<double>(max)) fail(text + " is out of range " + bounds);
   const auto integer = static_cast<std::int64_t>(*value);
   if (integer < min || integer > max) fail(text + " is out of range " + bounds);
   return integer;
@@ -350,8 +351,7 @@ YamlMatrix YamlNode::asMatrix(YamlRange range) const {
     matrix.data = at("data").asDoubles(range);
     const auto expected = static_cast<std::size_t>(matrix.rows) * static_cast<std::size_t>(matrix.cols);
     if (matrix.data.size() != expected)
-      at("data").fail("has " + std::to_string(matrix.data.size()) + " numbers, rows x cols = " +
-                      std::to_string(expected));
+      at("data").fail("has " + std::to_string(matrix.data.size()) + " numbers, rows x cols = " + std::to_string(expected));
     return matrix;
   }
   const auto rows = items();

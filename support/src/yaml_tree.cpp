@@ -77,11 +77,20 @@ class TreeBuilder {
   // False at the end of the stream.
   bool add(const yaml_event_t& event) {
     switch (event.type) {
-      case YAML_STREAM_END_EVENT: return false;
-      case YAML_DOCUMENT_START_EVENT: startDocument(); break;
-      case YAML_DOCUMENT_END_EVENT: endDocument(event.start_mark); break;
-      case YAML_ALIAS_EVENT: alias(event); break;
-      case YAML_SCALAR_EVENT: scalar(event); break;
+      case YAML_STREAM_END_EVENT:
+        return false;
+      case YAML_DOCUMENT_START_EVENT:
+        startDocument();
+        break;
+      case YAML_DOCUMENT_END_EVENT:
+        endDocument(event.start_mark);
+        break;
+      case YAML_ALIAS_EVENT:
+        alias(event);
+        break;
+      case YAML_SCALAR_EVENT:
+        scalar(event);
+        break;
       case YAML_SEQUENCE_START_EVENT:
         open(event, YamlTreeNode::Kind::Sequence, event.data.sequence_start.anchor, event.data.sequence_start.tag);
         break;
@@ -89,8 +98,11 @@ class TreeBuilder {
         open(event, YamlTreeNode::Kind::Map, event.data.mapping_start.anchor, event.data.mapping_start.tag);
         break;
       case YAML_SEQUENCE_END_EVENT:
-      case YAML_MAPPING_END_EVENT: close(); break;
-      default: break;
+      case YAML_MAPPING_END_EVENT:
+        close();
+        break;
+      default:
+        break;
     }
     return true;
   }
@@ -155,7 +167,8 @@ class TreeBuilder {
   void scalar(const yaml_event_t& event) {
     const auto& data = event.data.scalar;
     auto node = make(event, isNullScalar(event) ? YamlTreeNode::Kind::Null : YamlTreeNode::Kind::Scalar, data.tag);
-    if (node->kind == YamlTreeNode::Kind::Scalar) node->text.assign(reinterpret_cast<const char*>(data.value), data.length);
+    if (node->kind == YamlTreeNode::Kind::Scalar)
+      node->text.assign(reinterpret_cast<const char*>(data.value), data.length);
     remember(data.anchor, node);
     attach(node);
   }

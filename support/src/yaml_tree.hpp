@@ -15,9 +15,9 @@ namespace mire::support::detail {
 struct YamlTreeNode {
   enum class Kind { Null, Scalar, Sequence, Map };
   Kind kind = Kind::Null;  // Null: an empty value, or a plain ~ / null / Null / NULL
-  std::string tag;  // as libyaml resolves it ("tag:yaml.org,2002:opencv-matrix"), "" if none
-  std::string text;  // a scalar's value
-  int line = 1;  // 1-based line where the node starts
+  std::string tag;         // as libyaml resolves it ("tag:yaml.org,2002:opencv-matrix"), "" if none
+  std::string text;        // a scalar's value
+  int line = 1;            // 1-based line where the node starts
   std::vector<std::shared_ptr<const YamlTreeNode>> items;  // a sequence's items
   std::vector<std::pair<std::shared_ptr<const YamlTreeNode>, std::shared_ptr<const YamlTreeNode>>> entries;  // a map's
 };
@@ -26,7 +26,7 @@ using YamlTreePtr = std::shared_ptr<const YamlTreeNode>;
 
 // Bounds checked while parsing, before memory is spent on an absurd input.
 struct YamlTreeLimits {
-  int max_depth;  // nested collections
+  int max_depth;          // nested collections
   std::size_t max_nodes;  // nodes built (an alias is not a copy)
 };
 

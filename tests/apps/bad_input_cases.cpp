@@ -17,25 +17,30 @@ using Env = const CaseEnv&;
 
 std::string measure(Env e, const std::string& camera, const std::string& target, const std::string& poses,
                     const std::string& extra = "") {
-  return "measure --camera " + camera + " --target " + target + " --poses " + poses + " -o " + e.p("out/poses.csv") + " " +
-         extra;
+  return "measure --camera " + camera + " --target " + target + " --poses " + poses + " -o " + e.p("out/poses.csv") +
+         " " + extra;
 }
-std::string measureWithCamera(Env e, const std::string& camera) { return measure(e, camera, e.target(), e.poses_dir()); }
+std::string measureWithCamera(Env e, const std::string& camera) {
+  return measure(e, camera, e.target(), e.poses_dir());
+}
 std::string calibrate(Env e, const std::string& target, const std::string& images, const std::string& extra = "") {
   return "calibrate --target " + target + " --images " + images + " -o " + e.p("out/camera.yaml") + " " + extra;
 }
 std::string identify(Env e, const std::string& poses, const std::string& joints, const std::string& extra = "") {
   return "identify --poses " + poses + " --joints " + joints + " -o " + e.p("out/params.yaml") + " " + extra;
 }
-std::string identifyDefault(Env e, const std::string& extra) { return identify(e, e.poses_csv(), e.joints_csv(), extra); }
+std::string identifyDefault(Env e, const std::string& extra) {
+  return identify(e, e.poses_csv(), e.joints_csv(), extra);
+}
 
 // camera.yaml of the fixture's camera with some values replaced.
 std::string cameraFile(Env e, const std::string& k, const std::string& d, const std::string& extra = "",
                        const std::string& size = "image_width: 480\nimage_height: 360\n") {
-  return e.write("camera.yaml", "%YAML:1.0\n---\n" + size + "model: \"opencv\"\n" +
-                                    "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " + k +
-                                    " ]\ndistortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n   data: [ " +
-                                    d + " ]\n" + extra);
+  return e.write("camera.yaml",
+                 "%YAML:1.0\n---\n" + size + "model: \"opencv\"\n" +
+                     "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " + k +
+                     " ]\ndistortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n   data: [ " + d +
+                     " ]\n" + extra);
 }
 const char* kK = "420., 0., 239.5, 0., 420., 179.5, 0., 0., 1.";
 const char* kD = "-0.1, 0.02, 0., 0., 0.";
@@ -115,8 +120,10 @@ std::string firstPoseImage(Env e) { return (e.f.sim / "poses/p1/img_00.png").str
 
 std::string specWith(Env e, const std::string& list, const std::string& camera_text = "") {
   e.copy(e.f.root / "specs/target.yaml", "target.yaml");
-  if (camera_text.empty()) e.copy(e.f.root / "specs/camera.yaml", "camera.yaml");
-  else e.write("camera.yaml", camera_text);
+  if (camera_text.empty())
+    e.copy(e.f.root / "specs/camera.yaml", "camera.yaml");
+  else
+    e.write("camera.yaml", camera_text);
   const std::string spec = slurp(e.f.spec);
   const auto at = spec.find("poses:");
   return e.write("spec.yaml", spec.substr(0, at) + posesBlock(list));
@@ -143,7 +150,8 @@ void inputCases(std::vector<Case>& c) {
        [](Env e, const std::string& x) { return identifyDefault(e, "--pose-covariances " + x); }},
       {"IdentifyNominal", "--nominal", [](Env e, const std::string& x) { return identifyDefault(e, "--nominal " + x); }},
       {"IdentifyLines", "--lines", [](Env e, const std::string& x) { return identifyDefault(e, "--lines " + x); }},
-      {"SimulatePosesSpec", "--spec", [](Env e, const std::string& x) { return "simulate poses --spec " + x + " -o " + e.p("out"); }},
+      {"SimulatePosesSpec", "--spec",
+       [](Env e, const std::string& x) { return "simulate poses --spec " + x + " -o " + e.p("out"); }},
       {"SimulateCalibrationSpec", "--spec",
        [](Env e, const std::string& x) { return "simulate calibration --spec " + x + " -o " + e.p("out"); }},
   };
@@ -151,10 +159,12 @@ void inputCases(std::vector<Case>& c) {
     const auto command = input.command;
     add(c, input.name + "Missing", [command](Env e) { return command(e, e.p("absent.file")); }, 1,
         {input.option, "absent.file", "no such file"});
-    add(c, input.name + "Fifo", [command](Env e) { return command(e, e.fifo("pipe")); }, 1, {input.option, "pipe", "FIFO"});
+    add(c, input.name + "Fifo", [command](Env e) { return command(e, e.fifo("pipe")); }, 1,
+        {input.option, "pipe", "FIFO"});
     add(c, input.name + "Folder", [command](Env e) { return command(e, e.folder("afolder")); }, 1,
         {input.option, "afolder", "is a folder"});
-    add(c, input.name + "Device", [command](Env e) { return command(e, "/dev/zero"); }, 1, {input.option, "/dev/zero", "device"});
+    add(c, input.name + "Device", [command](Env e) { return command(e, "/dev/zero"); }, 1,
+        {input.option, "/dev/zero", "device"});
   }
   add(c, "CalibrateImagesMissing", [](Env e) { return calibrate(e, e.cal_target(), e.p("nofolder")); }, 1,
       {"--images", "nofolder", "no such folder"});
@@ -172,129 +182,182 @@ void inputCases(std::vector<Case>& c) {
 
 // ---- outputs: never an input, never another output (also via links and '..') ----
 void outputCases(std::vector<Case>& c) {
-  add(c, "CalibrateOutputIsTarget", [](Env e) {
+  add(c, "CalibrateOutputIsTarget",
+      [](Env e) {
         const std::string target = e.copy(e.f.cal / "target.yaml", "target.yaml");
         return "calibrate --target " + target + " --images " + e.images() + " -o " + target;
-      }, 2, {"-o", "is the input --target", "overwritten"});
-  add(c, "CalibrateOutputIsImage", [](Env e) {
-        return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o " + e.images() + "/view_000.png";
-      }, 2, {"inside the input folder --images"});
-  add(c, "CalibrateOutputInsideImages", [](Env e) {
+      },
+      2, {"-o", "is the input --target", "overwritten"});
+  add(c, "CalibrateOutputIsImage",
+      [](Env e) {
+        return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o " + e.images() +
+               "/view_000.png";
+      },
+      2, {"inside the input folder --images"});
+  add(c, "CalibrateOutputInsideImages",
+      [](Env e) {
         return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o " + e.images() + "/camera.yaml";
-      }, 2, {"inside the input folder"});
-  add(c, "CalibrateOutputViaDotDot", [](Env e) {
+      },
+      2, {"inside the input folder"});
+  add(c, "CalibrateOutputViaDotDot",
+      [](Env e) {
         const std::string target = e.copy(e.f.cal / "target.yaml", "target.yaml");
         e.folder("sub");
         return "calibrate --target " + target + " --images " + e.images() + " -o " + e.p("sub/../target.yaml");
-      }, 2, {"is the input --target"});
-  add(c, "CalibrateOutputViaSymlink", [](Env e) {
+      },
+      2, {"is the input --target"});
+  add(c, "CalibrateOutputViaSymlink",
+      [](Env e) {
         const std::string target = e.copy(e.f.cal / "target.yaml", "target.yaml");
         fs::create_symlink(target, e.dir / "link.yaml");
         return "calibrate --target " + target + " --images " + e.images() + " -o " + e.p("link.yaml");
-      }, 2, {"is the input --target"});
-  add(c, "CalibrateOutputViaHardLink", [](Env e) {
+      },
+      2, {"is the input --target"});
+  add(c, "CalibrateOutputViaHardLink",
+      [](Env e) {
         const std::string target = e.copy(e.f.cal / "target.yaml", "target.yaml");
         fs::create_hard_link(target, e.dir / "hard.yaml");
         return "calibrate --target " + target + " --images " + e.images() + " -o " + e.p("hard.yaml");
-      }, 2, {"is the input --target"});
-  add(c, "CalibrateOutputInReport", [](Env e) { return calibrate(e, e.cal_target(), e.images(), "--report " + e.p("out")); }, 2,
+      },
+      2, {"is the input --target"});
+  add(c, "CalibrateOutputInReport",
+      [](Env e) { return calibrate(e, e.cal_target(), e.images(), "--report " + e.p("out")); }, 2,
       {"would overwrite each other"});
-  add(c, "CalibrateReportHoldsTarget", [](Env e) {
+  add(c, "CalibrateReportHoldsTarget",
+      [](Env e) {
         const std::string target = e.copy(e.f.cal / "target.yaml", "rep/target.yaml");
         return calibrate(e, target, e.images(), "--report " + e.p("rep"));
-      }, 2, {"holds the input --target"});
-  add(c, "CalibrateOutputEmpty", [](Env e) {
-        return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o ''";
-      }, 2, {"-o: empty path"});
-  add(c, "CalibrateOutputParentIsFile", [](Env e) {
+      },
+      2, {"holds the input --target"});
+  add(c, "CalibrateOutputEmpty",
+      [](Env e) { return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o ''"; }, 2,
+      {"-o: empty path"});
+  add(c, "CalibrateOutputParentIsFile",
+      [](Env e) {
         e.write("plain", "x");
         return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o " + e.p("plain/camera.yaml");
-      }, 1, {"plain", "is not a folder"});
-  add(c, "CalibrateOutputIsFolder", [](Env e) {
+      },
+      1, {"plain", "is not a folder"});
+  add(c, "CalibrateOutputIsFolder",
+      [](Env e) {
         return "calibrate --target " + e.cal_target() + " --images " + e.images() + " -o " + e.folder("adir");
-      }, 1, {"adir", "not a regular file"});
-  add(c, "MeasureOutputIsCamera", [](Env e) {
+      },
+      1, {"adir", "not a regular file"});
+  add(c, "MeasureOutputIsCamera",
+      [](Env e) {
         const std::string camera = e.copy(e.f.sim / "camera.yaml", "camera.yaml");
         return "measure --camera " + camera + " --target " + e.target() + " --poses " + e.poses_dir() + " -o " + camera;
-      }, 2, {"is the input --camera"});
-  add(c, "MeasureOutputIsTarget", [](Env e) {
+      },
+      2, {"is the input --camera"});
+  add(c, "MeasureOutputIsTarget",
+      [](Env e) {
         const std::string target = e.copy(e.f.sim / "target.yaml", "target.yaml");
         return "measure --camera " + e.camera() + " --target " + target + " --poses " + e.poses_dir() + " -o " + target;
-      }, 2, {"is the input --target"});
-  add(c, "MeasureCovarianceIsCamera", [](Env e) {
+      },
+      2, {"is the input --target"});
+  add(c, "MeasureCovarianceIsCamera",
+      [](Env e) {
         const std::string camera = e.copy(e.f.sim / "camera.yaml", "camera.yaml");
         return measure(e, camera, e.target(), e.poses_dir(), "--covariance " + camera);
-      }, 2, {"--covariance", "is the input --camera"});
-  add(c, "MeasureOutputIsCovariance", [](Env e) {
-        return measure(e, e.camera(), e.target(), e.poses_dir(), "--covariance " + e.p("out/poses.csv"));
-      }, 2, {"would overwrite each other"});
-  add(c, "MeasureDefaultCovarianceIsCamera", [](Env e) {
+      },
+      2, {"--covariance", "is the input --camera"});
+  add(c, "MeasureOutputIsCovariance",
+      [](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--covariance " + e.p("out/poses.csv")); },
+      2, {"would overwrite each other"});
+  add(c, "MeasureDefaultCovarianceIsCamera",
+      [](Env e) {
         const std::string camera = e.copy(e.f.sim / "camera.yaml", "p_covariance.csv");
-        return "measure --camera " + camera + " --target " + e.target() + " --poses " + e.poses_dir() + " -o " + e.p("p.csv");
-      }, 2, {"covariance side file", "is the input --camera"});
-  add(c, "MeasureOutputIsPoseImage", [](Env e) {
+        return "measure --camera " + camera + " --target " + e.target() + " --poses " + e.poses_dir() + " -o " +
+               e.p("p.csv");
+      },
+      2, {"covariance side file", "is the input --camera"});
+  add(c, "MeasureOutputIsPoseImage",
+      [](Env e) {
         return "measure --camera " + e.camera() + " --target " + e.target() + " --poses " + e.poses_dir() + " -o " +
                firstPoseImage(e);
-      }, 2, {"inside the input folder --poses"});
-  add(c, "MeasureOutputEmpty", [](Env e) {
+      },
+      2, {"inside the input folder --poses"});
+  add(c, "MeasureOutputEmpty",
+      [](Env e) {
         return "measure --camera " + e.camera() + " --target " + e.target() + " --poses " + e.poses_dir() + " -o ''";
-      }, 2, {"-o: empty path"});
-  add(c, "MeasureCovarianceParentIsFile", [](Env e) {
+      },
+      2, {"-o: empty path"});
+  add(c, "MeasureCovarianceParentIsFile",
+      [](Env e) {
         e.write("plain", "x");
         return measure(e, e.camera(), e.target(), e.poses_dir(), "--covariance " + e.p("plain/cov.csv"));
-      }, 1, {"plain", "is not a folder"});
+      },
+      1, {"plain", "is not a folder"});
   const std::vector<std::pair<std::string, std::string>> identify_inputs = {
       {"Poses", "poses.csv"}, {"Joints", "joints.csv"}, {"Lines", "lines.csv"}};
   for (const auto& [name, file] : identify_inputs) {
     const std::string f = file;
-    add(c, "IdentifyOutputIs" + name, [f](Env e) {
+    add(c, "IdentifyOutputIs" + name,
+        [f](Env e) {
           e.copy(e.f.campaign / "poses.csv", "poses.csv");
           e.copy(e.f.campaign / "joints.csv", "joints.csv");
           e.copy(e.f.campaign / "lines.csv", "lines.csv");
-          return "identify --poses " + e.p("poses.csv") + " --joints " + e.p("joints.csv") + " --lines " + e.p("lines.csv") +
-                 " -o " + e.p(f);
-        }, 2, {"-o", "is the input", "overwritten"});
+          return "identify --poses " + e.p("poses.csv") + " --joints " + e.p("joints.csv") + " --lines " +
+                 e.p("lines.csv") + " -o " + e.p(f);
+        },
+        2, {"-o", "is the input", "overwritten"});
   }
-  add(c, "IdentifyOutputIsCovariances", [](Env e) {
+  add(c, "IdentifyOutputIsCovariances",
+      [](Env e) {
         const std::string cov = e.write("cov.csv", "pose_id,part,row,tx,ty,tz,rx,ry,rz\n");
-        return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --pose-covariances " + cov + " -o " + cov;
-      }, 2, {"is the input --pose-covariances"});
-  add(c, "IdentifyOutputIsNominal", [](Env e) {
+        return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --pose-covariances " + cov +
+               " -o " + cov;
+      },
+      2, {"is the input --pose-covariances"});
+  add(c, "IdentifyOutputIsNominal",
+      [](Env e) {
         const std::string nominal = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
-        return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --nominal " + nominal + " -o " + nominal;
-      }, 2, {"is the input --nominal"});
+        return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --nominal " + nominal + " -o " +
+               nominal;
+      },
+      2, {"is the input --nominal"});
   add(c, "IdentifyOutputInReport", [](Env e) { return identifyDefault(e, "--report " + e.p("out")); }, 2,
       {"would overwrite each other"});
   add(c, "IdentifyReportIsOutput", [](Env e) { return identifyDefault(e, "--report " + e.p("out/params.yaml")); }, 2,
       {"would overwrite each other"});
-  add(c, "IdentifyReportHoldsPoses", [](Env e) {
+  add(c, "IdentifyReportHoldsPoses",
+      [](Env e) {
         e.copy(e.f.campaign / "poses.csv", "rep/poses.csv");
         return identify(e, e.p("rep/poses.csv"), e.joints_csv(), "--report " + e.p("rep"));
-      }, 2, {"holds the input --poses"});
-  add(c, "IdentifyOutputEmpty", [](Env e) {
-        return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " -o ''";
-      }, 2, {"-o: empty path"});
-  add(c, "IdentifyOutputParentIsFile", [](Env e) {
+      },
+      2, {"holds the input --poses"});
+  add(c, "IdentifyOutputEmpty",
+      [](Env e) { return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " -o ''"; }, 2,
+      {"-o: empty path"});
+  add(c, "IdentifyOutputParentIsFile",
+      [](Env e) {
         e.write("plain", "x");
         return "identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " -o " + e.p("plain/x.yaml");
-      }, 1, {"plain", "is not a folder"});
-  add(c, "SimulateOutputIsSpecFile", [](Env e) {
+      },
+      1, {"plain", "is not a folder"});
+  add(c, "SimulateOutputIsSpecFile",
+      [](Env e) {
         const std::string spec = specWith(e, validPoseList());
         return "simulate poses --spec " + spec + " -o " + spec;
-      }, 2, {"is the input --spec"});
-  add(c, "SimulateOutputHoldsSpec", [](Env e) {
+      },
+      2, {"is the input --spec"});
+  add(c, "SimulateOutputHoldsSpec",
+      [](Env e) {
         const std::string spec = specWith(e, validPoseList());
         return "simulate poses --spec " + spec + " -o " + e.dir.string();
-      }, 2, {"holds the input --spec"});
-  add(c, "SimulateOutputNotASimulation", [](Env e) {
+      },
+      2, {"holds the input --spec"});
+  add(c, "SimulateOutputNotASimulation",
+      [](Env e) {
         e.write("mine/notes.txt", "my notes");
         return "simulate poses --spec " + e.f.spec.string() + " -o " + e.p("mine");
-      }, 2, {"mine", "not a previous simulation"});
+      },
+      2, {"mine", "not a previous simulation"});
   add(c, "SimulateOutputEmpty", [](Env e) { return "simulate poses --spec " + e.f.spec.string() + " -o ''"; }, 2,
       {"-o: empty path"});
-  add(c, "SimulateOutputIsFile", [](Env e) {
-        return "simulate calibration --spec " + e.f.cal_spec.string() + " -o " + e.write("plain", "x");
-      }, 1, {"plain", "not a folder"});
+  add(c, "SimulateOutputIsFile",
+      [](Env e) { return "simulate calibration --spec " + e.f.cal_spec.string() + " -o " + e.write("plain", "x"); }, 1,
+      {"plain", "not a folder"});
 }
 
 // ---- option values: exit 2, the option named ----
@@ -303,11 +366,12 @@ void optionCases(std::vector<Case>& c) {
       {"Negative", "-1"}, {"Huge", "100000"}, {"Text", "many"}};
   for (const auto& [name, value] : threads) {
     const std::string v = value;
-    add(c, "CalibrateThreads" + name, [v](Env e) { return calibrate(e, e.cal_target(), e.images(), "--threads " + v); }, 2,
+    add(c, "CalibrateThreads" + name, [v](Env e) { return calibrate(e, e.cal_target(), e.images(), "--threads " + v); },
+        2, {"--threads"});
+    add(c, "MeasureThreads" + name,
+        [v](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--threads " + v); }, 2, {"--threads"});
+    add(c, "IdentifyThreads" + name, [v](Env e) { return identifyDefault(e, "--mc 15 --threads " + v); }, 2,
         {"--threads"});
-    add(c, "MeasureThreads" + name, [v](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--threads " + v); }, 2,
-        {"--threads"});
-    add(c, "IdentifyThreads" + name, [v](Env e) { return identifyDefault(e, "--mc 15 --threads " + v); }, 2, {"--threads"});
   }
   add(c, "IdentifyThreadsZero", [](Env e) { return identifyDefault(e, "--threads 0"); }, 2, {"--threads"});
   for (const std::string value : {"nan", "-1", "inf", "0", "abc"}) {
@@ -316,9 +380,12 @@ void optionCases(std::vector<Case>& c) {
         {"--ambiguity-ratio"});
   }
   for (const std::string value : {"nan", "2", "0.1"}) {
-    add(c, "MeasureRejectionConfidence_" + std::string(value == "0.1" ? "low" : value == "2" ? "high" : value),
-        [value](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--rejection-confidence " + value); }, 2,
-        {"--rejection-confidence"});
+    add(c,
+        "MeasureRejectionConfidence_" + std::string(value == "0.1" ? "low"
+                                                    : value == "2" ? "high"
+                                                                   : value),
+        [value](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--rejection-confidence " + value); },
+        2, {"--rejection-confidence"});
   }
   add(c, "CalibrateModelUnknown", [](Env e) { return calibrate(e, e.cal_target(), e.images(), "--model opencv7"); }, 2,
       {"--model"});
@@ -349,9 +416,10 @@ void optionCases(std::vector<Case>& c) {
     const std::string x = extra;
     add(c, "Identify" + name, [x](Env e) { return identifyDefault(e, x); }, 2, {message});
   }
-  add(c, "UnknownSubcommand", [](Env) { return std::string("calibrat --target x"); }, 2, {"unknown subcommand 'calibrat'"});
-  add(c, "CalibrateMissingRequired", [](Env e) { return "calibrate --target " + e.cal_target() + " -o " + e.p("out/camera.yaml"); },
-      2, {"--images"});
+  add(c, "UnknownSubcommand", [](Env) { return std::string("calibrat --target x"); }, 2,
+      {"unknown subcommand 'calibrat'"});
+  add(c, "CalibrateMissingRequired",
+      [](Env e) { return "calibrate --target " + e.cal_target() + " -o " + e.p("out/camera.yaml"); }, 2, {"--images"});
   add(c, "MeasureUnknownOption", [](Env e) { return measure(e, e.camera(), e.target(), e.poses_dir(), "--fast"); }, 2,
       {"--fast"});
   add(c, "SimulateNoKind", [](Env e) { return "simulate --spec " + e.f.spec.string(); }, 2, {"subcommand"});
@@ -359,125 +427,167 @@ void optionCases(std::vector<Case>& c) {
 
 // ---- cameras and targets that would give absurd answers: exit 1, the file named ----
 void cameraTargetCases(std::vector<Case>& c) {
-  add(c, "CameraPrincipalPointOutside", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, "420., 0., -5000., 0., 420., 179.5, 0., 0., 1.", kD));
-      }, 1, {"camera.yaml", "principal point"});
-  add(c, "CameraPrincipalPointBelow", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, "420., 0., 239.5, 0., 420., 9000., 0., 0., 1.", kD));
-      }, 1, {"camera.yaml", "principal point"});
+  add(c, "CameraPrincipalPointOutside",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, "420., 0., -5000., 0., 420., 179.5, 0., 0., 1.", kD)); }, 1,
+      {"camera.yaml", "principal point"});
+  add(c, "CameraPrincipalPointBelow",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, "420., 0., 239.5, 0., 420., 9000., 0., 0., 1.", kD)); }, 1,
+      {"camera.yaml", "principal point"});
   add(c, "CameraHugeK1", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "1.0e6, 0.02, 0., 0., 0.")); }, 1,
       {"camera.yaml", "distortion_coefficients"});
   add(c, "CameraHugeK3", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "-0.1, 0.02, 0., 0., -5.0e4")); }, 1,
       {"camera.yaml", "distortion_coefficients"});
-  add(c, "CameraZeroFx", [](Env e) { return measureWithCamera(e, cameraFile(e, "0., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD)); },
-      1, {"camera.yaml"});
-  add(c, "CameraNegativeFy", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, "420., 0., 239.5, 0., -420., 179.5, 0., 0., 1.", kD));
-      }, 1, {"camera.yaml"});
-  add(c, "CameraFxFarFromFy", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, "42000., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD));
-      }, 1, {"camera.yaml", "fx"});
-  add(c, "CameraCovarianceNotPositive", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, kD, covariance(1e-2, 2e-2))); }, 1,
+  add(c, "CameraZeroFx",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, "0., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD)); }, 1,
+      {"camera.yaml"});
+  add(c, "CameraNegativeFy",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, "420., 0., 239.5, 0., -420., 179.5, 0., 0., 1.", kD)); }, 1,
+      {"camera.yaml"});
+  add(c, "CameraFxFarFromFy",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, "42000., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD)); },
+      1, {"camera.yaml", "fx"});
+  add(c, "CameraCovarianceNotPositive",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, kK, kD, covariance(1e-2, 2e-2))); }, 1,
       {"camera.yaml", "covariance", "positive semi-definite"});
-  add(c, "CameraCovarianceNegativeVariance", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, kK, kD, covariance(-1e-2, 0.0)));
-      }, 1, {"camera.yaml", "covariance"});
-  add(c, "CameraCovarianceAsymmetric", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, kK, kD, covariance(1e-2, 0.0, 5e-3)));
-      }, 1, {"camera.yaml", "covariance"});
-  add(c, "CameraHugeImage", [](Env e) {
-        return measureWithCamera(e, cameraFile(e, kK, kD, "", "image_width: 65536\nimage_height: 65536\n"));
-      }, 1, {"camera.yaml", "65536"});
-  add(c, "TargetMillimetresMeasure", [](Env e) {
+  add(c, "CameraCovarianceNegativeVariance",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, kK, kD, covariance(-1e-2, 0.0))); }, 1,
+      {"camera.yaml", "covariance"});
+  add(c, "CameraCovarianceAsymmetric",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, kK, kD, covariance(1e-2, 0.0, 5e-3))); }, 1,
+      {"camera.yaml", "covariance"});
+  add(c, "CameraHugeImage",
+      [](Env e) { return measureWithCamera(e, cameraFile(e, kK, kD, "", "image_width: 65536\nimage_height: 65536\n")); },
+      1, {"camera.yaml", "65536"});
+  add(c, "TargetMillimetresMeasure",
+      [](Env e) {
         return measure(e, e.camera(), e.edit(e.f.sim / "target.yaml", "target.yaml", "0.02", "20"), e.poses_dir());
-      }, 1, {"target.yaml", "millimetres", "square_size_m: 0.025"});
-  add(c, "TargetMillimetresCalibrate", [](Env e) {
-        return calibrate(e, e.edit(e.f.cal / "target.yaml", "target.yaml", "0.02", "20"), e.images());
-      }, 1, {"target.yaml", "millimetres"});
-  add(c, "TargetMicrometresMeasure", [](Env e) {
+      },
+      1, {"target.yaml", "millimetres", "square_size_m: 0.025"});
+  add(c, "TargetMillimetresCalibrate",
+      [](Env e) { return calibrate(e, e.edit(e.f.cal / "target.yaml", "target.yaml", "0.02", "20"), e.images()); }, 1,
+      {"target.yaml", "millimetres"});
+  add(c, "TargetMicrometresMeasure",
+      [](Env e) {
         return measure(e, e.camera(), e.edit(e.f.sim / "target.yaml", "target.yaml", "0.02", "2e-7"), e.poses_dir());
-      }, 1, {"target.yaml", "wrong unit"});
-  add(c, "TargetSquare1e50Measure", [](Env e) {
+      },
+      1, {"target.yaml", "wrong unit"});
+  add(c, "TargetSquare1e50Measure",
+      [](Env e) {
         return measure(e, e.camera(), e.edit(e.f.sim / "target.yaml", "target.yaml", "0.02", "1e50"), e.poses_dir());
-      }, 1, {"target.yaml"});
-  add(c, "TargetSquare1e50Calibrate", [](Env e) {
-        return calibrate(e, e.edit(e.f.cal / "target.yaml", "target.yaml", "0.02", "1e50"), e.images());
-      }, 1, {"target.yaml"});
-  add(c, "TargetTooManyFeatures", [](Env e) {
-        const std::string target = e.write("target.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 201\nrows: 200\nsquare_size_m: 0.001\n");
+      },
+      1, {"target.yaml"});
+  add(c, "TargetSquare1e50Calibrate",
+      [](Env e) { return calibrate(e, e.edit(e.f.cal / "target.yaml", "target.yaml", "0.02", "1e50"), e.images()); }, 1,
+      {"target.yaml"});
+  add(c, "TargetTooManyFeatures",
+      [](Env e) {
+        const std::string target =
+            e.write("target.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 201\nrows: 200\nsquare_size_m: 0.001\n");
         return measure(e, e.camera(), target, e.poses_dir());
-      }, 1, {"target.yaml", "40200 features"});
-  add(c, "TargetTooManyFeaturesCalibrate", [](Env e) {
-        const std::string target = e.write("target.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 201\nrows: 200\nsquare_size_m: 0.001\n");
+      },
+      1, {"target.yaml", "40200 features"});
+  add(c, "TargetTooManyFeaturesCalibrate",
+      [](Env e) {
+        const std::string target =
+            e.write("target.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 201\nrows: 200\nsquare_size_m: 0.001\n");
         return calibrate(e, target, e.images());
-      }, 1, {"target.yaml", "40200 features"});
+      },
+      1, {"target.yaml", "40200 features"});
 }
 
 // ---- images: too large, truncated, blank, tiny; exit 1 naming the image ----
 void imageCases(std::vector<Case>& c) {
-  add(c, "CalibratePngClaims20000", [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "huge.png", pngClaiming(20000, 20000))); },
-      1, {"huge.png", "20000x20000", "megapixels"});
-  add(c, "CalibratePngClaimsWide", [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "wide.png", pngClaiming(70000, 10))); }, 1,
+  add(c, "CalibratePngClaims20000",
+      [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "huge.png", pngClaiming(20000, 20000))); }, 1,
+      {"huge.png", "20000x20000", "megapixels"});
+  add(c, "CalibratePngClaimsWide",
+      [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "wide.png", pngClaiming(70000, 10))); }, 1,
       {"wide.png", "70000x10"});
-  add(c, "CalibrateBmpClaimsHuge", [](Env e) {
+  add(c, "CalibrateBmpClaimsHuge",
+      [](Env e) {
         std::string bmp = "BM" + std::string(24, '\0');
         const std::uint32_t side = 30000;
         for (int at : {18, 22})
-          for (int i = 0; i < 4; ++i) bmp[static_cast<std::size_t>(at + i)] = static_cast<char>((side >> (8 * i)) & 0xFF);
+          for (int i = 0; i < 4; ++i)
+            bmp[static_cast<std::size_t>(at + i)] = static_cast<char>((side >> (8 * i)) & 0xFF);
         return calibrate(e, e.cal_target(), imagesWith(e, "huge.bmp", bmp));
-      }, 1, {"huge.bmp", "30000x30000"});
-  add(c, "CalibratePgmClaimsHuge", [](Env e) {
-        return calibrate(e, e.cal_target(), imagesWith(e, "huge.pgm", "P5\n# big\n40000 40000\n255\n"));
-      }, 1, {"huge.pgm", "40000x40000"});
-  add(c, "CalibrateJpegClaimsHuge", [](Env e) {
+      },
+      1, {"huge.bmp", "30000x30000"});
+  add(c, "CalibratePgmClaimsHuge",
+      [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "huge.pgm", "P5\n# big\n40000 40000\n255\n")); }, 1,
+      {"huge.pgm", "40000x40000"});
+  add(c, "CalibrateJpegClaimsHuge",
+      [](Env e) {
         // SOI, SOF0 (length 11, 8 bit, height 30000, width 30000, 1 component), EOI.
         const std::string jpeg = std::string("\xFF\xD8\xFF\xC0\x00\x0B\x08\x75\x30\x75\x30\x01\x01\x11\x00\xFF\xD9", 17);
         return calibrate(e, e.cal_target(), imagesWith(e, "huge.jpg", jpeg));
-      }, 1, {"huge.jpg", "30000x30000"});
-  add(c, "CalibrateTruncatedPng", [](Env e) {
-        return calibrate(e, e.cal_target(), imagesWith(e, "view_000.png", truncated(e.f.cal / "images/view_000.png", 0.6)));
-      }, 1, {"view_000.png", "truncated"});
-  add(c, "CalibrateTruncatedJpeg", [](Env e) {
+      },
+      1, {"huge.jpg", "30000x30000"});
+  add(c, "CalibrateTruncatedPng",
+      [](Env e) {
+        return calibrate(e, e.cal_target(),
+                         imagesWith(e, "view_000.png", truncated(e.f.cal / "images/view_000.png", 0.6)));
+      },
+      1, {"view_000.png", "truncated"});
+  add(c, "CalibrateTruncatedJpeg",
+      [](Env e) {
         const std::string jpeg = std::string("\xFF\xD8\xFF\xE0\x00\x10JFIF\x00\x01\x01\x00\x00\x01\x00\x01\x00\x00", 20);
         return calibrate(e, e.cal_target(), imagesWith(e, "cut.jpg", jpeg));
-      }, 1, {"cut.jpg", "truncated"});
-  add(c, "CalibrateGarbageImage", [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "garbage.png", "not an image")); }, 1,
+      },
+      1, {"cut.jpg", "truncated"});
+  add(c, "CalibrateGarbageImage",
+      [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "garbage.png", "not an image")); }, 1,
       {"garbage.png"});
-  add(c, "CalibrateEmptyImageFile", [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "empty.png", "")); }, 1,
-      {"empty.png"});
+  add(c, "CalibrateEmptyImageFile", [](Env e) { return calibrate(e, e.cal_target(), imagesWith(e, "empty.png", "")); },
+      1, {"empty.png"});
   for (int side : {1, 2, 8}) {
-    add(c, "CalibrateTinyImage" + std::to_string(side), [side](Env e) {
+    add(c, "CalibrateTinyImage" + std::to_string(side),
+        [side](Env e) {
           // A valid PGM of side x side: read, the size differs from the others.
           std::string pgm = "P5\n" + std::to_string(side) + " " + std::to_string(side) + "\n255\n" +
                             std::string(static_cast<std::size_t>(side * side), '\x80');
           return calibrate(e, e.cal_target(), imagesWith(e, "zz_tiny.pgm", pgm));
-        }, 1, {"zz_tiny.pgm", std::to_string(side) + "x" + std::to_string(side)});
+        },
+        1, {"zz_tiny.pgm", std::to_string(side) + "x" + std::to_string(side)});
   }
-  add(c, "CalibrateOnlyTinyImages", [](Env e) {
-        for (int i = 0; i < 3; ++i) e.write("tiny/t" + std::to_string(i) + ".pgm", "P5\n2 2\n255\n" + std::string(4, '\x80'));
+  add(c, "CalibrateOnlyTinyImages",
+      [](Env e) {
+        for (int i = 0; i < 3; ++i)
+          e.write("tiny/t" + std::to_string(i) + ".pgm", "P5\n2 2\n255\n" + std::string(4, '\x80'));
         return calibrate(e, e.cal_target(), e.p("tiny"));
-      }, 1, {"tiny"});
-  add(c, "MeasureTruncatedPoseImage", [](Env e) {
+      },
+      1, {"tiny"});
+  add(c, "MeasureTruncatedPoseImage",
+      [](Env e) {
         return measure(e, e.camera(), e.target(), posesWith(e, "img_00.png", truncated(firstPoseImage(e), 0.5)));
-      }, 1, {"pose p1", "img_00.png", "truncated"});
-  add(c, "MeasureBlankPoseImage", [](Env e) {
-        return measure(e, e.camera(), e.target(), posesWith(e, "img_09.pgm", "P5\n480 360\n255\n" + std::string(480 * 360, '\x80')));
-      }, 1, {"pose p1", "img_09.pgm", "blank"});
-  add(c, "MeasureHugePoseImage", [](Env e) {
-        return measure(e, e.camera(), e.target(), posesWith(e, "img_09.png", pngClaiming(20000, 20000)));
-      }, 1, {"pose p1", "img_09.png", "20000x20000"});
-  add(c, "MeasureGarbagePoseImage", [](Env e) { return measure(e, e.camera(), e.target(), posesWith(e, "img_09.png", "garbage")); }, 1,
+      },
+      1, {"pose p1", "img_00.png", "truncated"});
+  add(c, "MeasureBlankPoseImage",
+      [](Env e) {
+        return measure(e, e.camera(), e.target(),
+                       posesWith(e, "img_09.pgm", "P5\n480 360\n255\n" + std::string(480 * 360, '\x80')));
+      },
+      1, {"pose p1", "img_09.pgm", "blank"});
+  add(c, "MeasureHugePoseImage",
+      [](Env e) { return measure(e, e.camera(), e.target(), posesWith(e, "img_09.png", pngClaiming(20000, 20000))); },
+      1, {"pose p1", "img_09.png", "20000x20000"});
+  add(c, "MeasureGarbagePoseImage",
+      [](Env e) { return measure(e, e.camera(), e.target(), posesWith(e, "img_09.png", "garbage")); }, 1,
       {"pose p1", "img_09.png"});
-  add(c, "MeasureEveryPoseBlank", [](Env e) {
+  add(c, "MeasureEveryPoseBlank",
+      [](Env e) {
         const std::string blank = "P5\n480 360\n255\n" + std::string(480 * 360, '\x10');
         e.write("poses/a/img.pgm", blank);
         e.write("poses/b/img.pgm", blank);
         return measure(e, e.camera(), e.target(), e.p("poses"));
-      }, 1, {"no pose could be measured", "blank"});
-  add(c, "MeasurePoseIdWithComma", [](Env e) {
+      },
+      1, {"no pose could be measured", "blank"});
+  add(c, "MeasurePoseIdWithComma",
+      [](Env e) {
         e.copy(e.f.sim / "poses/p1", "poses/a,b");
         return measure(e, e.camera(), e.target(), e.p("poses"));
-      }, 1, {"a,b", "must not contain"});
+      },
+      1, {"a,b", "must not contain"});
 }
 
 // ---- identify's CSV inputs: exit 1 naming file and line/pose ----
@@ -494,35 +604,52 @@ void csvCases(std::vector<Case>& c) {
   add(c, "PosesRangeError", posesEdit(2, "tz_m", "1e400"), 1, {"poses.csv", "tz_m"});
   add(c, "PosesEmptyCell", posesEdit(1, "rx_rad", ""), 1, {"poses.csv", "rx_rad"});
   add(c, "PosesDuplicateId", posesEdit(1, "pose_id", "1"), 1, {"poses.csv"});
-  add(c, "PosesOneSigmaZero", posesEdit(4, "sigma_tx_mm", "0"), 1, {"poses.csv", "no usable covariance", "--unweighted"});
+  add(c, "PosesOneSigmaZero", posesEdit(4, "sigma_tx_mm", "0"), 1,
+      {"poses.csv", "no usable covariance", "--unweighted"});
   add(c, "PosesNegativeSigma", posesEdit(4, "sigma_rx_deg", "-0.03"), 1, {"poses.csv"});
-  add(c, "PosesMissingColumn", [](Env e) {
-        return identify(e, e.edit(e.f.campaign / "poses.csv", "poses.csv", "tz_m", "tzz_m"), e.joints_csv());
-      }, 1, {"poses.csv", "tz_m"});
+  add(c, "PosesMissingColumn",
+      [](Env e) { return identify(e, e.edit(e.f.campaign / "poses.csv", "poses.csv", "tz_m", "tzz_m"), e.joints_csv()); },
+      1, {"poses.csv", "tz_m"});
   add(c, "PosesEmptyFile", [](Env e) { return identify(e, e.write("poses.csv", ""), e.joints_csv()); }, 1, {"poses.csv"});
-  add(c, "PosesHeaderOnly", [](Env e) {
+  add(c, "PosesHeaderOnly",
+      [](Env e) {
         const std::string text = slurp(e.f.campaign / "poses.csv");
         return identify(e, e.write("poses.csv", text.substr(0, text.find('\n') + 1)), e.joints_csv());
-      }, 1, {"poses.csv"});
-  add(c, "PosesShortRow", [](Env e) { return identify(e, e.write("poses.csv", slurp(e.f.campaign / "poses.csv") + "99,1,2\n"), e.joints_csv()); }, 1,
-      {"poses.csv", "columns"});
-  add(c, "PosesBinaryGarbage", [](Env e) { return identify(e, e.write("poses.csv", std::string("\x00\x01\xff\xfe", 4)), e.joints_csv()); }, 1,
+      },
+      1, {"poses.csv"});
+  add(c, "PosesShortRow",
+      [](Env e) {
+        return identify(e, e.write("poses.csv", slurp(e.f.campaign / "poses.csv") + "99,1,2\n"), e.joints_csv());
+      },
+      1, {"poses.csv", "columns"});
+  add(c, "PosesBinaryGarbage",
+      [](Env e) { return identify(e, e.write("poses.csv", std::string("\x00\x01\xff\xfe", 4)), e.joints_csv()); }, 1,
       {"poses.csv"});
-  add(c, "JointsNan", [](Env e) {
+  add(c, "JointsNan",
+      [](Env e) {
         return identify(e, e.poses_csv(), editCsv(e, e.f.campaign / "joints.csv", "joints.csv", 2, "q2_rad", "nan"));
-      }, 1, {"joints.csv", "q2_rad"});
-  add(c, "JointsMissingPose", [](Env e) {
+      },
+      1, {"joints.csv", "q2_rad"});
+  add(c, "JointsMissingPose",
+      [](Env e) {
         std::string text = slurp(e.f.campaign / "joints.csv");
         const auto second = text.find('\n', text.find('\n') + 1);
-        return identify(e, e.poses_csv(), e.write("joints.csv", text.substr(0, text.find('\n') + 1) + text.substr(second + 1)));
-      }, 1, {"poses.csv"});
-  add(c, "JointsMissingColumn", [](Env e) {
+        return identify(e, e.poses_csv(),
+                        e.write("joints.csv", text.substr(0, text.find('\n') + 1) + text.substr(second + 1)));
+      },
+      1, {"poses.csv"});
+  add(c, "JointsMissingColumn",
+      [](Env e) {
         return identify(e, e.poses_csv(), e.edit(e.f.campaign / "joints.csv", "joints.csv", "q4_rad", "q5_rad"));
-      }, 1, {"joints.csv", "q4_rad"});
-  add(c, "LinesNan", [](Env e) {
+      },
+      1, {"joints.csv", "q4_rad"});
+  add(c, "LinesNan",
+      [](Env e) {
         return identifyDefault(e, "--lines " + editCsv(e, e.f.campaign / "lines.csv", "lines.csv", 1, "q1_rad", "inf"));
-      }, 1, {"lines.csv", "q1_rad"});
-  add(c, "CovarianceSideNotPositive", [](Env e) {
+      },
+      1, {"lines.csv", "q1_rad"});
+  add(c, "CovarianceSideNotPositive",
+      [](Env e) {
         std::string text = "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
         std::stringstream poses(slurp(e.f.campaign / "poses.csv"));
         std::string line;
@@ -537,18 +664,26 @@ void csvCases(std::vector<Case>& c) {
           }
         }
         return identifyDefault(e, "--pose-covariances " + e.write("cov.csv", text));
-      }, 1, {"cov.csv"});
-  add(c, "CovarianceSideMissingPose", [](Env e) {
+      },
+      1, {"cov.csv"});
+  add(c, "CovarianceSideMissingPose",
+      [](Env e) {
         return identifyDefault(e, "--pose-covariances " + e.write("cov.csv", "pose_id,part,row,tx,ty,tz,rx,ry,rz\n"));
-      }, 1, {"cov.csv"});
-  add(c, "NominalUnknownKey", [](Env e) {
-        return identifyDefault(e, "--nominal " + e.write("nominal.yaml", "R: 0.2\nRR: 0.3\n"));
-      }, 1, {"nominal.yaml", "RR"});
-  add(c, "NominalNotANumber", [](Env e) { return identifyDefault(e, "--nominal " + e.write("nominal.yaml", "R: abc\n")); }, 1,
+      },
+      1, {"cov.csv"});
+  add(c, "NominalUnknownKey",
+      [](Env e) { return identifyDefault(e, "--nominal " + e.write("nominal.yaml", "R: 0.2\nRR: 0.3\n")); }, 1,
+      {"nominal.yaml", "RR"});
+  add(c, "NominalNotANumber",
+      [](Env e) { return identifyDefault(e, "--nominal " + e.write("nominal.yaml", "R: abc\n")); }, 1,
       {"nominal.yaml", "R"});
-  add(c, "IdentifyFixEverything", [](Env e) {
-        return identifyDefault(e, "--fix R,L,l,h,d,alpha1,alpha2,alpha3,alpha4,q01,q02,q03,q04,x_BC,y_BC,z_BC,psi_BC,x_ME,y_ME,z_ME,psi_ME");
-      }, 1, {"free parameter"});
+  add(c, "IdentifyFixEverything",
+      [](Env e) {
+        return identifyDefault(
+            e,
+            "--fix R,L,l,h,d,alpha1,alpha2,alpha3,alpha4,q01,q02,q03,q04,x_BC,y_BC,z_BC,psi_BC,x_ME,y_ME,z_ME,psi_ME");
+      },
+      1, {"free parameter"});
   add(c, "IdentifyFixUnknown", [](Env e) { return identifyDefault(e, "--fix Rr"); }, 1, {"Rr"});
   add(c, "IdentifyPriorUnknown", [](Env e) { return identifyDefault(e, "--prior Q=1:0.1"); }, 1, {"Q"});
 }
@@ -566,31 +701,44 @@ void specCases(std::vector<Case>& c) {
       {"CommaId", "    - { id: \"a,b\", t: [ 0.0, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml", "a,b"}},
       {"SlashId", "    - { id: \"a/b\", t: [ 0.0, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml"}},
       {"NanTranslation", "    - { id: \"p1\", t: [ .nan, 0.0, 0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml"}},
-      {"BehindCamera", "    - { id: \"p1\", t: [ 0.0, 0.0, -0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml", "behind the camera"}},
-      {"InCameraPlane", "    - { id: \"p1\", t: [ 0.0, 0.0, 0.0 ], r: [ 0.0, 0.0, 0.0 ] }\n", {"spec.yaml", "behind the camera"}},
-      {"FacingAway", "    - { id: \"p1\", t: [ 0.0, 0.0, 0.01 ], r: [ 0.0, 1.6, 0.0 ] }\n", {"spec.yaml", "behind the camera"}},
+      {"BehindCamera",
+       "    - { id: \"p1\", t: [ 0.0, 0.0, -0.45 ], r: [ 0.0, 0.0, 0.0 ] }\n",
+       {"spec.yaml", "behind the camera"}},
+      {"InCameraPlane",
+       "    - { id: \"p1\", t: [ 0.0, 0.0, 0.0 ], r: [ 0.0, 0.0, 0.0 ] }\n",
+       {"spec.yaml", "behind the camera"}},
+      {"FacingAway",
+       "    - { id: \"p1\", t: [ 0.0, 0.0, 0.01 ], r: [ 0.0, 1.6, 0.0 ] }\n",
+       {"spec.yaml", "behind the camera"}},
   };
   for (const auto& [name, list, message] : lists) {
     const std::string l = list;
-    add(c, "SimulatePoses" + name, [l](Env e) { return "simulate poses --spec " + specWith(e, l) + " -o " + e.p("out"); }, 1,
-        message);
+    add(
+        c, "SimulatePoses" + name,
+        [l](Env e) { return "simulate poses --spec " + specWith(e, l) + " -o " + e.p("out"); }, 1, message);
   }
-  add(c, "SimulateHugeCamera", [](Env e) {
-        const std::string camera = "%YAML:1.0\n---\nimage_width: 65536\nimage_height: 65536\nmodel: \"opencv\"\n"
-                                   "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                                   "   data: [ 420., 0., 32767.5, 0., 420., 32767.5, 0., 0., 1. ]\n"
-                                   "distortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n"
-                                   "   data: [ 0., 0., 0., 0., 0. ]\n";
+  add(c, "SimulateHugeCamera",
+      [](Env e) {
+        const std::string camera =
+            "%YAML:1.0\n---\nimage_width: 65536\nimage_height: 65536\nmodel: \"opencv\"\n"
+            "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+            "   data: [ 420., 0., 32767.5, 0., 420., 32767.5, 0., 0., 1. ]\n"
+            "distortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n"
+            "   data: [ 0., 0., 0., 0., 0. ]\n";
         return "simulate poses --spec " + specWith(e, validPoseList(), camera) + " -o " + e.p("out");
-      }, 1, {"65536x65536"});
-  add(c, "SimulateCalibrationHugeCamera", [](Env e) {
-        specWith(e, validPoseList(), "%YAML:1.0\n---\nimage_width: 20000\nimage_height: 20000\nmodel: \"opencv\"\n"
-                                     "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
-                                     "   data: [ 420., 0., 9999.5, 0., 420., 9999.5, 0., 0., 1. ]\n"
-                                     "distortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n"
-                                     "   data: [ 0., 0., 0., 0., 0. ]\n");
+      },
+      1, {"65536x65536"});
+  add(c, "SimulateCalibrationHugeCamera",
+      [](Env e) {
+        specWith(e, validPoseList(),
+                 "%YAML:1.0\n---\nimage_width: 20000\nimage_height: 20000\nmodel: \"opencv\"\n"
+                 "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                 "   data: [ 420., 0., 9999.5, 0., 420., 9999.5, 0., 0., 1. ]\n"
+                 "distortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n"
+                 "   data: [ 0., 0., 0., 0., 0. ]\n");
         return "simulate calibration --spec " + e.p("spec.yaml") + " -o " + e.p("out");
-      }, 1, {"20000x20000"});
+      },
+      1, {"20000x20000"});
 }
 
 std::vector<Case> makeCases() {

@@ -41,10 +41,14 @@ inline std::map<std::string, std::string> snapshot(const fs::path& root) {
   for (const auto& entry : fs::recursive_directory_iterator(root)) {
     const std::string key = fs::relative(entry.path(), root).string();
     const auto status = entry.symlink_status();
-    if (fs::is_symlink(status)) files[key] = "symlink->" + fs::read_symlink(entry.path()).string();
-    else if (fs::is_regular_file(status)) files[key] = slurp(entry.path());
-    else if (fs::is_directory(status)) files[key] = "<dir>";
-    else files[key] = "<special>";
+    if (fs::is_symlink(status))
+      files[key] = "symlink->" + fs::read_symlink(entry.path()).string();
+    else if (fs::is_regular_file(status))
+      files[key] = slurp(entry.path());
+    else if (fs::is_directory(status))
+      files[key] = "<dir>";
+    else
+      files[key] = "<special>";
   }
   return files;
 }
@@ -84,11 +88,14 @@ struct CaseEnv {
     return p(relative);
   }
   // A copy of `from` with the first occurrence of `what` replaced by `with`.
-  std::string edit(const fs::path& from, const std::string& relative, const std::string& what, const std::string& with) const {
+  std::string edit(const fs::path& from, const std::string& relative, const std::string& what,
+                   const std::string& with) const {
     std::string text = slurp(from);
     const auto at = text.find(what);
-    if (at != std::string::npos) text.replace(at, what.size(), with);
-    else text += "\n# EDIT FAILED: '" + what + "' not found\n";
+    if (at != std::string::npos)
+      text.replace(at, what.size(), with);
+    else
+      text += "\n# EDIT FAILED: '" + what + "' not found\n";
     return write(relative, text);
   }
   // Inputs of the fixture, as strings for command lines.

@@ -63,8 +63,9 @@ const Fixture& fixture() {
       f.error = "simulate poses failed: " + output;
     else if (runMire("simulate calibration --spec " + f.cal_spec.string() + " -o " + f.cal.string(), &output) != 0)
       f.error = "simulate calibration failed: " + output;
-    else if (runMire("measure --camera " + (f.sim / "camera.yaml").string() + " --target " + (f.sim / "target.yaml").string() +
-                         " --poses " + (f.sim / "poses").string() + " -o " + (f.root / "check/poses.csv").string(),
+    else if (runMire("measure --camera " + (f.sim / "camera.yaml").string() + " --target " +
+                         (f.sim / "target.yaml").string() + " --poses " + (f.sim / "poses").string() + " -o " +
+                         (f.root / "check/poses.csv").string(),
                      &output) != 0)
       f.error = "the valid measure failed: " + output;
     fs::remove_all(f.root / "check");
@@ -75,7 +76,8 @@ const Fixture& fixture() {
     const auto measurements = datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, 1);
     std::mt19937_64 rng(2);
     std::vector<std::vector<datasets::H4Joints>> lines;
-    for (const auto& line : datasets::straightLineMotions()) lines.push_back(datasets::recordJoints(robot, line, 1e-4, rng));
+    for (const auto& line : datasets::straightLineMotions())
+      lines.push_back(datasets::recordJoints(robot, line, 1e-4, rng));
     datasets::writeSimulatedCampaign(f.campaign, measurements, noise, lines);
     return f;
   }();

@@ -21,7 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 constexpr int kCols = 9, kRows = 6;
 constexpr double kSquare = 0.03;
 
@@ -94,7 +93,8 @@ cv::Mat renderChessboard(const Eigen::Matrix3d& rotation, const Eigen::Vector3d&
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) homography.at<double>(r, c) = h(r, c);
   cv::Mat image;
-  cv::warpPerspective(texture, image, homography, cv::Size(640, 480), cv::INTER_AREA, cv::BORDER_CONSTANT, cv::Scalar(128));
+  cv::warpPerspective(texture, image, homography, cv::Size(640, 480), cv::INTER_AREA, cv::BORDER_CONSTANT,
+                      cv::Scalar(128));
   return image;
 }
 
@@ -105,7 +105,8 @@ TEST(CalibrateCli, EmptyFolderFailsWithoutOutput) {
   fs::create_directories(dir.path() / "images");
   writeTarget(dir.path() / "target.yaml");
   int code = 0;
-  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out =
+      mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("no image"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -117,7 +118,8 @@ TEST(CalibrateCli, UnreadableImageIsNamed) {
   writeTarget(dir.path() / "target.yaml");
   std::ofstream(dir.path() / "images" / "broken.png") << "this is not a PNG";
   int code = 0;
-  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out =
+      mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("broken.png"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -129,7 +131,8 @@ TEST(CalibrateCli, BadTargetSpecIsNamed) {
   cv::imwrite((dir.path() / "images" / "a.png").string(), cv::Mat(48, 64, CV_8U, cv::Scalar(200)));
   std::ofstream(dir.path() / "target.yaml") << "%YAML:1.0\n---\ntype: hexagons\ncols: 9\nrows: 6\n";
   int code = 0;
-  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out =
+      mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("target"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -142,7 +145,8 @@ TEST(CalibrateCli, TooFewUsableViewsFailsWithoutOutput) {
   for (const char* name : {"a.png", "b.png"})
     cv::imwrite((dir.path() / "images" / name).string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
   int code = 0;
-  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
+  const std::string out =
+      mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml"), &code);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("found in 0 of 2"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "camera.yaml"));
@@ -153,22 +157,25 @@ TEST(CalibrateCli, CalibratesRenderedChessboards) {
   fs::create_directories(dir.path() / "images");
   writeTarget(dir.path() / "target.yaml");
   const Eigen::Vector3d centre(0.5 * (kCols - 1) * kSquare, 0.5 * (kRows - 1) * kSquare, 0.0);
-  const double tilts[][2] = {{0.5, 0.0}, {-0.5, 0.1}, {0.0, 0.5}, {0.1, -0.5}, {0.35, 0.35}, {-0.35, -0.3}, {0.2, -0.2}};
+  const double tilts[][2] = {{0.5, 0.0},   {-0.5, 0.1},   {0.0, 0.5}, {0.1, -0.5},
+                             {0.35, 0.35}, {-0.35, -0.3}, {0.2, -0.2}};
   int index = 0;
   for (const auto& tilt : tilts) {
-    const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(tilt[0], Eigen::Vector3d::UnitX()) *
-                                      Eigen::AngleAxisd(tilt[1], Eigen::Vector3d::UnitY()))
-                                         .toRotationMatrix();
-    const Eigen::Vector3d translation = Eigen::Vector3d(0.01 * (index % 3 - 1), 0.01 * (index % 2), 0.55) - rotation * centre;
+    const Eigen::Matrix3d rotation =
+        (Eigen::AngleAxisd(tilt[0], Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(tilt[1], Eigen::Vector3d::UnitY()))
+            .toRotationMatrix();
+    const Eigen::Vector3d translation =
+        Eigen::Vector3d(0.01 * (index % 3 - 1), 0.01 * (index % 2), 0.55) - rotation * centre;
     cv::imwrite((dir.path() / "images" / ("view" + std::to_string(index++) + ".png")).string(),
                 renderChessboard(rotation, translation));
   }
   // One image without the board: listed and skipped, not fatal.
   cv::imwrite((dir.path() / "images" / "zz_empty.png").string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
   int code = -1;
-  const std::string out = mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml") +
-                                      " --model opencv4 --report " + (dir.path() / "report").string(),
-                                  &code);
+  const std::string out =
+      mire::test::captureCommand(calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml") +
+                                     " --model opencv4 --report " + (dir.path() / "report").string(),
+                                 &code);
   ASSERT_EQ(code, 0) << out;
   EXPECT_NE(out.find("skipped zz_empty.png"), std::string::npos) << out;
   const auto camera = mire::calibration::readCameraYaml(dir.path() / "camera.yaml");

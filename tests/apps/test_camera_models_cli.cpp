@@ -42,14 +42,16 @@ TEST(CameraModelsCli, VispCirclesWithThePinholeModelMatchVisp) {
   mire::test::TempDir dir;
   writeVispTarget(dir.path() / "target.yaml");
   int code = 0;
-  const std::string out = calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
-                                    dir.path() / "camera.yaml", "--model pinhole", &code);
+  const std::string out =
+      calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
+                dir.path() / "camera.yaml", "--model pinhole", &code);
   ASSERT_EQ(code, 0) << out;
   const auto camera = mire::calibration::readCameraYaml(dir.path() / "camera.yaml");
   EXPECT_EQ(camera.modelName(), "pinhole");
   ASSERT_EQ(camera.params.size(), 4u);
-  std::printf("ViSP circles, --model pinhole: px %.4f py %.4f u0 %.4f v0 %.4f (ViSP 276.5098 272.9595 163.8652 113.3046)\n",
-              camera.fx(), camera.fy(), camera.cx(), camera.cy());
+  std::printf(
+      "ViSP circles, --model pinhole: px %.4f py %.4f u0 %.4f v0 %.4f (ViSP 276.5098 272.9595 163.8652 113.3046)\n",
+      camera.fx(), camera.fy(), camera.cx(), camera.cy());
   EXPECT_NEAR(camera.fx(), 276.5098, 0.5);
   EXPECT_NEAR(camera.fy(), 272.9595, 0.5);
   EXPECT_NEAR(camera.cx(), 163.8652, 0.5);
@@ -61,8 +63,9 @@ TEST(CameraModelsCli, FixKeepsTheValueAndSaysSo) {
   mire::test::TempDir dir;
   writeVispTarget(dir.path() / "target.yaml");
   int code = 0;
-  const std::string out = calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
-                                    dir.path() / "camera.yaml", "--model opencv4 --fix k2,p1,p2", &code);
+  const std::string out =
+      calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
+                dir.path() / "camera.yaml", "--model opencv4 --fix k2,p1,p2", &code);
   ASSERT_EQ(code, 0) << out;
   EXPECT_NE(out.find("k2 = 0.000000 (fixed)"), std::string::npos) << out;
   EXPECT_NE(out.find("p2 = 0.000000 (fixed)"), std::string::npos) << out;
@@ -72,8 +75,9 @@ TEST(CameraModelsCli, FixKeepsTheValueAndSaysSo) {
   EXPECT_EQ(camera.params[7], 0.0);
   EXPECT_NE(camera.params[4], 0.0);  // k1 free
   // An unknown name is an error naming it, nothing written.
-  const std::string bad = calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
-                                    dir.path() / "other.yaml", "--model opencv4 --fix k3", &code);
+  const std::string bad =
+      calibrate(dir.path() / "target.yaml", mire::test::sharedDir() / "datasets/external/visp-circles",
+                dir.path() / "other.yaml", "--model opencv4 --fix k3", &code);
   EXPECT_EQ(code, 1) << bad;
   EXPECT_NE(bad.find("k3"), std::string::npos) << bad;
   EXPECT_FALSE(fs::exists(dir.path() / "other.yaml"));

@@ -4,8 +4,7 @@
 #include <cstdio>
 #include <memory>
 
-namespace {
-}  // namespace
+namespace {}  // namespace
 
 TEST(Cli, HelpListsEverySubcommand) {
   int code = -1;

@@ -94,9 +94,8 @@ std::vector<std::string> tabledOptions(const std::string& text) {
 
 Help helpOf(const std::string& command) {
   int code = -1;
-  const std::string out =
-      mire::test::captureCommand(mire::test::mireBinary().string() + (command.empty() ? "" : " " + command) + " --help",
-                                 &code);
+  const std::string out = mire::test::captureCommand(
+      mire::test::mireBinary().string() + (command.empty() ? "" : " " + command) + " --help", &code);
   EXPECT_EQ(code, 0) << "mire " << command << " --help:\n" << out;
   return parseHelp(out);
 }
@@ -147,8 +146,7 @@ TEST(CliDoc, EverySubcommandAndOptionOfTheHelpIsInDocCli) {
       EXPECT_TRUE(mentions(text, option)) << "mire " << command << " --help prints " << option
                                           << ", which doc/cli.md's section `mire " << command << "` does not mention";
     for (const std::string& option : tabledOptions(text))
-      EXPECT_TRUE(printed.count(option) == 1)
-          << "doc/cli.md's section `mire " << command << "` lists " << option << ", which mire " << command
-          << " --help does not print";
+      EXPECT_TRUE(printed.count(option) == 1) << "doc/cli.md's section `mire " << command << "` lists " << option
+                                              << ", which mire " << command << " --help does not print";
   }
 }

@@ -24,7 +24,8 @@ TEST(ConvertCli, ChainThroughEveryFormatKeepsTheCamera) {
   const calibration::Camera reference = calibration::readCamera(kReference);
   int code = -1;
   // opencv -> ros -> opencv: exact.
-  std::string out = convert("--camera " + kReference.string() + " -o " + (dir.path() / "ros.yaml").string() + " --to ros", &code);
+  std::string out =
+      convert("--camera " + kReference.string() + " -o " + (dir.path() / "ros.yaml").string() + " --to ros", &code);
   ASSERT_EQ(code, 0) << out;
   EXPECT_EQ(calibration::detectCameraFormat(dir.path() / "ros.yaml"), calibration::CameraFormat::Ros);
   out = convert("--camera " + (dir.path() / "ros.yaml").string() + " -o " + (dir.path() / "back.yaml").string(), &code);
@@ -58,7 +59,8 @@ TEST(ConvertCli, ErrorsExitOneNameTheFileAndWriteNothing) {
       {"image_width: [1\n", "", "in.yaml:2: invalid YAML"},
       {"", "", "in.yaml: empty file"},
       {good, " --to kalibr", "cannot be written as kalibr: Kalibr's radtan model has k1 k2 p1 p2 only"},
-      {"<root><camera><name>x</name></camera></root>\n", "", "in.yaml: no <camera> with a perspectiveProjWithDistortion"},
+      {"<root><camera><name>x</name></camera></root>\n", "",
+       "in.yaml: no <camera> with a perspectiveProjWithDistortion"},
   };
   for (const Case& c : cases) {
     writeText(input, c.text);
@@ -73,9 +75,10 @@ TEST(ConvertCli, ErrorsExitOneNameTheFileAndWriteNothing) {
   const std::string out = convert("--camera " + kReference.string() + " -o " + kReference.string(), &code);
   EXPECT_EQ(code, 1) << out;
   EXPECT_NE(out.find("the output is the input"), std::string::npos) << out;
-  EXPECT_EQ(convert("--camera " + kReference.string() + " -o " + (dir.path() / "x.txt").string(), &code).find("give --to") !=
-                std::string::npos,
-            true);
+  EXPECT_EQ(
+      convert("--camera " + kReference.string() + " -o " + (dir.path() / "x.txt").string(), &code).find("give --to") !=
+          std::string::npos,
+      true);
   EXPECT_EQ(code, 2);
   convert("--camera " + kReference.string() + " -o " + output.string() + " --to nonsense", &code);
   EXPECT_EQ(code, 2);

@@ -26,7 +26,8 @@ TEST(DemoEndToEnd, QuickRunImprovesTheRobotAsInThePaper) {
 
   // Calibration from images: the intrinsics near truth.
   ASSERT_GE(r.calibration.estimate.size(), 4u);
-  for (int k = 0; k < 4; ++k) EXPECT_NEAR(r.calibration.estimate[k], r.calibration.truth[k], 1.0) << r.calibration.names[k];
+  for (int k = 0; k < 4; ++k)
+    EXPECT_NEAR(r.calibration.estimate[k], r.calibration.truth[k], 1.0) << r.calibration.names[k];
 
   // Pose measurement: every pose measured; precision near or below 0.2 mm / 0.03°, and honest.
   EXPECT_EQ(r.measurement.measured, 81);

@@ -10,8 +10,8 @@
 
 #include "test_support.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 
 #include <fstream>
@@ -44,8 +44,9 @@ Eigen::Isometry3d view(double x, double y, double z, double tilt_x_deg, double t
 void renderViews(const fs::path& folder) {
   fs::create_directories(folder);
   const mire::datasets::Renderer renderer(mire::datasets::referenceCamera(), chessboard());
-  const double poses[6][5] = {{0, 0, 0.5, 0, 0},         {-0.1, -0.08, 0.55, 30, -25}, {0.1, -0.08, 0.55, 30, 25},
-                              {-0.1, 0.08, 0.55, -30, -25}, {0.1, 0.08, 0.55, -30, 25},  {0, 0, 0.6, 0, 40}};
+  const double poses[6][5] = {{0, 0, 0.5, 0, 0},          {-0.1, -0.08, 0.55, 30, -25},
+                              {0.1, -0.08, 0.55, 30, 25}, {-0.1, 0.08, 0.55, -30, -25},
+                              {0.1, 0.08, 0.55, -30, 25}, {0, 0, 0.6, 0, 40}};
   for (int i = 0; i < 6; ++i) {
     const auto rendering = renderer.render(view(poses[i][0], poses[i][1], poses[i][2], poses[i][3], poses[i][4]));
     cv::imwrite((folder / ("view" + std::to_string(i) + ".png")).string(),
@@ -88,9 +89,9 @@ TEST(DetectionsCli, CalibrationFedBackFromItsDetectionsIsIdentical) {
   EXPECT_EQ(table.rows[1][4], "0.029999999999999999");  // x of feature 1: one square along x
 
   // Fed back: the same camera, bit for bit.
-  out = mire("calibrate" + target + " --detections " + (d / "detections.csv").string() + " -o " +
-                 (d / "again.yaml").string(),
-             &code);
+  out = mire(
+      "calibrate" + target + " --detections " + (d / "detections.csv").string() + " -o " + (d / "again.yaml").string(),
+      &code);
   ASSERT_EQ(code, 0) << out;
   const auto first = mire::calibration::readCameraYaml(d / "camera.yaml");
   const auto again = mire::calibration::readCameraYaml(d / "again.yaml");
@@ -107,7 +108,8 @@ TEST(DetectionsCli, CalibrationFedBackFromItsDetectionsIsIdentical) {
     const auto& r = table.rows[row];
     const bool dropped = r[0] == "view2.png" && r[1] == "7";
     vnlog << r[0] << " " << r[2] << " " << r[3] << (dropped ? " -" : " 0") << "\n";
-    if (!dropped) csv << r[0] << "," << r[1] << "," << r[2] << "," << r[3] << "," << r[4] << "," << r[5] << "," << r[6] << "\n";
+    if (!dropped)
+      csv << r[0] << "," << r[1] << "," << r[2] << "," << r[3] << "," << r[4] << "," << r[5] << "," << r[6] << "\n";
   }
   vnlog << "missing.png - - -\n";
   mire::support::writeFileAtomically(d / "corners.vnlog", vnlog.str());
@@ -116,13 +118,15 @@ TEST(DetectionsCli, CalibrationFedBackFromItsDetectionsIsIdentical) {
                  (d / "mrcal.yaml").string(),
              &code);
   ASSERT_EQ(code, 0) << out;
-  out = mire("calibrate" + target + " --detections " + (d / "dropped.csv").string() + " -o " + (d / "dropped.yaml").string(),
-             &code);
+  out = mire(
+      "calibrate" + target + " --detections " + (d / "dropped.csv").string() + " -o " + (d / "dropped.yaml").string(),
+      &code);
   ASSERT_EQ(code, 0) << out;
   EXPECT_EQ(readText(d / "mrcal.yaml"), readText(d / "dropped.yaml"));
   // Without the image size, the vnlog cannot calibrate: said, exit 1, nothing written.
-  out = mire("calibrate" + target + " --detections " + (d / "corners.vnlog").string() + " -o " + (d / "none.yaml").string(),
-             &code);
+  out = mire(
+      "calibrate" + target + " --detections " + (d / "corners.vnlog").string() + " -o " + (d / "none.yaml").string(),
+      &code);
   EXPECT_EQ(code, 1) << out;
   EXPECT_NE(out.find("--image-size"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(d / "none.yaml"));
@@ -131,8 +135,9 @@ TEST(DetectionsCli, CalibrationFedBackFromItsDetectionsIsIdentical) {
   fs::create_directories(d / "poses/p1");
   fs::copy_file(d / "images/view0.png", d / "poses/p1/a.png");
   fs::copy_file(d / "images/view0.png", d / "poses/p1/b.png");
-  out = mire("measure --camera " + (d / "camera.yaml").string() + " --target " + (d / "target.yaml").string() + " --poses " + (d / "poses").string() +
-                 " -o " + (d / "poses.csv").string() + " --save-detections " + (d / "measured.csv").string(),
+  out = mire("measure --camera " + (d / "camera.yaml").string() + " --target " + (d / "target.yaml").string() +
+                 " --poses " + (d / "poses").string() + " -o " + (d / "poses.csv").string() + " --save-detections " +
+                 (d / "measured.csv").string(),
              &code);
   ASSERT_EQ(code, 0) << out;
   const mire::support::CsvTable measured = mire::support::readCsv(d / "measured.csv");
@@ -147,13 +152,14 @@ TEST(DetectionsCli, BadDetectionsFilesAndTargetsNameFileAndLineAndWriteNothing) 
   const mire::test::TempDir dir;
   const fs::path d = dir.path();
   mire::support::writeFileAtomically(d / "target.yaml", chessboard().yamlString());
-  const auto expectFailure = [&](const std::string& target_file, const std::string& detections, const std::string& needle) {
+  const auto expectFailure = [&](const std::string& target_file, const std::string& detections,
+                                 const std::string& needle) {
     mire::support::writeFileAtomically(d / "detections.csv", detections);
     int code = 0;
-    const std::string out = mire("calibrate --target " + (d / target_file).string() + " --detections " +
-                                     (d / "detections.csv").string() + " --save-detections " + (d / "saved.csv").string() +
-                                     " -o " + (d / "camera.yaml").string(),
-                                 &code);
+    const std::string out =
+        mire("calibrate --target " + (d / target_file).string() + " --detections " + (d / "detections.csv").string() +
+                 " --save-detections " + (d / "saved.csv").string() + " -o " + (d / "camera.yaml").string(),
+             &code);
     EXPECT_EQ(code, 1) << out;
     EXPECT_NE(out.find(needle), std::string::npos) << "expected '" << needle << "' in: " << out;
     EXPECT_FALSE(fs::exists(d / "camera.yaml"));
@@ -164,9 +170,11 @@ TEST(DetectionsCli, BadDetectionsFilesAndTargetsNameFileAndLineAndWriteNothing) 
   expectFailure("target.yaml", head + "a.png,0,10,20,0,0,0\na.png,1,12,x,0.03,0,0\n", csv + ":4: column 'v_px'");
   expectFailure("target.yaml", head + "a.png,0,10,20,0,0,0\na.png,54,12,20,0.03,0,0\n", csv + ":4: column 'feature_id'");
   expectFailure("target.yaml", head + "a.png,1,10,20,0.02,0,0\n", csv + ":3: feature 1 is at (0.02, 0, 0) m");
-  expectFailure("target.yaml", head + "a.png,1,10,20,0.03,0,0\na.png,1,10,20,0.03,0,0\n", csv + ":4: feature 1 of image 'a.png' given twice");
+  expectFailure("target.yaml", head + "a.png,1,10,20,0.03,0,0\na.png,1,10,20,0.03,0,0\n",
+                csv + ":4: feature 1 of image 'a.png' given twice");
   expectFailure("target.yaml", "# filename x y level\na.png 10 20 0\na.png 11\n", csv + ":3: expected 4 fields");
-  expectFailure("target.yaml", "# filename x y level\na.png 10 20 0\na.png 11 2q 0\n", csv + ":3: x, y and level must be numbers");
+  expectFailure("target.yaml", "# filename x y level\na.png 10 20 0\na.png 11 2q 0\n",
+                csv + ":3: x, y and level must be numbers");
   // A new target error: an unknown ArUco dictionary, named with its file and line.
   mire::support::writeFileAtomically(d / "charuco.yaml",
                                      "type: charuco\ncols: 5\nrows: 7\nsquare_size_m: 0.04\nmarker_size_m: 0.02\n"

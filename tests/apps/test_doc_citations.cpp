@@ -27,8 +27,7 @@ bool isScanned(const std::string& relative) {
 std::vector<std::string> candidateFiles(const fs::path& root) {
   std::vector<std::string> files;
   int code = -1;
-  const std::string listing =
-      mire::test::captureCommand("git -C '" + root.string() + "' ls-files 2>/dev/null", &code);
+  const std::string listing = mire::test::captureCommand("git -C '" + root.string() + "' ls-files 2>/dev/null", &code);
   if (code == 0 && !listing.empty()) {
     std::istringstream lines(listing);
     for (std::string line; std::getline(lines, line);) files.push_back(line);

@@ -26,7 +26,7 @@ void identifyThenPredict(const std::string& model) {
   datasets::writeCampaignFiles(c, dir.path(), train, 20, "held_poses.csv", "held_joints.csv");
   const fs::path d = dir.path();
   ASSERT_EQ(test::runMireIn(dir, "identify --model " + model + " --poses " + (d / "poses.csv").string() + " --joints " +
-                             (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
+                                     (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
             0)
       << test::readText(d / "stderr.txt");
   const std::string out = test::readText(d / "stdout.txt");
@@ -34,9 +34,10 @@ void identifyThenPredict(const std::string& model) {
     EXPECT_NE(out.find("gauge"), std::string::npos) << out;  // the analysis names what is held
   }
   ASSERT_TRUE(fs::exists(d / "id_covariance.csv"));
-  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
-                             " --frame camera -o " + (d / "pred.csv").string()),
-            0)
+  ASSERT_EQ(
+      test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                               (d / "held_joints.csv").string() + " --frame camera -o " + (d / "pred.csv").string()),
+      0)
       << test::readText(d / "stderr.txt");
   const support::CsvTable table = support::readCsv(d / "pred.csv");
   ASSERT_EQ(table.rows.size(), 20u);
@@ -47,7 +48,8 @@ void identifyThenPredict(const std::string& model) {
     const Eigen::Vector3d t(table.number(r, table.column("tx_m")), table.number(r, table.column("ty_m")),
                             table.number(r, table.column("tz_m")));
     err2 += (t - truth.translation()).squaredNorm();
-    for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"}) sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
+    for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"})
+      sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
   }
   const double ratio = std::sqrt(err2 / sig2);
   // The acceptance: the error is at most at the predicted σ's level (doc/mechanisms.md
@@ -58,8 +60,8 @@ void identifyThenPredict(const std::string& model) {
   EXPECT_TRUE(fs::exists(d / "pred_covariance.csv"));
 
   // ikm of the base-frame FKM poses gives the joints back; a far pose is named unreachable.
-  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " + (d / "held_joints.csv").string() +
-                             " -o " + (d / "effector.csv").string()),
+  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                                     (d / "held_joints.csv").string() + " -o " + (d / "effector.csv").string()),
             0)
       << test::readText(d / "stderr.txt");
   // A far pose: no IKM solution (revolute arms), or legs past their strokes (hexapod).
@@ -71,11 +73,12 @@ void identifyThenPredict(const std::string& model) {
     for (std::size_t k = 0; k < 2 * P; ++k) app << (k == 2 ? ",-5" : ",0");
     app << "\n";
   }
-  EXPECT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " + (d / "effector.csv").string() +
-                             " -o " + (d / "commands.csv").string()),
+  EXPECT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " +
+                                     (d / "effector.csv").string() + " -o " + (d / "commands.csv").string()),
             can_fail ? 3 : 0);
   if (can_fail) {
-    const std::string expected = model == "gough-stewart" ? "'far' is outside the stroke of joint(s) 1 (" : "'far' is unreachable";
+    const std::string expected =
+        model == "gough-stewart" ? "'far' is outside the stroke of joint(s) 1 (" : "'far' is unreachable";
     EXPECT_NE(test::readText(d / "stderr.txt").find(expected), std::string::npos) << test::readText(d / "stderr.txt");
   }
   const support::CsvTable commands = support::readCsv(d / "commands.csv");
@@ -96,9 +99,10 @@ TEST(FkmIkmCli, UnknownModelIsNamed) {
   datasets::writeCampaignFiles(c, dir.path(), 0, c.poses.size());
   const fs::path d = dir.path();
   EXPECT_NE(test::runMireIn(dir, "identify --model delta3 --poses " + (d / "poses.csv").string() + " --joints " +
-                             (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
+                                     (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
             0);
-  EXPECT_NE(test::readText(d / "stderr.txt").find("gough-stewart"), std::string::npos) << test::readText(d / "stderr.txt");
+  EXPECT_NE(test::readText(d / "stderr.txt").find("gough-stewart"), std::string::npos)
+      << test::readText(d / "stderr.txt");
   EXPECT_FALSE(fs::exists(d / "id.yaml"));
 }
 

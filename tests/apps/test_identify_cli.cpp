@@ -27,15 +27,16 @@ struct CliCampaign {
     const auto measurements = datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, 1);
     std::mt19937_64 rng(2);
     std::vector<std::vector<datasets::H4Joints>> lines;
-    for (const auto& line : datasets::straightLineMotions()) lines.push_back(datasets::recordJoints(robot, line, 1e-4, rng));
+    for (const auto& line : datasets::straightLineMotions())
+      lines.push_back(datasets::recordJoints(robot, line, 1e-4, rng));
     datasets::writeSimulatedCampaign(dir.path(), measurements, noise, lines);
   }
-  std::string run(const std::string& extra, const std::string& poses = "poses.csv", const std::string& joints = "joints.csv",
-                  int* code = nullptr) const {
+  std::string run(const std::string& extra, const std::string& poses = "poses.csv",
+                  const std::string& joints = "joints.csv", int* code = nullptr) const {
     const fs::path d = dir.path();
     const std::string command = test::mireBinary().string() + " identify --poses " + (d / poses).string() +
-                                " --joints " + (d / joints).string() + " -o " + (d / "out.yaml").string() + " " + extra +
-                                " > " + (d / "stdout.txt").string() + " 2> " + (d / "stderr.txt").string();
+                                " --joints " + (d / joints).string() + " -o " + (d / "out.yaml").string() + " " +
+                                extra + " > " + (d / "stdout.txt").string() + " 2> " + (d / "stderr.txt").string();
     const int status = test::runCommand(command);
     if (code) *code = status;
     return test::readText(d / "stderr.txt");
@@ -45,8 +46,8 @@ struct CliCampaign {
 TEST(IdentifyCli, HappyPathWritesIdentifiedParametersAndReport) {
   const CliCampaign c;
   int code = -1;
-  const std::string err = c.run("--lines " + (c.dir.path() / "lines.csv").string() + " --mc 15 --mc-repeats 4 --report " +
-                                    (c.dir.path() / "report").string(),
+  const std::string err = c.run("--lines " + (c.dir.path() / "lines.csv").string() +
+                                    " --mc 15 --mc-repeats 4 --report " + (c.dir.path() / "report").string(),
                                 "poses.csv", "joints.csv", &code);
   ASSERT_EQ(code, 0) << err;
   const std::string out = test::readText(c.dir.path() / "stdout.txt");
@@ -62,7 +63,8 @@ TEST(IdentifyCli, HappyPathWritesIdentifiedParametersAndReport) {
   // The identified geometry agrees with the truth within 4 of its reported σ (81 poses at
   // 0.2 mm / 0.03°: σ ≈ 0.1–1 mm, 0.07°).
   const auto truth = mechanism::h4Model12Parameters(c.truth);
-  for (const std::string name : {"R", "L", "l", "h", "alpha1", "alpha2", "alpha3", "alpha4", "q01", "q02", "q03", "q04"}) {
+  for (const std::string name :
+       {"R", "L", "l", "h", "alpha1", "alpha2", "alpha3", "alpha4", "q01", "q02", "q03", "q04"}) {
     ASSERT_NE(file.find("sigma_" + name), nullptr) << name;
     const double sigma = file.number(*file.find("sigma_" + name));
     EXPECT_GT(sigma, 0.0) << name;

@@ -32,7 +32,9 @@ void interruptSimulateAfter(const std::string& delay) {
                              " simulate calibration --spec spec.yaml -o out >/dev/null 2>&1 & pid=$!; "
                              "for i in $(seq 2400); do ls -a | grep -q ^.tmp-dir- && break; sleep 0.05; done; "
                              "if ! ls -a | grep -q ^.tmp-dir-; then kill -KILL $pid; wait $pid; echo 1001 > code; "
-                             "else sleep " + delay + "; kill -INT $pid; (sleep 60; kill -KILL $pid) >/dev/null 2>&1 & watchdog=$!; "
+                             "else sleep " +
+                             delay +
+                             "; kill -INT $pid; (sleep 60; kill -KILL $pid) >/dev/null 2>&1 & watchdog=$!; "
                              "wait $pid; echo $? > code; kill $watchdog 2>/dev/null; fi; }";
   EXPECT_EQ(test::runCommand("sh -c '" + script + "'"), 0);
   std::ifstream code_file(dir.path() / "code");

@@ -5,8 +5,8 @@
 #include "mire/datasets/render.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/metrology/poses_csv.hpp"
-#include "mire/support/csv.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
 
 #include "chessboard_views.hpp"
 #include "test_support.hpp"
@@ -52,7 +52,8 @@ TEST(MeasureCli, BadPoseFoldersAreReportedAndTheOthersWritten) {
   // Target never found: uniform grey images.
   fs::create_directories(poses / "blank");
   for (int i = 0; i < 2; ++i)
-    cv::imwrite((poses / "blank" / ("img" + std::to_string(i) + ".png")).string(), cv::Mat(768, 1024, CV_8UC1, cv::Scalar(128)));
+    cv::imwrite((poses / "blank" / ("img" + std::to_string(i) + ".png")).string(),
+                cv::Mat(768, 1024, CV_8UC1, cv::Scalar(128)));
   // Mixed image sizes.
   fs::create_directories(poses / "mixed");
   cv::imwrite((poses / "mixed" / "a.png").string(), campaign.good_image);
@@ -70,11 +71,10 @@ TEST(MeasureCli, BadPoseFoldersAreReportedAndTheOthersWritten) {
   int code = -1;
   const fs::path output = dir.path() / "out" / "poses.csv";
   fs::create_directories(output.parent_path());
-  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " measure --camera " +
-                                      (dir.path() / "camera.yaml").string() + " --target " +
-                                      (dir.path() / "target.yaml").string() + " --poses " + poses.string() + " -o " +
-                                      output.string(),
-                                  &code);
+  const std::string out = mire::test::captureCommand(
+      mire::test::mireBinary().string() + " measure --camera " + (dir.path() / "camera.yaml").string() + " --target " +
+          (dir.path() / "target.yaml").string() + " --poses " + poses.string() + " -o " + output.string(),
+      &code);
   EXPECT_EQ(code, 3) << out;
   // A blank image is named (it used to count as a view without the target: issue 12).
   EXPECT_NE(out.find("pose blank: FAILED: image "), std::string::npos) << out;
@@ -109,11 +109,11 @@ TEST(MeasureCli, NoPoseMeasuredExitsOneAndWritesNothing) {
   fs::create_directories(dir.path() / "poses" / "blank");
   cv::imwrite((dir.path() / "poses" / "blank" / "a.png").string(), cv::Mat(768, 1024, CV_8UC1, cv::Scalar(128)));
   int code = -1;
-  const std::string out = mire::test::captureCommand(mire::test::mireBinary().string() + " measure --camera " +
-                                      (dir.path() / "camera.yaml").string() + " --target " +
-                                      (dir.path() / "target.yaml").string() + " --poses " +
-                                      (dir.path() / "poses").string() + " -o " + (dir.path() / "poses.csv").string(),
-                                  &code);
+  const std::string out = mire::test::captureCommand(
+      mire::test::mireBinary().string() + " measure --camera " + (dir.path() / "camera.yaml").string() + " --target " +
+          (dir.path() / "target.yaml").string() + " --poses " + (dir.path() / "poses").string() + " -o " +
+          (dir.path() / "poses.csv").string(),
+      &code);
   EXPECT_EQ(code, 1) << out;
   EXPECT_FALSE(fs::exists(dir.path() / "poses.csv"));
   EXPECT_NE(out.find("pose blank: FAILED"), std::string::npos) << out;

@@ -33,7 +33,8 @@ struct Campaign {
     const mire::datasets::NoiseOptions noise{1.5, 20.0};
     std::uint64_t seed = 1;
     for (int p = 0; p < 5; ++p) {
-      const auto rendering = renderer.render(mire::test::tiltedBoardPose(0.02 * p - 0.04, 0.01 * p, 0.6 + 0.02 * p, 8.0 * p - 16));
+      const auto rendering =
+          renderer.render(mire::test::tiltedBoardPose(0.02 * p - 0.04, 0.01 * p, 0.6 + 0.02 * p, 8.0 * p - 16));
       for (int i = 0; i < 3; ++i)
         writeImage(root / "poses" / ("static" + std::to_string(p)) / ("img" + std::to_string(i) + ".png"),
                    mire::datasets::addNoise(rendering.radiance, noise, seed++));

@@ -28,8 +28,8 @@ TEST(PlanCameraCli, DemoCameraFillsVisibilityAndPoseSigma) {
   const fs::path d = dir.path();
   test::writeText(d / "workspace.yaml", kH4Workspace);
   ASSERT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
-                             " --count 15 --candidates 1000 --images-per-pose 3 -o " + (d / "plan.csv").string() +
-                             " --report " + (d / "report").string() + cameraArgs()),
+                                     " --count 15 --candidates 1000 --images-per-pose 3 -o " +
+                                     (d / "plan.csv").string() + " --report " + (d / "report").string() + cameraArgs()),
             0)
       << test::readText(d / "stderr.txt");
   const support::CsvTable plan = support::readCsv(d / "plan.csv");
@@ -75,8 +75,8 @@ TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
   // The camera 1 m to the side of the workspace: the board is never in the image.
   test::writeText(d / "mounting.yaml",
-        "tx_CB: -1.0\nty_CB: 0\ntz_CB: 1.5\nrx_CB: 0\nry_CB: 0\nrz_CB: 0\n"
-        "tx_EM: 0\nty_EM: 0\ntz_EM: 0\nrx_EM: 3.141592653589793\nry_EM: 0\nrz_EM: 0\n");
+                  "tx_CB: -1.0\nty_CB: 0\ntz_CB: 1.5\nrx_CB: 0\nry_CB: 0\nrz_CB: 0\n"
+                  "tx_EM: 0\nty_EM: 0\ntz_EM: 0\nrx_EM: 3.141592653589793\nry_EM: 0\nrz_EM: 0\n");
   EXPECT_EQ(test::runMireIn(dir, base + " --externals " + (d / "mounting.yaml").string()), 1);
   err = test::readText(d / "stderr.txt");
   EXPECT_NE(err.find("300 outside the image"), std::string::npos) << err;
@@ -86,8 +86,8 @@ TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
   EXPECT_NE(test::readText(d / "stderr.txt").find("--systematic-board"), std::string::npos);
   // --camera needs --target.
   EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
-                             " --count 15 -o " + (d / "plan.csv").string() + " --camera " +
-                             (test::sourceDir() / "datasets/specs/reference_camera.yaml").string()),
+                                     " --count 15 -o " + (d / "plan.csv").string() + " --camera " +
+                                     (test::sourceDir() / "datasets/specs/reference_camera.yaml").string()),
             2);
 }
 

@@ -15,16 +15,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kH4Workspace = "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\njoint_margin_deg: 1\n";
+const char* kH4Workspace =
+    "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\njoint_margin_deg: 1\n";
 
 TEST(PlanCli, WritesThePlanAndTheReport) {
   test::TempDir dir;
   const fs::path d = dir.path();
   test::writeText(d / "workspace.yaml", kH4Workspace);
   const std::string nominal = (test::sourceDir() / "datasets/specs/h4_nominal.yaml").string();
-  ASSERT_EQ(test::runMireIn(dir, "plan --model h4-12 --nominal " + nominal + " --workspace " + (d / "workspace.yaml").string() +
-                             " --count 15 --candidates 2000 -o " + (d / "plan.csv").string() + " --report " +
-                             (d / "report").string()),
+  ASSERT_EQ(test::runMireIn(dir, "plan --model h4-12 --nominal " + nominal + " --workspace " +
+                                     (d / "workspace.yaml").string() + " --count 15 --candidates 2000 -o " +
+                                     (d / "plan.csv").string() + " --report " + (d / "report").string()),
             0)
       << test::readText(d / "stderr.txt");
   std::istringstream plan(test::readText(d / "plan.csv"));
@@ -46,9 +47,10 @@ TEST(PlanCli, WritesThePlanAndTheReport) {
 TEST(PlanCli, BadWorkspaceIsNamedAndNothingIsWritten) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  test::writeText(d / "workspace.yaml", "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_dg: [-20, 20]\n");
-  EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() + " --count 15 -o " +
-                             (d / "plan.csv").string()),
+  test::writeText(d / "workspace.yaml",
+                  "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_dg: [-20, 20]\n");
+  EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+                                     " --count 15 -o " + (d / "plan.csv").string()),
             1);
   const std::string err = test::readText(d / "stderr.txt");
   EXPECT_NE(err.find("workspace.yaml:4"), std::string::npos) << err;
@@ -57,7 +59,7 @@ TEST(PlanCli, BadWorkspaceIsNamedAndNothingIsWritten) {
   // Too few poses for the parameters.
   test::writeText(d / "workspace.yaml", kH4Workspace);
   EXPECT_EQ(test::runMireIn(dir, "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
-                             " --count 3 --candidates 200 -o " + (d / "plan.csv").string()),
+                                     " --count 3 --candidates 200 -o " + (d / "plan.csv").string()),
             1);
   EXPECT_NE(test::readText(d / "stderr.txt").find("poses are needed"), std::string::npos);
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
@@ -68,9 +70,10 @@ TEST(SelectCli, LastLineIsTheRecommendation) {
   const fs::path d = dir.path();
   const datasets::Campaign c = datasets::simulateCampaign("h4-12", 21);
   datasets::writeCampaignFiles(c, d, 0, c.poses.size());
-  ASSERT_EQ(test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
-                             " --models h4-12:C,D,h4-31c:H --folds 5 --report " + (d / "report").string()),
-            0)
+  ASSERT_EQ(
+      test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
+                               " --models h4-12:C,D,h4-31c:H --folds 5 --report " + (d / "report").string()),
+      0)
       << test::readText(d / "stderr.txt");
   const std::string out = test::readText(d / "stdout.txt");
   const auto last = out.rfind("recommended: ");
@@ -79,8 +82,8 @@ TEST(SelectCli, LastLineIsTheRecommendation) {
   EXPECT_TRUE(rec == "recommended: C\n" || rec == "recommended: D\n") << out;
   EXPECT_TRUE(fs::exists(d / "report" / "select_scores.csv"));
   EXPECT_TRUE(fs::exists(d / "report" / "select_cv.png"));
-  EXPECT_EQ(test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
-                             " --models h4-12:E"),
+  EXPECT_EQ(test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " +
+                                     (d / "joints.csv").string() + " --models h4-12:E"),
             1);
   EXPECT_NE(test::readText(d / "stderr.txt").find("does not belong to h4-12"), std::string::npos);
 }

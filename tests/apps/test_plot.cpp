@@ -27,7 +27,8 @@ int tallestColumn(const cv::Mat& image, int x0, int x1, const cv::Scalar& colour
 std::vector<int> barHeights(const cv::Mat& image, int bars) {
   std::vector<int> heights;
   const int left = 90, width = image.cols - 90 - 30;
-  for (int b = 0; b < bars; ++b) heights.push_back(tallestColumn(image, left + b * width / bars, left + (b + 1) * width / bars, kColour));
+  for (int b = 0; b < bars; ++b)
+    heights.push_back(tallestColumn(image, left + b * width / bars, left + (b + 1) * width / bars, kColour));
   return heights;
 }
 

@@ -38,8 +38,10 @@ double parse(const std::string& text) { return std::strtod(text.c_str(), nullptr
 
 // Python's json module loads the file (the format is plain JSON: no NaN, no Infinity).
 bool pythonLoads(const fs::path& path) {
-  return test::runCommand("python3 -c \"import json,sys; json.load(open(sys.argv[1]), parse_constant=lambda c: "
-                          "sys.exit('non-JSON constant ' + c))\" " + path.string()) == 0;
+  return test::runCommand(
+             "python3 -c \"import json,sys; json.load(open(sys.argv[1]), parse_constant=lambda c: "
+             "sys.exit('non-JSON constant ' + c))\" " +
+             path.string()) == 0;
 }
 
 // A covariance block {"names", "units", "matrix"}: square, exactly symmetric, diagonal = σ².
@@ -52,7 +54,8 @@ void expectCovariance(const Json& covariance, const std::vector<double>& sigma, 
   }
   for (std::size_t i = 0; i < m.size(); ++i) {
     ASSERT_EQ(m[i].size(), m.size()) << what;
-    for (std::size_t j = 0; j < i; ++j) EXPECT_EQ(m[i][j].get<double>(), m[j][i].get<double>()) << what << " " << i << "," << j;
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_EQ(m[i][j].get<double>(), m[j][i].get<double>()) << what << " " << i << "," << j;
     EXPECT_GE(m[i][i].get<double>(), 0.0) << what;
     if (!sigma.empty()) {
       EXPECT_EQ(std::sqrt(m[i][i].get<double>()), sigma[i]) << what << " " << covariance["names"][i];
@@ -74,7 +77,8 @@ void expectDeterministic(const std::string& args, const fs::path& report_json, c
 // command's report.json from a first run.
 void checkDemo(const fs::path& demo, const fs::path& first_json) {
   const fs::path json_path = demo / "report.json";
-  EXPECT_TRUE(test::readText(json_path) == test::readText(first_json)) << "two identical demo runs gave different report.json";
+  EXPECT_TRUE(test::readText(json_path) == test::readText(first_json))
+      << "two identical demo runs gave different report.json";
   EXPECT_TRUE(pythonLoads(json_path));
   const Json doc = readJson(json_path);
   EXPECT_EQ(doc.at("report"), "demo");
@@ -117,8 +121,8 @@ void checkIdentify(const fs::path& demo, const fs::path& out) {
   fs::create_directories(out);
   const std::string args = "identify --poses " + (demo / "poses.csv").string() + " --joints " +
                            (demo / "campaign/joints.csv").string() + " --lines " +
-                           (demo / "campaign/lines.csv").string() + " -o " + (out / "id.yaml").string() +
-                           " --report " + (out / "report").string();
+                           (demo / "campaign/lines.csv").string() + " -o " + (out / "id.yaml").string() + " --report " +
+                           (out / "report").string();
   ASSERT_EQ(runMire(args, out / "log.txt"), 0) << test::readText(out / "log.txt");
   const fs::path json_path = out / "report" / "report.json";
   EXPECT_TRUE(pythonLoads(json_path));
@@ -165,14 +169,16 @@ TEST(ReportJson, IdentifyFailingOrClashingRunsWriteNoReportJson) {
   EXPECT_EQ(runMire(inputs + " -o " + (out / "report/report.json").string() + " --report " + (out / "report").string(),
                     out / "log.txt"),
             2);
-  EXPECT_NE(test::readText(out / "log.txt").find("would overwrite each other"), std::string::npos) << test::readText(out / "log.txt");
+  EXPECT_NE(test::readText(out / "log.txt").find("would overwrite each other"), std::string::npos)
+      << test::readText(out / "log.txt");
   // An input is report.json.
   std::ofstream(out / "report/report.json") << "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n";
   EXPECT_EQ(runMire(inputs + " --lines " + (out / "report/report.json").string() + " -o " + (out / "id.yaml").string() +
                         " --report " + (out / "report").string(),
                     out / "log.txt"),
             2);
-  EXPECT_NE(test::readText(out / "log.txt").find("holds the input"), std::string::npos) << test::readText(out / "log.txt");
+  EXPECT_NE(test::readText(out / "log.txt").find("holds the input"), std::string::npos)
+      << test::readText(out / "log.txt");
   EXPECT_EQ(test::readText(out / "report/report.json"), "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n");  // untouched
   EXPECT_FALSE(fs::exists(out / "id.yaml"));
 }
@@ -208,8 +214,10 @@ void checkCalibrate(const fs::path& demo, const fs::path& out) {
     EXPECT_EQ(v.at("image"), views.rows[r][views.column("image")]);
     for (int k = 0; k < 3; ++k) {
       const std::string t = std::string("t") + "xyz"[k] + "_m", rot = std::string("r") + "xyz"[k] + "_rad";
-      EXPECT_EQ(support::formatNumber(v.at("translation_m")[static_cast<std::size_t>(k)], 10), views.rows[r][views.column(t)]);
-      EXPECT_EQ(support::formatNumber(v.at("rotation_rad")[static_cast<std::size_t>(k)], 10), views.rows[r][views.column(rot)]);
+      EXPECT_EQ(support::formatNumber(v.at("translation_m")[static_cast<std::size_t>(k)], 10),
+                views.rows[r][views.column(t)]);
+      EXPECT_EQ(support::formatNumber(v.at("rotation_rad")[static_cast<std::size_t>(k)], 10),
+                views.rows[r][views.column(rot)]);
     }
     if (v.at("pose_covariance").is_null()) {
       EXPECT_FALSE(v.at("used").get<bool>());
@@ -294,9 +302,11 @@ void checkSelect(const fs::path& demo, const fs::path& out) {
 TEST(ReportJson, DemoAndTheCommandsOnItsFiles) {
   test::TempDir dir;
   const fs::path demo = dir.path() / "demo";
-  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << test::readText(dir.path() / "demo.log");
+  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0)
+      << test::readText(dir.path() / "demo.log");
   fs::copy_file(demo / "report.json", dir.path() / "demo_first.json");
-  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0) << test::readText(dir.path() / "demo.log");
+  ASSERT_EQ(runMire("demo --quick -o " + demo.string(), dir.path() / "demo.log"), 0)
+      << test::readText(dir.path() / "demo.log");
   {
     SCOPED_TRACE("demo");
     checkDemo(demo, dir.path() / "demo_first.json");

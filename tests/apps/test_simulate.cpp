@@ -15,8 +15,7 @@ using mire::test::writeText;
 
 // An inline camera (the reference camera at a quarter of its size), a small chessboard.
 void writeTinySpec(const fs::path& dir, const std::string& extra) {
-  writeText(dir / "board.yaml",
-            "%YAML:1.0\n---\ntype: chessboard\ncols: 5\nrows: 4\nsquare_size_m: 0.03\n");
+  writeText(dir / "board.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 5\nrows: 4\nsquare_size_m: 0.03\n");
   writeText(dir / "spec.yaml",
             "%YAML:1.0\n---\n"
             "camera:\n  image_width: 320\n  image_height: 240\n"
@@ -74,8 +73,8 @@ TEST(Simulate, PosesWritesOneFolderPerPose) {
   ASSERT_EQ(mire::test::runCommand(mire::test::mireBinary().string() + " simulate poses --spec " +
                                    (dir.path() / "spec.yaml").string() + " -o " + out.string() + " > /dev/null"),
             0);
-  for (const char* file : {"poses/a1/img_00.png", "poses/a1/img_01.png", "poses/b2/img_01.png", "truth.yaml",
-                           "truth_poses.csv"})
+  for (const char* file :
+       {"poses/a1/img_00.png", "poses/a1/img_01.png", "poses/b2/img_01.png", "truth.yaml", "truth_poses.csv"})
     EXPECT_TRUE(fs::exists(out / file)) << file;
   const cv::Mat first = cv::imread((out / "poses/a1/img_00.png").string(), cv::IMREAD_UNCHANGED);
   const cv::Mat second = cv::imread((out / "poses/a1/img_01.png").string(), cv::IMREAD_UNCHANGED);
@@ -94,8 +93,7 @@ TEST(Simulate, BadSpecNamesTheKeyAndWritesNothing) {
   const fs::path out = dir.path() / "out";
   const fs::path log = dir.path() / "log.txt";
   EXPECT_EQ(mire::test::runCommand(mire::test::mireBinary().string() + " simulate calibration --spec " +
-                                   (dir.path() / "spec.yaml").string() + " -o " + out.string() + " 2> " +
-                                   log.string()),
+                                   (dir.path() / "spec.yaml").string() + " -o " + out.string() + " 2> " + log.string()),
             1);
   std::ifstream in(log);
   const std::string message((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

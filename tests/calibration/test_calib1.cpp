@@ -75,8 +75,8 @@ TEST(Calib1, MatchesBouguetToolbox) {
 
   mire::calibration::CalibrationOptions options;
   options.model = mire::calibration::DistortionModel::OpenCV4;  // k1 k2 p1 p2, k3 = 0 as Bouguet
-  const auto result = mire::calibration::calibrateCamera(data.object_points, data.image_points, data.width,
-                                                         data.height, options);
+  const auto result =
+      mire::calibration::calibrateCamera(data.object_points, data.image_points, data.width, data.height, options);
   const auto& p = result.camera.params;
   EXPECT_NEAR(p[0], data.fc[0], 0.1);
   EXPECT_NEAR(p[1], data.fc[1], 0.1);
@@ -117,10 +117,10 @@ TEST(Calib1, MatchesBouguetToolbox) {
   const auto sigma = result.camera.sigmas();
   ASSERT_EQ(sigma.size(), 8u);
   for (double s : sigma) EXPECT_GT(s, 0.0);
-  std::printf("calib1: fc %.5f %.5f (Bouguet %.5f %.5f) cc %.5f %.5f (%.5f %.5f)\n", p[0], p[1], data.fc[0],
-              data.fc[1], p[2], p[3], data.cc[0], data.cc[1]);
-  std::printf("calib1: kc %.5f %.5f %.5f %.5f; residual std %.5f %.5f (Bouguet %.5f %.5f); sigma_px %.5f\n", p[4],
-              p[5], p[6], p[7], sx, sy, data.err_std[0], data.err_std[1], result.sigma_px);
+  std::printf("calib1: fc %.5f %.5f (Bouguet %.5f %.5f) cc %.5f %.5f (%.5f %.5f)\n", p[0], p[1], data.fc[0], data.fc[1],
+              p[2], p[3], data.cc[0], data.cc[1]);
+  std::printf("calib1: kc %.5f %.5f %.5f %.5f; residual std %.5f %.5f (Bouguet %.5f %.5f); sigma_px %.5f\n", p[4], p[5],
+              p[6], p[7], sx, sy, data.err_std[0], data.err_std[1], result.sigma_px);
   std::printf("calib1: 1-sigma fx %.3f fy %.3f cx %.3f cy %.3f k1 %.5f k2 %.5f p1 %.6f p2 %.6f\n", sigma[0], sigma[1],
               sigma[2], sigma[3], sigma[4], sigma[5], sigma[6], sigma[7]);
 }

@@ -62,11 +62,12 @@ TEST(CalibrateSynthetic, RecoversTheReferenceCameraWithin0p1Pixel) {
   EXPECT_LT(uncertainty.centre_px, uncertainty.corner_px);
   const auto sigma = result.camera.sigmas();
   std::printf("synthetic: sigma fx %.4f fy %.4f cx %.4f cy %.4f px\n", sigma[0], sigma[1], sigma[2], sigma[3]);
-  std::printf("synthetic: errors fx %.4f fy %.4f cx %.4f cy %.4f px; k1 %.2e k2 %.2e k3 %.2e; uncertainty centre %.4f "
-              "edge %.4f corner %.4f px at %.3f m\n",
-              p[0] - truth.params[0], p[1] - truth.params[1], p[2] - truth.params[2], p[3] - truth.params[3],
-              p[4] - truth.params[4], p[5] - truth.params[5], p[8] - truth.params[8], uncertainty.centre_px,
-              uncertainty.edge_px, uncertainty.corner_px, result.uncertainty_distance_m);
+  std::printf(
+      "synthetic: errors fx %.4f fy %.4f cx %.4f cy %.4f px; k1 %.2e k2 %.2e k3 %.2e; uncertainty centre %.4f "
+      "edge %.4f corner %.4f px at %.3f m\n",
+      p[0] - truth.params[0], p[1] - truth.params[1], p[2] - truth.params[2], p[3] - truth.params[3],
+      p[4] - truth.params[4], p[5] - truth.params[5], p[8] - truth.params[8], uncertainty.centre_px,
+      uncertainty.edge_px, uncertainty.corner_px, result.uncertainty_distance_m);
 }
 
 // Every printed σ must be validated: over 50 noise draws (fixed seeds), (error / predicted σ)
@@ -179,16 +180,17 @@ TEST(CalibrateSynthetic, RefineTargetRecoversABowedBoard) {
     z_error_max = std::max(z_error_max, std::abs(e));
   }
   const double z_error_rms = std::sqrt(z_error2 / bowed.size());
-  std::printf("bow: flat-board fx fy cx cy worst error %.3f px (%.1f sigma), rms %.4f px; refined worst %.3f px "
-              "(%.1f sigma), rms %.4f px\n",
-              flat_worst, flat_worst_sigma, flat.camera.rms_px, refined_worst, refined_worst_sigma, refined.camera.rms_px);
+  std::printf(
+      "bow: flat-board fx fy cx cy worst error %.3f px (%.1f sigma), rms %.4f px; refined worst %.3f px "
+      "(%.1f sigma), rms %.4f px\n",
+      flat_worst, flat_worst_sigma, flat.camera.rms_px, refined_worst, refined_worst_sigma, refined.camera.rms_px);
   std::printf("bow: recovered out-of-plane max %.4f mm rms %.4f mm (true max %.3f mm); z error rms %.4f max %.4f mm\n",
               refined.target_out_of_plane_max_m * 1e3, refined.target_out_of_plane_rms_m * 1e3, sag * 1e3,
               z_error_rms * 1e3, z_error_max * 1e3);
-  EXPECT_GT(flat_worst_sigma, 5.0);      // flat assumption: biased far beyond its σ
-  EXPECT_LT(refined_worst_sigma, 3.0);   // refined: consistent with its σ
+  EXPECT_GT(flat_worst_sigma, 5.0);     // flat assumption: biased far beyond its σ
+  EXPECT_LT(refined_worst_sigma, 3.0);  // refined: consistent with its σ
   EXPECT_LT(refined_worst, 0.5 * flat_worst);
-  EXPECT_LT(z_error_rms, 0.03e-3);       // the 0.3 mm bow recovered to 10 % RMS
+  EXPECT_LT(z_error_rms, 0.03e-3);  // the 0.3 mm bow recovered to 10 % RMS
   EXPECT_LT(z_error_max, 0.08e-3);
   EXPECT_NEAR(std::abs(refined.target_points[(kRows / 2) * kCols + kCols / 2].z()), sag, 0.05e-3);
   EXPECT_GT(flat.camera.rms_px, 1.3 * refined.camera.rms_px);

@@ -48,7 +48,7 @@ Camera openCvCamera(int count) {
 Camera fisheyeCamera() {
   Camera camera = openCvCamera(4);
   camera.lens = LensModel::Fisheye;
-  camera.params = {277.95596230891084, 278.4167467580337, 315.5269754313737, 244.46893770533453,
+  camera.params = {277.95596230891084,    278.4167467580337,   315.5269754313737,     244.46893770533453,
                    -0.005908650672531068, 0.01587953759563821, -0.024196671184075886, 0.015501252412920248};
   camera.width = 640;
   camera.height = 480;
@@ -80,7 +80,8 @@ TEST(CameraFormats, ReadsARealRosCameraInfo) {
   EXPECT_EQ(camera.width, 320);
   EXPECT_EQ(camera.height, 240);
   EXPECT_EQ(camera.lens, LensModel::OpenCV);
-  const std::vector<double> expected{376.711141, 376.065748, 159.282944, 119.710353, 0.128368, -0.726078, 0.006426, -0.002841, 0.0};
+  const std::vector<double> expected{376.711141, 376.065748, 159.282944, 119.710353, 0.128368,
+                                     -0.726078,  0.006426,   -0.002841,  0.0};
   ASSERT_EQ(camera.params.size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_DOUBLE_EQ(camera.params[i], expected[i]) << i;
 }
@@ -134,14 +135,16 @@ TEST(CameraFormats, CameraYamlToVispAndBackIsExactInVispsTerms) {
   one_term.params = {817.2043010752688, 816.5, 511.5, 383.25, -0.21, 0.0, 0.0, 0.0, 0.0};
   for (const Camera& camera : {one_term, openCvCamera(0)}) {
     writeText(dir.path() / "camera.yaml", cameraYamlString(camera));
-    writeText(dir.path() / "camera.xml", cameraString(readCamera(dir.path() / "camera.yaml"), CameraFormat::Visp, "cam"));
+    writeText(dir.path() / "camera.xml",
+              cameraString(readCamera(dir.path() / "camera.yaml"), CameraFormat::Visp, "cam"));
     const Camera back = readCamera(dir.path() / "camera.xml");
     expectSameCamera(back, camera, 1e-9);
   }
   // A richer lens keeps px py u0 v0 exactly; its k1 becomes the fitted single term.
   writeText(dir.path() / "rich.xml", cameraVispXmlString(openCvCamera(5), "cam"));
   const Camera rich = readCamera(dir.path() / "rich.xml");
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(rich.params[static_cast<std::size_t>(i)], openCvCamera(5).params[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(rich.params[static_cast<std::size_t>(i)], openCvCamera(5).params[static_cast<std::size_t>(i)]);
   EXPECT_LT(rich.params[4], 0.0);
 }
 
@@ -196,24 +199,30 @@ TEST(CameraFormats, PyYamlReadsTheYamlFilesMireWrites) {
   writeText(dir.path() / "kalibr.yaml", cameraKalibrYamlString(openCvCamera(4)));
   // ROS and Kalibr: plain YAML; every number is a float for PyYAML (YAML 1.1).
   for (const char* name : {"ros.yaml", "kalibr.yaml"}) {
-    const std::string out = capture(std::string(kPython) + " -c \"import yaml,sys; d=yaml.safe_load(open(sys.argv[1])); "
-                                    "print('ok', type(d).__name__)\" " + (dir.path() / name).string() + " 2>&1");
+    const std::string out = capture(std::string(kPython) +
+                                    " -c \"import yaml,sys; d=yaml.safe_load(open(sys.argv[1])); "
+                                    "print('ok', type(d).__name__)\" " +
+                                    (dir.path() / name).string() + " 2>&1");
     EXPECT_EQ(out, "ok dict\n") << name;
   }
-  const std::string fx = capture(std::string(kPython) + " -c \"import yaml,sys; d=yaml.safe_load(open(sys.argv[1])); "
-                                 "print(d['camera_matrix']['data'][0] == 817.2043010752688)\" " + (dir.path() / "ros.yaml").string());
+  const std::string fx = capture(std::string(kPython) +
+                                 " -c \"import yaml,sys; d=yaml.safe_load(open(sys.argv[1])); "
+                                 "print(d['camera_matrix']['data'][0] == 817.2043010752688)\" " +
+                                 (dir.path() / "ros.yaml").string());
   EXPECT_EQ(fx, "True\n");
   // camera.yaml: PyYAML stops only at OpenCV's !!opencv-matrix tag; with a constructor for
   // that tag it reads the whole file.
-  const std::string plain = capture(std::string(kPython) + " -c \"import yaml,sys; yaml.safe_load(open(sys.argv[1]))\" " +
-                                    (dir.path() / "camera.yaml").string() + " 2>&1");
+  const std::string plain =
+      capture(std::string(kPython) + " -c \"import yaml,sys; yaml.safe_load(open(sys.argv[1]))\" " +
+              (dir.path() / "camera.yaml").string() + " 2>&1");
   EXPECT_NE(plain.find("opencv-matrix"), std::string::npos) << plain;
-  const std::string tagged = capture(
-      std::string(kPython) +
-      " -c \"import yaml,sys; yaml.SafeLoader.add_constructor('tag:yaml.org,2002:opencv-matrix', "
-      "lambda l, n: l.construct_mapping(n, deep=True)); d=yaml.safe_load(open(sys.argv[1])); "
-      "print(d['model'], d['camera_matrix']['data'][0] == 817.2043010752688, len(d['sigma']), d['covariance']['rows'])\" " +
-      (dir.path() / "camera.yaml").string() + " 2>&1");
+  const std::string tagged =
+      capture(std::string(kPython) +
+              " -c \"import yaml,sys; yaml.SafeLoader.add_constructor('tag:yaml.org,2002:opencv-matrix', "
+              "lambda l, n: l.construct_mapping(n, deep=True)); d=yaml.safe_load(open(sys.argv[1])); "
+              "print(d['model'], d['camera_matrix']['data'][0] == 817.2043010752688, len(d['sigma']), "
+              "d['covariance']['rows'])\" " +
+              (dir.path() / "camera.yaml").string() + " 2>&1");
   EXPECT_EQ(tagged, "opencv5 True 9 9\n");
 }
 
@@ -228,9 +237,11 @@ TEST(CameraFormats, MrcalReadsTheCameramodelMireWrites) {
     paths += " " + path.string();
   }
   // One interpreter for all files (importing mrcal takes a second).
-  const std::string out = capture(std::string(kPython) +
-                                  " -c \"import mrcal,sys\nfor p in sys.argv[1:]:\n m=mrcal.cameramodel(p); l,i=m.intrinsics(); "
-                                  "print(l, ' '.join(repr(float(x)) for x in i), *m.imagersize())\" " + paths + " 2>&1");
+  const std::string out =
+      capture(std::string(kPython) +
+              " -c \"import mrcal,sys\nfor p in sys.argv[1:]:\n m=mrcal.cameramodel(p); l,i=m.intrinsics(); "
+              "print(l, ' '.join(repr(float(x)) for x in i), *m.imagersize())\" " +
+              paths + " 2>&1");
   std::istringstream in(out);
   for (const int count : counts) {
     const Camera camera = openCvCamera(count);
@@ -262,12 +273,15 @@ TEST(CameraFormats, ReadsOpenCvsKeyVariants) {
   const std::vector<std::string> files{
       // OpenCV's interactive-calibration app
       "%YAML:1.0\n---\ncalibrationDate: \"Mon Nov 23\"\nframesCount: 20\ncameraResolution: [ 640, 480 ]\n"
-      "cameraMatrix: " + matrix_k + "cameraMatrix_std_dev: " + matrix_d + "avg_reprojection_error: 0.2\n"
-      "dist_coeffs: " + matrix_d,
+      "cameraMatrix: " +
+          matrix_k + "cameraMatrix_std_dev: " + matrix_d +
+          "avg_reprojection_error: 0.2\n"
+          "dist_coeffs: " +
+          matrix_d,
       // OpenCV's tutorial camera_calibration
       "%YAML:1.0\n---\ncalibration_time: \"x\"\nnr_of_frames: 25\nimage_width: 640\nimage_height: 480\n"
-      "board_width: 9\nboard_height: 6\nsquare_size: 50.\nflags: 0\ncamera_matrix: " + matrix_k +
-      "distortion_coefficients: " + matrix_d + "avg_reprojection_error: 0.3\n",
+      "board_width: 9\nboard_height: 6\nsquare_size: 50.\nflags: 0\ncamera_matrix: " +
+          matrix_k + "distortion_coefficients: " + matrix_d + "avg_reprojection_error: 0.3\n",
       // short names, plain lists
       "width: 640\nheight: 480\nK: " + k + "\nD: " + d + "\n",
       "image_size: [640, 480]\ncamera_matrix: [[500, 0, 320], [0, 501, 240], [0, 0, 1]]\ndistCoeffs: " + d + "\n",
@@ -285,11 +299,10 @@ const char* kPlainCamera =
     "image_width: 1024\nimage_height: 768\nmodel: opencv5\n"
     "camera_matrix: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n"
     "  data: [817.2043010752688, 0.0, 511.5, 0.0, 817.2043010752688, 383.5, 0.0, 0.0, 1.0]\n"
-    "distortion_coefficients: !!opencv-matrix\n  rows: 5\n  cols: 1\n  dt: d\n  data: [-0.30, 0.10, 4.0e-4, -3.0e-4, -0.015]\n";
+    "distortion_coefficients: !!opencv-matrix\n  rows: 5\n  cols: 1\n  dt: d\n  data: [-0.30, 0.10, 4.0e-4, -3.0e-4, "
+    "-0.015]\n";
 
-Camera referenceCamera() {
-  return readCamera(test::sourceDir() / "datasets/specs/reference_camera.yaml");
-}
+Camera referenceCamera() { return readCamera(test::sourceDir() / "datasets/specs/reference_camera.yaml"); }
 
 void expectVariantLoads(const std::string& text) {
   const test::TempDir dir;
@@ -307,7 +320,9 @@ std::string withCrlf(std::string text) {
 TEST(CameraYamlVariants, OpenCvHeader) { expectVariantLoads(std::string("%YAML:1.0\n---\n") + kPlainCamera); }
 TEST(CameraYamlVariants, PlainYaml) { expectVariantLoads(kPlainCamera); }
 TEST(CameraYamlVariants, DocumentMarkerOnly) { expectVariantLoads(std::string("---\n") + kPlainCamera); }
-TEST(CameraYamlVariants, Yaml12Directive) { expectVariantLoads(std::string("%YAML 1.2\n---\n") + kPlainCamera + "...\n"); }
+TEST(CameraYamlVariants, Yaml12Directive) {
+  expectVariantLoads(std::string("%YAML 1.2\n---\n") + kPlainCamera + "...\n");
+}
 TEST(CameraYamlVariants, Crlf) { expectVariantLoads(withCrlf(std::string("%YAML:1.0\n---\n") + kPlainCamera)); }
 TEST(CameraYamlVariants, Bom) { expectVariantLoads(std::string("\xEF\xBB\xBF") + kPlainCamera); }
 TEST(CameraYamlVariants, FlowStyle) {
@@ -351,7 +366,8 @@ TEST(CameraFormats, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(readError(k1), "cam.yaml:13: key 'distortion_coefficients.data[0]': 1e+06 is out of range (-10000..10000)");
   std::string cx = plain;
   cx.replace(cx.find("511.5"), 5, "-5000");
-  EXPECT_EQ(readError(cx), "cam.yaml:4: key 'camera_matrix': principal point (-5000, 383.5) px is far outside the 1024 x 768 image");
+  EXPECT_EQ(readError(cx),
+            "cam.yaml:4: key 'camera_matrix': principal point (-5000, 383.5) px is far outside the 1024 x 768 image");
   EXPECT_EQ(readError(plain + "model: fisheye\n").substr(0, 9), "cam.yaml:");
   std::string fisheye = plain;
   fisheye.replace(fisheye.find("opencv5"), 7, "fisheye");

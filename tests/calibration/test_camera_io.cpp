@@ -57,15 +57,17 @@ TEST(CameraIo, ReadsTheReferenceCameraAndReorderedCovariances) {
   EXPECT_DOUBLE_EQ(reference.params[4], -0.30);
 
   const test::TempDir dir;
-  writeText(dir.path() / "camera.yaml",
-            "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
-            "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 320., 0., 501., 240., 0., 0., 1. ]\n"
-            "distortion_coefficients: !!opencv-matrix\n   rows: 4\n   cols: 1\n   dt: d\n   data: [ -0.1, 0.01, 0., 0. ]\n"
-            "covariance: !!opencv-matrix\n   rows: 8\n   cols: 8\n   dt: d\n"
-            "   data: [ 4., 0., 0., 0., 0., 0., 0., 0.,  0., 1., 0., 0., 0., 0., 0., 0.,  0., 0., 1., 0., 0., 0., 0., 0.,\n"
-            "           0., 0., 0., 1., 0., 0., 0., 0.,  0., 0., 0., 0., 1., 0., 0., 0.,  0., 0., 0., 0., 0., 1., 0., 0.,\n"
-            "           0., 0., 0., 0., 0., 0., 1., 0.,  0., 0., 0., 0., 0., 0., 0., 9. ]\n"
-            "covariance_parameters: [ cy, fx, fy, cx, k1, k2, p1, p2 ]\n");
+  writeText(
+      dir.path() / "camera.yaml",
+      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+      "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 320., 0., 501., 240., "
+      "0., 0., 1. ]\n"
+      "distortion_coefficients: !!opencv-matrix\n   rows: 4\n   cols: 1\n   dt: d\n   data: [ -0.1, 0.01, 0., 0. ]\n"
+      "covariance: !!opencv-matrix\n   rows: 8\n   cols: 8\n   dt: d\n"
+      "   data: [ 4., 0., 0., 0., 0., 0., 0., 0.,  0., 1., 0., 0., 0., 0., 0., 0.,  0., 0., 1., 0., 0., 0., 0., 0.,\n"
+      "           0., 0., 0., 1., 0., 0., 0., 0.,  0., 0., 0., 0., 1., 0., 0., 0.,  0., 0., 0., 0., 0., 1., 0., 0.,\n"
+      "           0., 0., 0., 0., 0., 0., 1., 0.,  0., 0., 0., 0., 0., 0., 0., 9. ]\n"
+      "covariance_parameters: [ cy, fx, fy, cx, k1, k2, p1, p2 ]\n");
   const Camera reordered = readCameraYaml(dir.path() / "camera.yaml");
   EXPECT_EQ(reordered.sigmas(), (std::vector<double>{1, 1, 1, 2, 1, 1, 1, 3}));  // cy's 4 is variance 4 → σ 2
 }
@@ -73,9 +75,12 @@ TEST(CameraIo, ReadsTheReferenceCameraAndReorderedCovariances) {
 TEST(CameraIo, BadFilesNameTheFileAndTheKey) {
   const test::TempDir dir;
   const auto path = dir.path() / "camera.yaml";
-  const std::string k = "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n";
+  const std::string k =
+      "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 320., 0., 500., 240., "
+      "0., 0., 1. ]\n";
   const auto d = [](int n) {
-    std::string text = "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: " + std::to_string(n) + "\n   dt: d\n   data: [ ";
+    std::string text = "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: " + std::to_string(n) +
+                       "\n   dt: d\n   data: [ ";
     for (int i = 0; i < n; ++i) text += std::string(i ? ", " : "") + "0.";
     return text + " ]\n";
   };
@@ -87,7 +92,8 @@ TEST(CameraIo, BadFilesNameTheFileAndTheKey) {
     EXPECT_NE(message.find(needle), std::string::npos) << "expected '" << needle << "' in: " << message;
   };
   expectError("image_height: 480\n" + k + d(5), "missing key 'image_width'");
-  expectError("image_width: -640\nimage_height: 480\n" + k + d(5), "key 'image_width': -640 is out of range (1..100000)");
+  expectError("image_width: -640\nimage_height: 480\n" + k + d(5),
+              "key 'image_width': -640 is out of range (1..100000)");
   expectError(size + d(5), "missing key 'camera_matrix'");
   expectError(size + "camera_matrix: [1, 2, 3]\n" + d(5), "'camera_matrix'");
   expectError(size + k, "missing key 'distortion_coefficients'");
@@ -95,10 +101,13 @@ TEST(CameraIo, BadFilesNameTheFileAndTheKey) {
   expectError(size + k + d(14), "'distortion_coefficients': has 14 values");
   expectError(size + k + d(5) + "model: fisheye\n", "'model'");
   expectError(size + k + d(5) + "rms_px: fast\n", "'rms_px'");
-  expectError(size + k + d(5) + "covariance: !!opencv-matrix\n   rows: 2\n   cols: 2\n   dt: d\n   data: [ 1., 0., 0., 1. ]\n",
-              "'covariance': must be 9x9");
+  expectError(
+      size + k + d(5) + "covariance: !!opencv-matrix\n   rows: 2\n   cols: 2\n   dt: d\n   data: [ 1., 0., 0., 1. ]\n",
+      "'covariance': must be 9x9");
   expectError(size + k + d(5) + "sigma: [ 1, 2 ]\n", "'sigma'");
-  expectError(size + "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ -500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n" +
+  expectError(size +
+                  "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ -500., 0., 320., 0., "
+                  "500., 240., 0., 0., 1. ]\n" +
                   d(5),
               "focal lengths must be positive");
   writeText(path, "image_width: [unclosed\n");

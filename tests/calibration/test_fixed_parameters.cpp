@@ -23,7 +23,8 @@ Scene sceneOf(const Camera& truth, unsigned seed) {
   scene.target = test::gridTarget(10, 7, 0.03);
   const auto views = test::makeViews(truth, scene.target, 12, seed);
   const auto pixels = test::noisyPixels(views, 0.15, seed + 1);
-  for (std::size_t v = 0; v < views.size(); ++v) scene.views.push_back({"view " + std::to_string(v), views[v].ids, pixels[v]});
+  for (std::size_t v = 0; v < views.size(); ++v)
+    scene.views.push_back({"view " + std::to_string(v), views[v].ids, pixels[v]});
   return scene;
 }
 
@@ -61,8 +62,9 @@ TEST(FixedParameters, FixedK3StaysZeroAndTheRestEqualsOpenCV4) {
   EXPECT_TRUE(fixed.camera.covariance.col(8).isZero(0.0));
   EXPECT_EQ(fixed.free_parameter_count, free5.free_parameter_count - 1);
   expectSameFreeParameters(fixed, opencv4, {0, 1, 2, 3, 4, 5, 6, 7, -1});
-  std::printf("opencv5 + fix k3: fx %.6f (opencv4 %.6f, k3 free %.6f); free parameters %d vs %d\n", fixed.camera.params[0],
-              opencv4.camera.params[0], free5.camera.params[0], fixed.free_parameter_count, free5.free_parameter_count);
+  std::printf("opencv5 + fix k3: fx %.6f (opencv4 %.6f, k3 free %.6f); free parameters %d vs %d\n",
+              fixed.camera.params[0], opencv4.camera.params[0], free5.camera.params[0], fixed.free_parameter_count,
+              free5.free_parameter_count);
 }
 
 TEST(FixedParameters, AllDistortionFixedIsThePinholeModel) {
@@ -73,7 +75,9 @@ TEST(FixedParameters, AllDistortionFixedIsThePinholeModel) {
   for (int i = 4; i < 8; ++i) EXPECT_EQ(fixed.camera.params[static_cast<std::size_t>(i)], 0.0);
   expectSameFreeParameters(fixed, pinhole, {0, 1, 2, 3, -1, -1, -1, -1});
   EXPECT_EQ(pinhole.camera.modelName(), "pinhole");
-  for (int i = 0; i < 4; ++i) EXPECT_LT(std::abs(pinhole.camera.params[static_cast<std::size_t>(i)] - truth.params[static_cast<std::size_t>(i)]), 0.3);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_LT(std::abs(pinhole.camera.params[static_cast<std::size_t>(i)] - truth.params[static_cast<std::size_t>(i)]),
+              0.3);
 }
 
 TEST(FixedParameters, FixedPrincipalPointSitsAtTheImageCentre) {

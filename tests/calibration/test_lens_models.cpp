@@ -52,7 +52,8 @@ struct OpenCV8Model {
   static double maxDistortedRadius(const Camera&) { return 1e9; }
   static constexpr DistortionModel model = DistortionModel::OpenCV8;
   static Camera camera() {
-    return cameraFromOpenCV(1024, 768, 817.2, 816.4, 511.5, 383.5, {-0.30, 0.10, 4e-4, -3e-4, -0.015, 0.01, -0.005, 0.002});
+    return cameraFromOpenCV(1024, 768, 817.2, 816.4, 511.5, 383.5,
+                            {-0.30, 0.10, 4e-4, -3e-4, -0.015, 0.01, -0.005, 0.002});
   }
   static std::vector<cv::Point2d> reference(const Camera& c, const std::vector<cv::Point3d>& p) {
     return openCVProjection(c, p);
@@ -73,7 +74,13 @@ struct FisheyeModel {
     c.width = 1024;
     c.height = 768;
     c.lens = LensModel::Fisheye;
-    c.params = {300.2, 299.6, 513.4, 381.7, -0.005908650672531068, 0.01587953759563821, -0.024196671184075886,
+    c.params = {300.2,
+                299.6,
+                513.4,
+                381.7,
+                -0.005908650672531068,
+                0.01587953759563821,
+                -0.024196671184075886,
                 0.015501252412920248};
     c.validate();
     return c;
@@ -100,7 +107,8 @@ std::vector<Eigen::Vector3d> pointsOverTheImage(const Camera& camera, int step_p
   for (int v = 0; v < camera.height; v += step_px)
     for (int u = 0; u < camera.width; u += step_px) {
       Eigen::Vector2d ray;
-      if (camera.unproject({u + 0.37, v + 0.61}, &ray)) points.push_back(depth(random) * Eigen::Vector3d(ray.x(), ray.y(), 1.0));
+      if (camera.unproject({u + 0.37, v + 0.61}, &ray))
+        points.push_back(depth(random) * Eigen::Vector3d(ray.x(), ray.y(), 1.0));
     }
   return points;
 }
@@ -119,8 +127,8 @@ TYPED_TEST(LensModels, ProjectionMatchesOpenCV) {
     ASSERT_TRUE(camera.project({cv_points[i].x, cv_points[i].y, cv_points[i].z}, &pixel));
     worst = std::max(worst, (pixel - Eigen::Vector2d(expected[i].x, expected[i].y)).norm());
   }
-  std::printf("%s: largest difference to OpenCV's projection %.2e px over %zu points\n", camera.modelName().c_str(), worst,
-              cv_points.size());
+  std::printf("%s: largest difference to OpenCV's projection %.2e px over %zu points\n", camera.modelName().c_str(),
+              worst, cv_points.size());
   EXPECT_LT(worst, 1e-10);
 }
 
@@ -153,7 +161,8 @@ TYPED_TEST(LensModels, UnprojectRoundTripsOverTheWholeImage) {
 TYPED_TEST(LensModels, AutodiffJacobianMatchesFiniteDifferences) {
   const Camera camera = TypeParam::camera();
   using Jet = ceres::Jet<double, 3>;
-  for (const Eigen::Vector3d& point : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.3, -0.2, 1.1), Eigen::Vector3d(1.2, 0.8, 1.0)}) {
+  for (const Eigen::Vector3d& point :
+       {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.3, -0.2, 1.1), Eigen::Vector3d(1.2, 0.8, 1.0)}) {
     std::vector<Jet> params(camera.params.begin(), camera.params.end());
     const Jet p[3] = {Jet(point.x(), 0), Jet(point.y(), 1), Jet(point.z(), 2)};
     Jet pixel[2];
@@ -164,8 +173,10 @@ TYPED_TEST(LensModels, AutodiffJacobianMatchesFiniteDifferences) {
       ASSERT_TRUE(camera.project(point + h * Eigen::Vector3d::Unit(axis), &plus));
       ASSERT_TRUE(camera.project(point - h * Eigen::Vector3d::Unit(axis), &minus));
       const Eigen::Vector2d numeric = (plus - minus) / (2 * h);
-      EXPECT_NEAR(pixel[0].v[axis], numeric.x(), 1e-4 * (1 + std::abs(numeric.x()))) << point.transpose() << " d/d" << axis;
-      EXPECT_NEAR(pixel[1].v[axis], numeric.y(), 1e-4 * (1 + std::abs(numeric.y()))) << point.transpose() << " d/d" << axis;
+      EXPECT_NEAR(pixel[0].v[axis], numeric.x(), 1e-4 * (1 + std::abs(numeric.x())))
+          << point.transpose() << " d/d" << axis;
+      EXPECT_NEAR(pixel[1].v[axis], numeric.y(), 1e-4 * (1 + std::abs(numeric.y())))
+          << point.transpose() << " d/d" << axis;
     }
   }
 }
@@ -196,9 +207,9 @@ TYPED_TEST(LensModels, CalibrationRecoversTheCamera) {
     }
   }
   std::printf("%s: fx fy cx cy errors %.4f %.4f %.4f %.4f px (sigma %.4f %.4f %.4f %.4f), rms %.3f px\n",
-              truth.modelName().c_str(), result.camera.params[0] - truth.params[0], result.camera.params[1] - truth.params[1],
-              result.camera.params[2] - truth.params[2], result.camera.params[3] - truth.params[3], sigma[0], sigma[1],
-              sigma[2], sigma[3], result.camera.rms_px);
+              truth.modelName().c_str(), result.camera.params[0] - truth.params[0],
+              result.camera.params[1] - truth.params[1], result.camera.params[2] - truth.params[2],
+              result.camera.params[3] - truth.params[3], sigma[0], sigma[1], sigma[2], sigma[3], result.camera.rms_px);
 }
 
 // camera.yaml keeps the model (pinhole: 4 zero coefficients for OpenCV's readers).

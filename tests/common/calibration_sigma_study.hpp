@@ -24,9 +24,9 @@
 namespace mire::test {
 
 struct SigmaStudySet {
-  std::vector<double> error;          // estimate − truth, per parameter
-  std::vector<double> sigma;          // printed σ (inflated where the data show systematic error)
-  std::vector<double> sigma_pixel;    // pixel-noise σ alone
+  std::vector<double> error;        // estimate − truth, per parameter
+  std::vector<double> sigma;        // printed σ (inflated where the data show systematic error)
+  std::vector<double> sigma_pixel;  // pixel-noise σ alone
   std::vector<double> inflation;
   int views = 0;
   double rms_px = 0.0;
@@ -49,7 +49,8 @@ inline SigmaStudySet runSigmaStudySet(int views, std::uint64_t seed) {
   cv::parallel_for_(cv::Range(0, static_cast<int>(poses.size())), [&](const cv::Range& range) {
     for (int v = range.start; v < range.end; ++v) {
       const auto rendering = renderer.render(poses[static_cast<std::size_t>(v)]);
-      const cv::Mat image = datasets::addNoise(rendering.radiance, {1.5, 20.0}, seed * 1000 + static_cast<std::uint64_t>(v));
+      const cv::Mat image =
+          datasets::addNoise(rendering.radiance, {1.5, 20.0}, seed * 1000 + static_cast<std::uint64_t>(v));
       const auto detection = metrology::detectTarget(target, image);
       if (!detection.found) continue;
       detected[static_cast<std::size_t>(v)] = {"view " + std::to_string(v), detection.ids, detection.pixels};
@@ -61,7 +62,8 @@ inline SigmaStudySet runSigmaStudySet(int views, std::uint64_t seed) {
     if (found[v]) calibration_views.push_back(detected[v]);
   calibration::CalibrationOptions options;
   options.model = calibration::DistortionModel::OpenCV5;
-  const auto result = calibration::calibrateCamera(target.points(), calibration_views, truth.width, truth.height, options);
+  const auto result =
+      calibration::calibrateCamera(target.points(), calibration_views, truth.width, truth.height, options);
   SigmaStudySet out;
   out.views = result.used_views;
   out.rms_px = result.camera.rms_px;
@@ -69,7 +71,8 @@ inline SigmaStudySet runSigmaStudySet(int views, std::uint64_t seed) {
   out.inflation = result.sigma_inflation;
   for (std::size_t i = 0; i < truth.params.size(); ++i) {
     out.error.push_back(result.camera.params[i] - truth.params[i]);
-    out.sigma_pixel.push_back(std::sqrt(result.covariance_pixel_noise(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i))));
+    out.sigma_pixel.push_back(
+        std::sqrt(result.covariance_pixel_noise(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i))));
   }
   return out;
 }

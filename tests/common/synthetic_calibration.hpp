@@ -16,8 +16,7 @@ namespace mire::test {
 using PoseVector = Eigen::Matrix<double, 6, 1>;  // angle-axis, t (cTm)
 
 inline calibration::Camera referenceCamera() {
-  return calibration::cameraFromOpenCV(1024, 768, 817.2, 816.4, 511.5, 383.5,
-                                       {-0.30, 0.10, 4e-4, -3e-4, -0.015});
+  return calibration::cameraFromOpenCV(1024, 768, 817.2, 816.4, 511.5, 383.5, {-0.30, 0.10, 4e-4, -3e-4, -0.015});
 }
 
 // cols × rows grid, `spacing` apart, z = 0; optionally bowed: a paraboloid whose corners are at
@@ -64,10 +63,10 @@ inline std::vector<SyntheticView> makeViews(const calibration::Camera& camera, c
     const double tilt_x = (unit(rng) * 2.0 - 1.0) * max_tilt_deg * M_PI / 180.0;
     const double tilt_y = (unit(rng) * 2.0 - 1.0) * max_tilt_deg * M_PI / 180.0;
     const double roll = (unit(rng) * 2.0 - 1.0) * 30.0 * M_PI / 180.0;
-    const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()) *
-                                      Eigen::AngleAxisd(tilt_x, Eigen::Vector3d::UnitX()) *
-                                      Eigen::AngleAxisd(tilt_y, Eigen::Vector3d::UnitY()))
-                                         .toRotationMatrix();
+    const Eigen::Matrix3d rotation =
+        (Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(tilt_x, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(tilt_y, Eigen::Vector3d::UnitY()))
+            .toRotationMatrix();
     const Eigen::Vector3d translation = aim - rotation * centre;
     SyntheticView view;
     const Eigen::AngleAxisd angle_axis(rotation);
@@ -76,7 +75,8 @@ inline std::vector<SyntheticView> makeViews(const calibration::Camera& camera, c
       const Eigen::Vector3d p = rotation * target[i] + translation;
       Eigen::Vector2d pixel;
       if (!camera.project(p, &pixel)) continue;
-      if (pixel.x() < 2.0 || pixel.y() < 2.0 || pixel.x() > camera.width - 3.0 || pixel.y() > camera.height - 3.0) continue;
+      if (pixel.x() < 2.0 || pixel.y() < 2.0 || pixel.x() > camera.width - 3.0 || pixel.y() > camera.height - 3.0)
+        continue;
       // Stay where the distortion model is monotonic (projection is invertible).
       Eigen::Vector2d back;
       if (!camera.unproject(pixel, &back) || (back - p.head<2>() / p.z()).norm() > 1e-9) continue;
@@ -91,7 +91,7 @@ inline std::vector<SyntheticView> makeViews(const calibration::Camera& camera, c
 
 // Adds N(0, noise²) to each coordinate.
 inline std::vector<std::vector<Eigen::Vector2d>> noisyPixels(const std::vector<SyntheticView>& views, double noise_px,
-                                                              unsigned seed) {
+                                                             unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, noise_px);
   std::vector<std::vector<Eigen::Vector2d>> pixels;

@@ -45,9 +45,9 @@ int runCommand(const std::string& command);
 }  // namespace mire::test
 
 // Skips the current test when ../shared/<relative> is absent.
-#define MIRE_REQUIRE_SHARED(relative)                                                            \
-  do {                                                                                           \
-    if (!std::filesystem::exists(::mire::test::sharedDir() / (relative)))                       \
+#define MIRE_REQUIRE_SHARED(relative)                                                          \
+  do {                                                                                         \
+    if (!std::filesystem::exists(::mire::test::sharedDir() / (relative)))                      \
       GTEST_SKIP() << "needs ../shared/" << (relative) << " (external data), absent: skipped"; \
   } while (0)
 

@@ -27,7 +27,7 @@ constexpr std::uint64_t kRobotSeed = 3;
 struct Campaign {
   H4TrueRobot robot;
   H4Model12Values model12_truth;
-  std::vector<PoseObservation> poses;            // the 81 protocol poses
+  std::vector<PoseObservation> poses;               // the 81 protocol poses
   std::vector<std::vector<Eigen::VectorXd>> lines;  // the two straight-line motions
 };
 
@@ -44,7 +44,8 @@ H4ErrorSizes testErrors(bool unmodelled_defects) {
 // `line_noise`: encoder noise along the straight-line motions (rad); it sets V3's floor.
 Campaign makeCampaign(const H4ErrorSizes& sizes, double line_noise) {
   const H4Model12Values nominal;
-  Campaign c{H4TrueRobot(makeTrueGeometry(nominal, sizes, kRobotSeed)), drawModel12Values(nominal, sizes, kRobotSeed), {}, {}};
+  Campaign c{
+      H4TrueRobot(makeTrueGeometry(nominal, sizes, kRobotSeed)), drawModel12Values(nominal, sizes, kRobotSeed), {}, {}};
   H4MeasurementNoise noise;
   noise.encoder_rad = kEncoderNoise;
   c.poses = toObservations(simulateMeasurements(c.robot, protocolPoses(), noise, 11), noise);
@@ -70,8 +71,8 @@ void split(const std::vector<PoseObservation>& all, std::vector<PoseObservation>
 double jointNoiseLevel(const mechanism::IdentificationModel& model, const std::vector<PoseObservation>& poses) {
   double sum = 0.0;
   for (const auto& p : poses) {
-    const Eigen::MatrixXd J = model.mechanism->jointJacobianWrtPose(model.external, model.geometricValues(),
-                                                                   model.externalValues(), p.cTm);
+    const Eigen::MatrixXd J =
+        model.mechanism->jointJacobianWrtPose(model.external, model.geometricValues(), model.externalValues(), p.cTm);
     sum += (J * (*p.covariance) * J.transpose()).trace() / 4.0;
   }
   return std::sqrt(sum / poses.size() + kEncoderNoise * kEncoderNoise);
@@ -110,14 +111,14 @@ Outcome evaluate(const Campaign& c) {
   o.v3_true = mechanism::straightnessCriterion(mech, model12Vector(c.model12_truth), c.lines).v3_m;
   o.square_nominal = square(c.robot, mech, initial.geometricValues());
   o.square_identified = square(c.robot, mech, result.model.geometricValues());
-  std::printf("V2 nominal %.2e rad, identified %.2e rad, joint-noise level %.2e rad\n", o.v2_nominal,
-              o.v2_identified, o.noise_level);
+  std::printf("V2 nominal %.2e rad, identified %.2e rad, joint-noise level %.2e rad\n", o.v2_nominal, o.v2_identified,
+              o.noise_level);
   std::printf("V3 nominal %.3f mm, identified %.3f mm, true model-12 part %.3f mm\n", o.v3_nominal * 1e3,
               o.v3_identified * 1e3, o.v3_true * 1e3);
   const auto& a = o.square_nominal.side_error_m;
   const auto& b = o.square_identified.side_error_m;
-  std::printf("square sides (mm): nominal %+.2f %+.2f %+.2f %+.2f, identified %+.2f %+.2f %+.2f %+.2f\n",
-              a[0] * 1e3, a[1] * 1e3, a[2] * 1e3, a[3] * 1e3, b[0] * 1e3, b[1] * 1e3, b[2] * 1e3, b[3] * 1e3);
+  std::printf("square sides (mm): nominal %+.2f %+.2f %+.2f %+.2f, identified %+.2f %+.2f %+.2f %+.2f\n", a[0] * 1e3,
+              a[1] * 1e3, a[2] * 1e3, a[3] * 1e3, b[0] * 1e3, b[1] * 1e3, b[2] * 1e3, b[3] * 1e3);
   return o;
 }
 
@@ -164,10 +165,11 @@ TEST(H4TrueRobotIdentification, MonteCarloStudyOnTheTrueRobot) {
           std::printf("first failure: %s\n", run.error.c_str());
           break;
         }
-    std::printf("MC %2d poses: %d ok, %d failed; V1 %.2e±%.1e rad, V2 %.2e±%.1e rad, V3 %.3f±%.3f mm, "
-                "sigma(l) %.3f mm, sigma(q01) %.4f deg\n",
-                s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean, s.v1_sigma, s.v2_mean, s.v2_sigma,
-                s.v3_mean * 1e3, s.v3_sigma * 1e3, s.sigma[index("l")] * 1e3, s.sigma[index("q01")] * 180 / kH4Pi);
+    std::printf(
+        "MC %2d poses: %d ok, %d failed; V1 %.2e±%.1e rad, V2 %.2e±%.1e rad, V3 %.3f±%.3f mm, "
+        "sigma(l) %.3f mm, sigma(q01) %.4f deg\n",
+        s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean, s.v1_sigma, s.v2_mean, s.v2_sigma, s.v3_mean * 1e3,
+        s.v3_sigma * 1e3, s.sigma[index("l")] * 1e3, s.sigma[index("q01")] * 180 / kH4Pi);
     EXPECT_GE(s.runs_ok, 18);
   }
   // Paper §6.2: spreads and V2 fall from 6 to 15 poses, less from 15 to 71.

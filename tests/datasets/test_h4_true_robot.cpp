@@ -21,7 +21,8 @@ TEST(H4TrueRobot, NominalIkmMatchesBriefClosedForm) {
   for (int i = 0; i < 4; ++i) {
     const double alpha = (0.25 + 0.5 * i) * kH4Pi;
     const Eigen::Vector3d u(std::cos(alpha), std::sin(alpha), 0.0);
-    const Eigen::Vector3d a = x.head<3>() + mechanism::kH4Epsilon[i] * h * Eigen::Vector3d(std::cos(x[3]), std::sin(x[3]), 0) +
+    const Eigen::Vector3d a = x.head<3>() +
+                              mechanism::kH4Epsilon[i] * h * Eigen::Vector3d(std::cos(x[3]), std::sin(x[3]), 0) +
                               mechanism::kH4Sigma[i] * d * Eigen::Vector3d::UnitY();
     const Eigen::Vector3d p = Eigen::Vector3d(mechanism::kH4Epsilon[i] * h, mechanism::kH4Sigma[i] * d, 0.0) + R * u;
     const Eigen::Vector3d w = a - p;
@@ -47,8 +48,7 @@ TEST(H4TrueRobot, IkmFkmRoundTripOverTheProtocol) {
     // Forearm closure holds with the true lengths.
     const auto a = robot.attachmentPoints(x);
     const auto b = robot.elbows(*q);
-    for (int i = 0; i < 4; ++i)
-      EXPECT_NEAR((a[i] - b[i]).norm(), robot.geometry().legs[i].forearm_length, 1e-12);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR((a[i] - b[i]).norm(), robot.geometry().legs[i].forearm_length, 1e-12);
   }
   EXPECT_LT(worst, 1e-9);
 }
@@ -69,8 +69,8 @@ TEST(H4TrueRobot, NacelleTiltIsAboutATenthOfADegreeAndVaries) {
   }
   const double deg = 180.0 / kH4Pi;
   RecordProperty("tilt_spread_deg", std::to_string(spread * deg));
-  std::printf("nacelle tilt: %.3f..%.3f deg, spread over the 81 poses %.3f deg\n", smallest * deg,
-              largest * deg, spread * deg);
+  std::printf("nacelle tilt: %.3f..%.3f deg, spread over the 81 poses %.3f deg\n", smallest * deg, largest * deg,
+              spread * deg);
   EXPECT_GT(spread * deg, 0.05);
   EXPECT_LT(spread * deg, 0.2);
   EXPECT_LT(largest * deg, 0.3);
@@ -102,8 +102,7 @@ TEST(H4TrueRobot, TargetStaysInViewOverTheProtocol) {
   for (double x : {-0.016, 0.192})
     for (double y : {-0.016, 0.144}) board.emplace_back(x, y, 0.0);
   std::vector<H4Pose> poses = protocolPoses();
-  for (const auto& line : straightLineMotions())
-    poses.insert(poses.end(), line.begin(), line.end());
+  for (const auto& line : straightLineMotions()) poses.insert(poses.end(), line.begin(), line.end());
   const double margin = smallestImageMargin(robot, poses, board);
   std::printf("smallest image margin of the board corners: %.0f px\n", margin);
   EXPECT_GT(margin, 20.0);

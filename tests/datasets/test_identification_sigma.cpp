@@ -54,7 +54,8 @@ std::map<std::string, double> normalisedErrors(const mech::IdentificationResult&
   const auto& p = r.model.parameters;
   Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
   truth << c.truth_geometric, r.model.external.valuesFrom(c.bTc, c.mTe);
-  truth[static_cast<Eigen::Index>(p.index("z_BC"))] += truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
+  truth[static_cast<Eigen::Index>(p.index("z_BC"))] +=
+      truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
   std::map<std::string, double> out;
   for (const auto& name : r.free_names) {
     const auto i = static_cast<Eigen::Index>(p.index(name));

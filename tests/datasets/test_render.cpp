@@ -86,7 +86,8 @@ TEST(RayGrid, CornersAreExactAndInterpolationErrorIsBelow1e4Px) {
   const double refined = grid.maxInterpolationErrorPx(camera, 7, 4, true);
   std::cout << "[ render ] ray inside a pixel, max error over 4x4 sub-samples (every 7th pixel + the image "
                "corners): bilinear "
-            << bilinear << " px, bilinear + 2 Newton steps with the pixel's Jacobian (what the renderer uses) " << refined << " px\n";
+            << bilinear << " px, bilinear + 2 Newton steps with the pixel's Jacobian (what the renderer uses) "
+            << refined << " px\n";
   EXPECT_LT(bilinear, 1e-3);
   EXPECT_LT(refined, 1e-4);
   EXPECT_LT(refined, 1e-9);
@@ -199,9 +200,8 @@ TEST(Render, ChessboardCornersDetectedWithin005PxOfTruth) {
     ASSERT_EQ(sharp_detection.size(), target.points().size()) << c.name << " (sharp)";
     Eigen::Vector2d sharp_offset;
     const double sharp_rms = rmsAgainstTruth(sharp_detection, sharp_rendering.truth, &sharp_offset);
-    std::cout << "[ render ] chessboard " << c.name << ": corner RMS vs truth " << rms
-              << " px (blur 1.0 px), " << sharp_rms << " px (sharp, mean offset " << sharp_offset.transpose()
-              << ")\n";
+    std::cout << "[ render ] chessboard " << c.name << ": corner RMS vs truth " << rms << " px (blur 1.0 px), "
+              << sharp_rms << " px (sharp, mean offset " << sharp_offset.transpose() << ")\n";
     EXPECT_LT(rms, 0.05) << c.name;
   }
 }
@@ -278,10 +278,10 @@ TEST(Render, CircleCentresAndTheirPerspectiveBias) {
     }
     std::cout << "[ render ] circles 7x5 (40 mm pitch, 20 mm discs) at 0.45 m, tilt " << tilt
               << " deg: pinhole: rendered disc centroid vs exact ellipse centre max " << renderer_error
-              << " px; perspective bias (ellipse centre - projected centre) RMS " << bias_rms << " px, max "
-              << bias_max << " px; reference camera (distorted): disc centroid - projected centre RMS "
-              << std::sqrt(distorted_sum / static_cast<double>(target.points().size())) << " px, max "
-              << distorted_max << " px\n";
+              << " px; perspective bias (ellipse centre - projected centre) RMS " << bias_rms << " px, max " << bias_max
+              << " px; reference camera (distorted): disc centroid - projected centre RMS "
+              << std::sqrt(distorted_sum / static_cast<double>(target.points().size())) << " px, max " << distorted_max
+              << " px\n";
     EXPECT_LT(renderer_error, 0.03) << "tilt " << tilt;
     if (tilt == 0.0) {
       EXPECT_LT(bias_max, 0.05);  // fronto-parallel: only the off-axis discs' small bias...
@@ -321,8 +321,7 @@ TEST(PoseGrid, EveryPoseSeesTheWholeTarget) {
   ASSERT_EQ(poses.size(), 81u);
   EXPECT_EQ(poses.front().id, "p001");
   for (const auto& pose : poses)
-    EXPECT_EQ(mire::datasets::projectFeatures(camera, target, pose.camera_T_target).visibleCount(),
-              target.points().size())
+    EXPECT_EQ(mire::datasets::projectFeatures(camera, target, pose.camera_T_target).visibleCount(), target.points().size())
         << pose.id;
 }
 
@@ -364,7 +363,8 @@ TEST(Render, AprilTagGridIsDetectedWithItsIdsAtTheTruth) {
 namespace {
 
 TEST(ReferenceCamera, SpecMatchesTheLensAndItsDistortionIsMonotonic) {
-  const Camera camera = mire::calibration::readCameraYaml(std::string(MIRE_DATASETS_DIR) + "/specs/reference_camera.yaml");
+  const Camera camera =
+      mire::calibration::readCameraYaml(std::string(MIRE_DATASETS_DIR) + "/specs/reference_camera.yaml");
   EXPECT_EQ(camera.width, 1024);
   EXPECT_EQ(camera.height, 768);
   EXPECT_NEAR(camera.fx(), 3.8e-3 / 4.65e-6, 1e-9);

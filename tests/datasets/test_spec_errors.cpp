@@ -29,7 +29,8 @@ std::string specError(const std::string& text) {
 const std::string kHead = "camera: reference_camera.yaml\ntarget: target_chessboard.yaml\n";
 
 TEST(SpecErrors, MisspeltKeysAreErrorsWithAHint) {
-  EXPECT_EQ(specError(kHead + "nosie:\n  gaussian_sigma: 3\n"), "spec.yaml:3: unknown key 'nosie' (did you mean 'noise'?)");
+  EXPECT_EQ(specError(kHead + "nosie:\n  gaussian_sigma: 3\n"),
+            "spec.yaml:3: unknown key 'nosie' (did you mean 'noise'?)");
   EXPECT_EQ(specError(kHead + "noise:\n  gausian_sigma: 3\n"),
             "spec.yaml:4: unknown key 'noise.gausian_sigma' (did you mean 'gaussian_sigma'?)");
   EXPECT_EQ(specError(kHead + "seed: 1\nseed: 2\n"), "spec.yaml:4: key 'seed' appears twice (first at line 3)");
@@ -44,10 +45,12 @@ TEST(SpecErrors, MisspeltKeysAreErrorsWithAHint) {
 
 TEST(SpecErrors, PoseListIdsAndValuesAreChecked) {
   const std::string list = kHead + "poses:\n  list:\n";
-  EXPECT_EQ(specError(list + "    - {id: a, t: [0, 0, 0.6], r: [0, 0, 0]}\n    - {id: a, t: [0, 0, 0.7], r: [0, 0, 0]}\n"),
-            "spec.yaml:6: key 'poses.list[1].id': 'a' is given twice (first at line 5)");
-  EXPECT_EQ(specError(list + "    - {id: '..', t: [0, 0, 0.6], r: [0, 0, 0]}\n"),
-            "spec.yaml:5: key 'poses.list[0].id': '..' is not usable as a folder name (letters, digits, '_', '-', '.')");
+  EXPECT_EQ(
+      specError(list + "    - {id: a, t: [0, 0, 0.6], r: [0, 0, 0]}\n    - {id: a, t: [0, 0, 0.7], r: [0, 0, 0]}\n"),
+      "spec.yaml:6: key 'poses.list[1].id': 'a' is given twice (first at line 5)");
+  EXPECT_EQ(
+      specError(list + "    - {id: '..', t: [0, 0, 0.6], r: [0, 0, 0]}\n"),
+      "spec.yaml:5: key 'poses.list[0].id': '..' is not usable as a folder name (letters, digits, '_', '-', '.')");
   EXPECT_EQ(specError(list + "    - {id: p, t: [0, .nan, 0.6], r: [0, 0, 0]}\n"),
             "spec.yaml:5: key 'poses.list[0].t[1]': '.nan' is not a finite number");
   EXPECT_EQ(specError(list + "    - {id: p, t: [0, 0, -0.6], r: [0, 0, 0]}\n"),
@@ -57,7 +60,8 @@ TEST(SpecErrors, PoseListIdsAndValuesAreChecked) {
 
 TEST(SpecErrors, InlineCameraUsesTheCameraReader) {
   const std::string inline_camera =
-      "camera:\n  image_width: 640\n  image_height: 480\n  K: [500, 0, 320, 0, 500, 240, 0, 0, 1]\n  D: [0, 0, 0, 0, 0]\n"
+      "camera:\n  image_width: 640\n  image_height: 480\n  K: [500, 0, 320, 0, 500, 240, 0, 0, 1]\n  D: [0, 0, 0, 0, "
+      "0]\n"
       "target: target_chessboard.yaml\n";
   EXPECT_EQ(specError(inline_camera), "(no error)");
   EXPECT_EQ(specError(inline_camera + "camera: x.yaml\n"), "spec.yaml:7: key 'camera' appears twice (first at line 1)");

@@ -17,8 +17,8 @@ namespace mire::mechanism::test {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-constexpr double kSigmaT = 0.2e-3;          // m
-constexpr double kSigmaR = 0.03 * kDeg;      // rad
+constexpr double kSigmaT = 0.2e-3;       // m
+constexpr double kSigmaR = 0.03 * kDeg;  // rad
 
 struct TestRobot {
   H4Nominal nominal;
@@ -41,13 +41,11 @@ struct TestRobot {
       truth.setValue("q0" + k, dq0[i] * kDeg);
     }
     // Camera under the workspace looking up, slightly tilted; target facing it.
-    bTc.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
-                    Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitY()) *
+    bTc.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitY()) *
                     Eigen::AngleAxisd(0.015, Eigen::Vector3d::UnitX()))
                        .toRotationMatrix();
     bTc.translation() << 0.03, -0.02, -1.25;
-    mTe.linear() = (Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()) *
-                    Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
+    mTe.linear() = (Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
                     Eigen::AngleAxisd(0.004, Eigen::Vector3d::UnitY()))
                        .toRotationMatrix();
     mTe.translation() << 0.012, -0.008, 0.03;
@@ -69,8 +67,7 @@ struct TestRobot {
   }
 
   // Observations of the given effector poses; noise on cTm when rng is given.
-  std::vector<PoseObservation> observe(const std::vector<Eigen::Isometry3d>& bTe,
-                                       std::mt19937* rng) const {
+  std::vector<PoseObservation> observe(const std::vector<Eigen::Isometry3d>& bTe, std::mt19937* rng) const {
     std::normal_distribution<double> normal;
     std::vector<PoseObservation> out;
     for (std::size_t j = 0; j < bTe.size(); ++j) {
@@ -83,8 +80,8 @@ struct TestRobot {
         for (int k = 3; k < 6; ++k) p.cTm[k] += kSigmaR * normal(*rng);
       }
       PoseCovariance c = PoseCovariance::Zero();
-      c.diagonal() << kSigmaT * kSigmaT, kSigmaT * kSigmaT, kSigmaT * kSigmaT, kSigmaR * kSigmaR,
-          kSigmaR * kSigmaR, kSigmaR * kSigmaR;
+      c.diagonal() << kSigmaT * kSigmaT, kSigmaT * kSigmaT, kSigmaT * kSigmaT, kSigmaR * kSigmaR, kSigmaR * kSigmaR,
+          kSigmaR * kSigmaR;
       p.covariance = c;
       out.push_back(p);
     }

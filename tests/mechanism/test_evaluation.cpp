@@ -20,7 +20,8 @@ TEST(Straightness, KnownDeviation) {
   const std::vector<Eigen::Vector3d> points{{-1.0, -a, 0.0}, {0.0, 2 * a, 0.0}, {1.0, -a, 0.0}};
   EXPECT_NEAR(straightness(points), std::sqrt(2.0) * a, 1e-12);
   // Invariant to a rigid motion.
-  const Eigen::Isometry3d motion = Eigen::Translation3d(0.3, -0.2, 0.5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
+  const Eigen::Isometry3d motion =
+      Eigen::Translation3d(0.3, -0.2, 0.5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized());
   std::vector<Eigen::Vector3d> moved;
   for (const auto& p : points) moved.push_back(motion * p);
   EXPECT_NEAR(straightness(moved), std::sqrt(2.0) * a, 1e-12);
@@ -30,14 +31,13 @@ TEST(Straightness, KnownDeviation) {
 TEST(JointResidualCriteria, ZeroAtTruthAndOffsetRecovered) {
   const TestRobot robot;
   const auto poses = robot.observe(TestRobot::protocolPoses(), nullptr);
-  const auto model = makeIdentificationModel(robot.mechanism, robot.truth,
-                                             ExternalParameterization(ExternalForm::Full),
-                                             [&] {
-                                               ExternalParameterization full(ExternalForm::Full);
-                                               ParameterSet set = full.parameters();
-                                               set.setValues(full.valuesFrom(robot.bTc, robot.mTe));
-                                               return set;
-                                             }());
+  const auto model =
+      makeIdentificationModel(robot.mechanism, robot.truth, ExternalParameterization(ExternalForm::Full), [&] {
+        ExternalParameterization full(ExternalForm::Full);
+        ParameterSet set = full.parameters();
+        set.setValues(full.valuesFrom(robot.bTc, robot.mTe));
+        return set;
+      }());
   const auto exact = jointResidualCriteria(model, poses);
   EXPECT_EQ(exact.pose_count, 81);
   EXPECT_LT(std::abs(exact.v1_rad), 1e-10);
@@ -76,7 +76,7 @@ TEST(SquareTest, CornersAndSides) {
   std::vector<Eigen::Vector3d> reached;
   for (const auto& c : corners) reached.push_back(c.head<3>());
   for (double e : squareSideErrors(reached, 0.1)) EXPECT_NEAR(e, 0.0, 1e-15);
-  reached[1].x() += 1e-3;  // side 1 longer by 1 mm, side 2 by ≈0 (perpendicular) 
+  reached[1].x() += 1e-3;  // side 1 longer by 1 mm, side 2 by ≈0 (perpendicular)
   const auto errors = squareSideErrors(reached, 0.1);
   EXPECT_NEAR(errors[0], 1e-3, 1e-12);
   EXPECT_NEAR(errors[1], std::hypot(0.1, 1e-3) - 0.1, 1e-12);
@@ -94,8 +94,8 @@ TEST(MonteCarloStudy, DeterministicWhateverTheThreadCount) {
   const TestRobot robot;
   std::mt19937 rng(4);
   const auto poses = robot.observe(TestRobot::protocolPoses(), &rng);
-  const auto initial = makeInitialModel(robot.mechanism, h4Model12Parameters(robot.nominal), poses,
-                                        ExternalForm::AxisAligned);
+  const auto initial =
+      makeInitialModel(robot.mechanism, h4Model12Parameters(robot.nominal), poses, ExternalForm::AxisAligned);
   MonteCarloOptions options;
   options.subset_sizes = {15, 40};
   options.repeats = 6;
@@ -114,7 +114,8 @@ TEST(MonteCarloStudy, DeterministicWhateverTheThreadCount) {
     EXPECT_EQ(one.summaries[s].sigma, two.summaries[s].sigma);
     EXPECT_EQ(one.summaries[s].v2_mean, two.summaries[s].v2_mean);
     EXPECT_TRUE(std::isnan(one.summaries[s].v3_mean));  // no lines given
-    for (const auto& run : one.summaries[s].runs) EXPECT_EQ(static_cast<int>(run.subset.size()), one.summaries[s].subset_size);
+    for (const auto& run : one.summaries[s].runs)
+      EXPECT_EQ(static_cast<int>(run.subset.size()), one.summaries[s].subset_size);
   }
   // The subsets share one noise draw, so their mean is one estimate (off by about the
   // 15-pose spread at most), and more poses shrink the spread.

@@ -25,8 +25,7 @@ TEST(External, PreparedChainMatchesTransforms) {
       for (Eigen::Index k = 0; k < e.size(); ++k) e[k] = 0.3 * n(rng);
       PoseVector cTm;
       cTm << n(rng), n(rng), n(rng), n(rng), n(rng), n(rng);
-      const Eigen::Isometry3d expected =
-          chain.baseFromCamera(e) * toIsometry(cTm) * chain.targetFromEffector(e);
+      const Eigen::Isometry3d expected = chain.baseFromCamera(e) * toIsometry(cTm) * chain.targetFromEffector(e);
       const Eigen::Isometry3d direct = chain.effectorInBase(e, cTm);
       Eigen::Matrix3d R;
       Eigen::Vector3d t;
@@ -35,8 +34,7 @@ TEST(External, PreparedChainMatchesTransforms) {
       EXPECT_LT((R - expected.linear()).norm(), 1e-12) << externalFormName(form);
       EXPECT_LT((t - expected.translation()).norm(), 1e-12) << externalFormName(form);
       if (form == ExternalForm::Full) {
-        const Eigen::VectorXd back =
-            chain.valuesFrom(chain.baseFromCamera(e), chain.targetFromEffector(e));
+        const Eigen::VectorXd back = chain.valuesFrom(chain.baseFromCamera(e), chain.targetFromEffector(e));
         const ExternalParameterization& c = chain;
         EXPECT_LT((c.effectorInBase(back, cTm).matrix() - expected.matrix()).norm(), 1e-12);
       }

@@ -55,7 +55,8 @@ TEST(H4Models, Model31ReproducesModel12AtSpecialValues) {
   Eigen::Vector3d shift;
   const ParameterSet p31 = model31FromModel12(robot.truth, &shift);
   EXPECT_EQ(p31.size(), 31u);
-  EXPECT_NEAR(p31.value("psi1"), robot.truth.value("alpha1") + kPi - 2 * kPi * (robot.truth.value("alpha1") > 0 ? 1 : 0), 1e-12);
+  EXPECT_NEAR(p31.value("psi1"),
+              robot.truth.value("alpha1") + kPi - 2 * kPi * (robot.truth.value("alpha1") > 0 ? 1 : 0), 1e-12);
   EXPECT_NEAR(p31.value("beta3"), kPi / 2, 1e-15);
   const auto m31 = makeH4Mechanism(H4ModelKind::Model31);
   const auto& m12 = *robot.mechanism;
@@ -78,8 +79,7 @@ TEST(H4Models, CameraFrameModel31ReproducesModel31) {
   const ParameterSet p31 = model31FromModel12(robot.truth, &shift);
   // An arbitrary frame B' (rotation about z and tilt, translation): B' <- B31.
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()))
+  T.linear() = (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()))
                    .toRotationMatrix();
   T.translation() << 0.2, -0.1, 0.9;
   const ParameterSet pc = model31CameraFromModel31(p31, T);
@@ -106,8 +106,7 @@ TEST(H4Models, UnreachablePoseIsReportedNotNaN) {
   const test::TestRobot robot;
   Eigen::VectorXd x(4);
   x << 0.0, 0.0, -1.5, 0.0;  // below the reach of the forearms
-  const IkmResult ikm = robot.mechanism->inverseKinematics(robot.truth.values(),
-                                                           robot.mechanism->poseToTransform(x));
+  const IkmResult ikm = robot.mechanism->inverseKinematics(robot.truth.values(), robot.mechanism->poseToTransform(x));
   EXPECT_FALSE(ikm.reachable());
   EXPECT_EQ(ikm.unreachable_joints.size(), 4u);
 }
@@ -129,8 +128,7 @@ TEST(H4Models, BadInputErrors) {
   Eigen::VectorXd g = p.values();
   g[0] = std::nan("");
   EXPECT_THROW(m->inverseKinematics(g, Eigen::Isometry3d::Identity()), std::invalid_argument);
-  EXPECT_THROW(m->inverseKinematics(Eigen::VectorXd::Zero(3), Eigen::Isometry3d::Identity()),
-               std::invalid_argument);
+  EXPECT_THROW(m->inverseKinematics(Eigen::VectorXd::Zero(3), Eigen::Isometry3d::Identity()), std::invalid_argument);
   H4Nominal amplified;
   amplified.amplification = 2.0;
   EXPECT_THROW(makeH4Mechanism(H4ModelKind::Model31Camera, amplified), std::invalid_argument);

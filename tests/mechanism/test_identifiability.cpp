@@ -47,10 +47,7 @@ TEST(Identifiability, ScalingMakesUnitsIrrelevant) {
 // (largest), c, then a-b; each named by its dominant parameter.
 TEST(Identifiability, EachSingularValueIsNamedByItsDominantParameter) {
   Eigen::MatrixXd J(4, 3);
-  J << 1.0, 0.9, 0.0,
-       0.0, 0.1, 0.0,
-       1.0, 1.0, 0.0,
-       0.0, 0.0, 10.0;
+  J << 1.0, 0.9, 0.0, 0.0, 0.1, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 10.0;
   const auto report = analyzeJacobian(J, {"a", "b", "c"});
   ASSERT_EQ(report.dominant_parameters.size(), 3u);
   EXPECT_EQ(report.dominant_parameters[1], "c");

@@ -18,10 +18,9 @@ namespace {
 using test::kDeg;
 
 // Model 12 + the 7 external parameters, initialised from the data, z_ME at its true value.
-IdentificationModel initialModel12(const test::TestRobot& robot,
-                                   const std::vector<PoseObservation>& poses) {
-  IdentificationModel model = makeInitialModel(robot.mechanism, h4Model12Parameters(robot.nominal),
-                                               poses, ExternalForm::AxisAligned);
+IdentificationModel initialModel12(const test::TestRobot& robot, const std::vector<PoseObservation>& poses) {
+  IdentificationModel model =
+      makeInitialModel(robot.mechanism, h4Model12Parameters(robot.nominal), poses, ExternalForm::AxisAligned);
   model.parameters.setValue("z_ME", robot.trueZME(model.external.alignment()));
   return model;
 }
@@ -31,8 +30,8 @@ TEST(Identification, ExternalInitialisationIsExactOnExactData) {
   const auto poses = robot.observe(test::TestRobot::protocolPoses(), nullptr);
   ExternalParameterization form(ExternalForm::AxisAligned);
   // With the true geometry the FKM poses are exact: the closed form must return the truth.
-  const ParameterSet ext = estimateExternal(*robot.mechanism, robot.truth.values(), poses,
-                                           ExternalForm::AxisAligned, form, /*z_ME=*/0.0);
+  const ParameterSet ext =
+      estimateExternal(*robot.mechanism, robot.truth.values(), poses, ExternalForm::AxisAligned, form, /*z_ME=*/0.0);
   const Eigen::Isometry3d bTc = form.baseFromCamera(ext.values());
   const Eigen::Isometry3d mTe = form.targetFromEffector(ext.values());
   // z_BC + z_ME is all the data fix: compare with the z part moved into bTc.
@@ -41,7 +40,8 @@ TEST(Identification, ExternalInitialisationIsExactOnExactData) {
   EXPECT_LT((bTc.linear() - robot.bTc.linear()).norm(), 1e-9);
   EXPECT_LT((mTe.linear() - robot.mTe.linear()).norm(), 1e-9);
   EXPECT_LT((bTc.translation() - z_shift * axis_in_base - robot.bTc.translation()).norm(), 1e-9);
-  EXPECT_LT((mTe.translation() + z_shift * (mTe.linear() * Eigen::Vector3d::UnitZ()) - robot.mTe.translation()).norm(), 1e-9);
+  EXPECT_LT((mTe.translation() + z_shift * (mTe.linear() * Eigen::Vector3d::UnitZ()) - robot.mTe.translation()).norm(),
+            1e-9);
 }
 
 TEST(Identification, Model12RecoversTruthWithinPredictedSigma) {
@@ -63,14 +63,13 @@ TEST(Identification, Model12RecoversTruthWithinPredictedSigma) {
   EXPECT_NEAR(r.residual_scale, 1.0, 0.2);  // χ²/dof with the true pose covariances
   const Eigen::VectorXd truth = robot.trueValues(r.model);
   std::cout << "model 12 + 7 external: cond " << r.identifiability.condition_number
-            << " (unit-norm columns), rms joint residual " << r.rms_joint_residual
-            << " rad, solve " << r.solve_seconds * 1e3 << " ms, " << r.iterations << " iterations\n";
+            << " (unit-norm columns), rms joint residual " << r.rms_joint_residual << " rad, solve "
+            << r.solve_seconds * 1e3 << " ms, " << r.iterations << " iterations\n";
   for (const std::string& name : r.free_names) {
     const std::size_t i = r.model.parameters.index(name);
     const double error = r.model.parameters[i].value - truth[static_cast<Eigen::Index>(i)];
     const double sigma = r.sigmaOf(name);
-    std::cout << "  " << name << ": error " << error << ", sigma " << sigma << ", error/sigma "
-              << error / sigma << "\n";
+    std::cout << "  " << name << ": error " << error << ", sigma " << sigma << ", error/sigma " << error / sigma << "\n";
     EXPECT_LT(std::abs(error), 3.0 * sigma) << name;
   }
 }
@@ -179,8 +178,7 @@ TEST(Identification, Model31CameraFrameHas36IdentifiableParameters) {
   Eigen::Isometry3d b31Tc = robot.bTc;
   b31Tc.translation() -= shift;
   ext.setValues(aligned.valuesFrom(b31Tc, robot.mTe));
-  const IdentificationModel base31 =
-      makeIdentificationModel(makeH4Mechanism(H4ModelKind::Model31), p31, aligned, ext);
+  const IdentificationModel base31 = makeIdentificationModel(makeH4Mechanism(H4ModelKind::Model31), p31, aligned, ext);
   EXPECT_EQ(base31.parameters.freeCount(), 38u);
   const IdentifiabilityReport r31 = analyzeIdentifiability(base31, poses);
   std::cout << r31.text();
@@ -233,9 +231,7 @@ TEST(Identification, RobustLossReportsOutlierPose) {
   const Eigen::VectorXd truth = robot.trueValues(r.model);
   for (const std::string& name : r.free_names) {
     const std::size_t i = r.model.parameters.index(name);
-    EXPECT_LT(std::abs(r.model.parameters[i].value - truth[static_cast<Eigen::Index>(i)]),
-              4.0 * r.sigmaOf(name))
-        << name;
+    EXPECT_LT(std::abs(r.model.parameters[i].value - truth[static_cast<Eigen::Index>(i)]), 4.0 * r.sigmaOf(name)) << name;
   }
 }
 
@@ -308,8 +304,8 @@ TEST(Identification, ConditionNumbersOnRandomPoses) {
   EXPECT_EQ(with_d.rank, 31);
   EXPECT_EQ(without_d.rank, 30);
   EXPECT_GT(with_d.condition_number, without_d.condition_number);
-  std::cout << "cond (100 random poses, unit-norm columns): model 31 geometric without d "
-            << without_d.condition_number << ", with d " << with_d.condition_number << "\n";
+  std::cout << "cond (100 random poses, unit-norm columns): model 31 geometric without d " << without_d.condition_number
+            << ", with d " << with_d.condition_number << "\n";
   std::cout << "cond (100 random poses, unit-norm columns): model 12 geometric " << g12.condition_number
             << ", model 12 + 7 external " << r12.condition_number << ", model 31 camera frame (36) "
             << r31c.condition_number << "\n";

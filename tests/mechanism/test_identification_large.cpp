@@ -45,7 +45,8 @@ void checkAgainstDirectFormulas(const mm::IdentificationResult& result, const st
   std::vector<Eigen::Index> used;
   for (int j = 0; j < n; ++j)
     if (result.poses[static_cast<std::size_t>(j)].used) used.push_back(j);
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(4 * static_cast<Eigen::Index>(used.size()) + static_cast<Eigen::Index>(priors.size()), J.cols());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(
+      4 * static_cast<Eigen::Index>(used.size()) + static_cast<Eigen::Index>(priors.size()), J.cols());
   for (std::size_t k = 0; k < used.size(); ++k)
     A.middleRows(4 * static_cast<Eigen::Index>(k), 4) =
         result.whitening[static_cast<std::size_t>(used[k])] * J.middleRows(4 * used[k], 4);
@@ -78,8 +79,8 @@ void checkAgainstDirectFormulas(const mm::IdentificationResult& result, const st
 
 TEST(IdentificationLarge, StreamedCovarianceAndIdentifiabilityMatchTheDirectFormulas) {
   constexpr int kPoses = 6250;  // 25 000 residual rows: the large-problem path
-  const mire::datasets::Campaign c = mire::datasets::simulateCampaign(
-      "h4-12", 9, 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 0, kPoses);
+  const mire::datasets::Campaign c =
+      mire::datasets::simulateCampaign("h4-12", 9, 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 0, kPoses);
   const std::vector<mm::PoseObservation>& poses = c.poses;
   ASSERT_EQ(poses.size(), static_cast<std::size_t>(kPoses));
   const mm::IdentificationModel initial = mm::makeH4VariantModel('D', mm::H4Nominal{}, poses, {});
@@ -104,12 +105,11 @@ TEST(IdentificationLarge, StreamedCovarianceAndIdentifiabilityMatchTheDirectForm
     EXPECT_LT(std::abs(step[static_cast<Eigen::Index>(k)]), 1e-2 * result.sigmaOf(names[k])) << names[k];
 }
 
-
 // The kept system under a robust loss (the outliers' rows left out) with a prior row below.
 TEST(IdentificationLarge, StreamedKeptSystemWithOutliersAndAPriorMatchesTheDirectFormulas) {
   constexpr int kPoses = 6250;
-  const mire::datasets::Campaign c = mire::datasets::simulateCampaign(
-      "h4-12", 9, 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 0, kPoses);
+  const mire::datasets::Campaign c =
+      mire::datasets::simulateCampaign("h4-12", 9, 0.2e-3, 0.03 * mire::datasets::kCampaignDeg, 0, kPoses);
   const std::vector<mm::PoseObservation>& poses = c.poses;
   const mm::IdentificationModel initial = mm::makeH4VariantModel('D', mm::H4Nominal{}, poses, {});
   mm::IdentificationOptions options;

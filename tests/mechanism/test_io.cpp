@@ -29,8 +29,8 @@ std::string errorOf(const std::function<void()>& f) {
 TEST(PosesCsv, ReadsColumnsAndDiagonalCovariance) {
   test::TempDir dir;
   test::writeText(dir.path() / "poses.csv", std::string(kHeader) +
-                                      "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,7\n"
-                                      "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0,0,0,0,0,0,0.1,7\n");
+                                                "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,7\n"
+                                                "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0,0,0,0,0,0,0.1,7\n");
   const auto rows = readPosesCsv(dir.path() / "poses.csv");
   ASSERT_EQ(rows.size(), 2U);
   EXPECT_EQ(rows[0].observation.id, "a");
@@ -44,7 +44,8 @@ TEST(PosesCsv, ReadsColumnsAndDiagonalCovariance) {
 
 TEST(PosesCsv, SideFileCovariance) {
   test::TempDir dir;
-  test::writeText(dir.path() / "poses.csv", std::string(kHeader) + "7,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
+  test::writeText(dir.path() / "poses.csv",
+                  std::string(kHeader) + "7,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   std::string side = "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
   const char* axes[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
   for (const char* part : {"noise", "total"})
@@ -64,8 +65,9 @@ TEST(PosesCsv, SideFileCovariance) {
 TEST(PosesCsv, ErrorsNameFileAndLine) {
   test::TempDir dir;
   const auto p = dir.path() / "poses.csv";
-  test::writeText(p, std::string(kHeader) + "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
-                                  "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
+  test::writeText(p, std::string(kHeader) +
+                         "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
+                         "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   std::string e = errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("poses.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("duplicate pose_id 'a'"), std::string::npos) << e;
@@ -80,14 +82,16 @@ TEST(PosesCsv, ErrorsNameFileAndLine) {
 
 TEST(Observations, PoseWithoutJointsIsAnError) {
   test::TempDir dir;
-  test::writeText(dir.path() / "poses.csv", std::string(kHeader) +
-                                      "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
-                                      "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
+  test::writeText(dir.path() / "poses.csv",
+                  std::string(kHeader) +
+                      "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
+                      "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   test::writeText(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nz,0,0,0,0\n");
   const std::string e = errorOf([&] { readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv"); });
   EXPECT_NE(e.find("poses.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("pose 'b' has no joints"), std::string::npos) << e;
-  test::writeText(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nb,0,0,0,0\nz,0,0,0,0\n");
+  test::writeText(dir.path() / "joints.csv",
+                  "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nb,0,0,0,0\nz,0,0,0,0\n");
   const auto set = readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv");
   ASSERT_EQ(set.poses.size(), 2U);
   EXPECT_DOUBLE_EQ(set.poses[0].joints[3], 0.4);

@@ -17,11 +17,26 @@ namespace {
 using datasets::Campaign;
 using datasets::simulateCampaign;
 
-struct H4Model12 { static std::string name() { return "h4-12"; } static constexpr int kRank = 19; };
-struct H4Model31 { static std::string name() { return "h4-31"; } static constexpr int kRank = -1; };
-struct Delta { static std::string name() { return "delta"; } static constexpr int kRank = 14; };
-struct DeltaLegs { static std::string name() { return "delta-legs"; } static constexpr int kRank = 24; };
-struct GoughStewart { static std::string name() { return "gough-stewart"; } static constexpr int kRank = 42; };
+struct H4Model12 {
+  static std::string name() { return "h4-12"; }
+  static constexpr int kRank = 19;
+};
+struct H4Model31 {
+  static std::string name() { return "h4-31"; }
+  static constexpr int kRank = -1;
+};
+struct Delta {
+  static std::string name() { return "delta"; }
+  static constexpr int kRank = 14;
+};
+struct DeltaLegs {
+  static std::string name() { return "delta-legs"; }
+  static constexpr int kRank = 24;
+};
+struct GoughStewart {
+  static std::string name() { return "gough-stewart"; }
+  static constexpr int kRank = 42;
+};
 
 template <class M>
 class MechanismContract : public ::testing::Test {};
@@ -65,7 +80,13 @@ TYPED_TEST(MechanismContract, AutodiffJacobianMatchesFiniteDifferences) {
   const double h = 1e-6;
   for (int k = 0; k < G + E; ++k) {
     Eigen::VectorXd gp = g, gm = g, ep = e, em = e;
-    if (k < G) { gp[k] += h; gm[k] -= h; } else { ep[k - G] += h; em[k - G] -= h; }
+    if (k < G) {
+      gp[k] += h;
+      gm[k] -= h;
+    } else {
+      ep[k - G] += h;
+      em[k - G] -= h;
+    }
     const Eigen::VectorXd fd = (residual(gp, ep) - residual(gm, em)) / (2 * h);
     const Eigen::VectorXd ad = k < G ? Eigen::VectorXd(Jg.col(k)) : Eigen::VectorXd(Je.col(k - G));
     EXPECT_LT((fd - ad).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, ad.cwiseAbs().maxCoeff())) << "column " << k;
@@ -101,7 +122,8 @@ TEST(MechanismContractNames, IdentifiabilityNamesWhatTheCameraCannotSee) {
   // Delta: the plate never turns, so eTm's rotation has no influence and the target offset
   // merges with the camera position (3 + 3 gauge directions).
   const Campaign delta = simulateCampaign("delta", 4);
-  IdentificationModel model = makeInitialModel(delta.model.mechanism, delta.model.nominal, delta.poses, ExternalForm::Full);
+  IdentificationModel model =
+      makeInitialModel(delta.model.mechanism, delta.model.nominal, delta.poses, ExternalForm::Full);
   const GaugeAnalysis a = analyzeGauge(model, delta.poses);
   EXPECT_EQ(a.gauge.size(), 6u) << a.text();
   EXPECT_EQ(a.no_influence.size(), 3u) << a.text();

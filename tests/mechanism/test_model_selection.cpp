@@ -42,10 +42,10 @@ TEST(ModelSelection, ParsesVariantsAndModels) {
   const auto d = h4Candidates("delta,delta-legs");
   ASSERT_EQ(d.size(), 2u);
   EXPECT_EQ(d[1].label, "delta-legs");
-  EXPECT_THROW(h4Candidates("h4-12:E"), std::invalid_argument);   // E is a model-31 variant
+  EXPECT_THROW(h4Candidates("h4-12:E"), std::invalid_argument);  // E is a model-31 variant
   EXPECT_THROW(h4Candidates("delta:A"), std::invalid_argument);
-  EXPECT_THROW(h4Candidates("h4-99"), std::invalid_argument);     // unknown model
-  EXPECT_THROW(h4Candidates("A,B"), std::invalid_argument);       // letters without a model
+  EXPECT_THROW(h4Candidates("h4-99"), std::invalid_argument);  // unknown model
+  EXPECT_THROW(h4Candidates("A,B"), std::invalid_argument);    // letters without a model
   EXPECT_EQ(defaultSelectionModels(4, Unit::Radian), "h4-12:A,B,C,D,h4-31c:E,F,G,H");
   EXPECT_EQ(defaultSelectionModels(6, Unit::Metre), "gough-stewart");
 }

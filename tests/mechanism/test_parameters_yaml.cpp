@@ -55,9 +55,10 @@ TEST(ParameterYaml, AnglesBeyondATurnSuggestDegrees) {
   std::string text = kFull;
   text.replace(text.find("alpha1: 0.785"), 13, "alpha1: 45");
   write(path, text);
-  EXPECT_EQ(applyError(path), path.string() +
-                                  ":6: key 'alpha1': 45 rad is more than a turn: angles are in radians (if you meant 45 "
-                                  "degrees, write 0.785398)");
+  EXPECT_EQ(applyError(path),
+            path.string() +
+                ":6: key 'alpha1': 45 rad is more than a turn: angles are in radians (if you meant 45 "
+                "degrees, write 0.785398)");
   text = kFull;
   text.replace(text.find("q03: 0"), 6, "q03: -7");
   write(path, text);
@@ -77,7 +78,8 @@ TEST(ParameterYaml, UnknownAndDuplicateKeysNameTheLine) {
   write(path, std::string(kFull) + "R: 0.23\n");
   EXPECT_EQ(applyError(path), path.string() + ":14: key 'R' appears twice (first at line 1)");
   write(path, std::string(kFull) + "sigma_R: [1, 2]\n");
-  EXPECT_EQ(applyError(path), path.string() + ":14: key 'sigma_R': expected a single value (a number, or text for metadata)");
+  EXPECT_EQ(applyError(path),
+            path.string() + ":14: key 'sigma_R': expected a single value (a number, or text for metadata)");
   write(path, std::string(kFull) + "sigma_R: -1\n");
   EXPECT_EQ(applyError(path), path.string() + ":14: key 'sigma_R': negative standard deviation");
 }
@@ -85,8 +87,9 @@ TEST(ParameterYaml, UnknownAndDuplicateKeysNameTheLine) {
 TEST(ParameterYaml, AnyYamlSyntaxReads) {
   const test::TempDir dir;
   const auto path = dir.path() / "p.yaml";
-  write(path, "{R: 0.22, L: 3.0e-1, l: .70, h: 0.075, d: 0.1, alpha1: 0.785, alpha2: 2.356, alpha3: 3.927, "
-              "alpha4: 5.498, q01: 0, q02: 0, q03: 0, q04: +0.0, model: h4-12 # text\n}\n");
+  write(path,
+        "{R: 0.22, L: 3.0e-1, l: .70, h: 0.075, d: 0.1, alpha1: 0.785, alpha2: 2.356, alpha3: 3.927, "
+        "alpha4: 5.498, q01: 0, q02: 0, q03: 0, q04: +0.0, model: h4-12 # text\n}\n");
   ParameterSet p = h4Model12Parameters(H4Nominal{});
   applyParameterFile(readParameterFile(path), p);
   EXPECT_EQ(p.value("L"), 0.3);
@@ -101,12 +104,14 @@ TEST(ParameterYaml, PyYamlReadsTheFilesMireWrites) {
   ParameterSet parameters = h4Model12Parameters(H4Nominal{});
   parameters.setValue("h", 1e-5);
   Eigen::VectorXd sigma = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(parameters.size()), 2.5e-7);
-  writeParameterFile(path, parameters, sigma, {{"model", "h4-12 \"quoted\""}, {"variant", "D"}}, "a comment\non two lines");
+  writeParameterFile(path, parameters, sigma, {{"model", "h4-12 \"quoted\""}, {"variant", "D"}},
+                     "a comment\non two lines");
   // Every number is a float for PyYAML (YAML 1.1), equal to the value written.
   const std::string command =
       "/usr/bin/python3 -c \"import yaml,sys; d=yaml.safe_load(open(sys.argv[1])); "
       "print(d['model'], d['h'] == 1e-5, d['sigma_R'] == 2.5e-7, all(isinstance(v, float) for k, v in d.items() "
-      "if k not in ('model', 'variant')))\" " + path.string();
+      "if k not in ('model', 'variant')))\" " +
+      path.string();
   int code = -1;
   const std::string out = test::captureCommand(command, &code);
   EXPECT_EQ(code, 0) << out;

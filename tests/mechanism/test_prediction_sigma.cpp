@@ -23,8 +23,8 @@ namespace {
 constexpr double kNoiseR = 0.03 * datasets::kCampaignDeg;
 
 struct Normalised {
-  std::vector<double> position;  // error/σ per component
-  std::vector<double> rotation;  // rotation-vector error/σ per component
+  std::vector<double> position;          // error/σ per component
+  std::vector<double> rotation;          // rotation-vector error/σ per component
   double largest_rotation_change = 0.0;  // over the held-out poses of a campaign [rad]
   std::vector<double> rotation_sigma;    // predicted σ of each rotation-vector component [rad]
 };
@@ -99,7 +99,8 @@ TEST_P(PredictionSigma, HeldOutRotationErrorsMatchPredictedSigma) {
 INSTANTIATE_TEST_SUITE_P(Mechanisms, PredictionSigma, ::testing::Values("h4-12", "delta", "gough-stewart"),
                          [](const auto& info) {
                            std::string s = info.param;
-                           for (char& ch : s) if (ch == '-') ch = '_';
+                           for (char& ch : s)
+                             if (ch == '-') ch = '_';
                            return s;
                          });
 

@@ -160,9 +160,10 @@ inline Eigen::Isometry3d lookAtTarget(const metrology::Target& target, double di
   for (const Eigen::Vector3d& p : target.points()) centre += p;
   centre /= static_cast<double>(target.points().size());
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = (Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(tilt_x, Eigen::Vector3d::UnitX()) *
-                   Eigen::AngleAxisd(tilt_y, Eigen::Vector3d::UnitY()))
-                      .toRotationMatrix();
+  pose.linear() =
+      (Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(tilt_x, Eigen::Vector3d::UnitX()) *
+       Eigen::AngleAxisd(tilt_y, Eigen::Vector3d::UnitY()))
+          .toRotationMatrix();
   pose.translation() = Eigen::Vector3d(offset_m.x(), offset_m.y(), distance_m) - pose.linear() * centre;
   return pose;
 }

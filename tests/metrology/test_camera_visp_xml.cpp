@@ -23,8 +23,8 @@ TEST(CameraVispXml, LoadsInVispsParserWithTheFittedDistortion) {
   }
   vpXmlParserCamera parser;
   vpCameraParameters parameters;
-  ASSERT_EQ(parser.parse(parameters, path.string(), "reference <camera>", vpCameraParameters::perspectiveProjWithDistortion,
-                         1024, 768),
+  ASSERT_EQ(parser.parse(parameters, path.string(), "reference <camera>",
+                         vpCameraParameters::perspectiveProjWithDistortion, 1024, 768),
             vpXmlParserCamera::SEQUENCE_OK);
   EXPECT_DOUBLE_EQ(parameters.get_px(), camera.fx());
   EXPECT_DOUBLE_EQ(parameters.get_py(), camera.fy());

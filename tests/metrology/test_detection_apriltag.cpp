@@ -111,7 +111,8 @@ TEST(DetectionAprilTag, SyntheticGridCornersHaveNoConventionBias) {
   }
   bias /= static_cast<double>(count);
   const double rms = std::sqrt(sum_squared / count);
-  std::cout << "AprilTag synthetic: corner RMS " << rms << " px, mean offset (" << bias.x() << ", " << bias.y() << ") px\n";
+  std::cout << "AprilTag synthetic: corner RMS " << rms << " px, mean offset (" << bias.x() << ", " << bias.y()
+            << ") px\n";
   // A wrong pixel convention would show as a 0.5 px mean offset; a wrong corner order as
   // errors of a tag's size.
   EXPECT_LT(std::abs(bias.x()), 0.03);

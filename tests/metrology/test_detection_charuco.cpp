@@ -45,7 +45,8 @@ TEST(DetectionCharuco, OpenCVTutorialViewsAgreeWithItsCalibration) {
     ASSERT_FALSE(gray.empty()) << name;
     const Detection detection = detectTarget(target, gray);
     ASSERT_TRUE(detection.found) << name << ": " << detection.reason;
-    std::printf("%s: %zu of %zu corners %s\n", name.c_str(), detection.size(), target.points().size(), detection.reason.c_str());
+    std::printf("%s: %zu of %zu corners %s\n", name.c_str(), detection.size(), target.points().size(),
+                detection.reason.c_str());
     EXPECT_GE(detection.size(), 20u) << name;
     views.push_back({name, detection.ids, detection.pixels});
   }
@@ -72,8 +73,9 @@ TEST(DetectionCharuco, OpenCVTutorialViewsAgreeWithItsCalibration) {
 // A view of the board: its centre aimed at image point (u, v) from `distance`, tilted about the
 // camera's x and y axes, turned about its normal; `shift` (m, in M) moves the board off that
 // aim (parts of it then leave the image).
-Eigen::Isometry3d boardView(const calibration::Camera& camera, const Target& target, double u, double v, double distance,
-                            double tilt_x_deg, double tilt_y_deg, double roll_deg, const Eigen::Vector2d& shift = {0, 0}) {
+Eigen::Isometry3d boardView(const calibration::Camera& camera, const Target& target, double u, double v,
+                            double distance, double tilt_x_deg, double tilt_y_deg, double roll_deg,
+                            const Eigen::Vector2d& shift = {0, 0}) {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : target.points()) centre += p;
   centre /= static_cast<double>(target.points().size());
@@ -114,13 +116,18 @@ TEST(DetectionCharuco, RenderedViewsIncludingPartialOnesCalibrateWithin0p3Pixel)
   std::vector<ViewSpec> specs;
   for (int i = 0; i < 18; ++i) {
     const double sign = (i % 2 == 0) ? 1.0 : -1.0, other = ((i / 2) % 2 == 0) ? 1.0 : -1.0;
-    specs.push_back({150.0 + (i % 6) * 145.0, 170.0 + (i / 6) * 215.0, 0.42 + 0.02 * (i % 5), 40.0 * sign,
-                     35.0 * other, 25.0 * (i % 7) - 75.0, {0, 0}});
+    specs.push_back({150.0 + (i % 6) * 145.0,
+                     170.0 + (i / 6) * 215.0,
+                     0.42 + 0.02 * (i % 5),
+                     40.0 * sign,
+                     35.0 * other,
+                     25.0 * (i % 7) - 75.0,
+                     {0, 0}});
   }
   const std::vector<ViewSpec> partial = {
-      {60, 384, 0.40, 10, -30, 0, {0, 0}},     {980, 120, 0.40, 20, 30, 40, {0.05, 0.03}},
-      {512, 740, 0.42, -25, 0, 0, {0, 0.04}},  {60, 60, 0.40, 25, -25, 15, {0, 0}},
-      {980, 700, 0.40, -30, 25, -20, {0, 0}},  {512, 40, 0.45, 20, 0, 180, {0, 0}},
+      {60, 384, 0.40, 10, -30, 0, {0, 0}},    {980, 120, 0.40, 20, 30, 40, {0.05, 0.03}},
+      {512, 740, 0.42, -25, 0, 0, {0, 0.04}}, {60, 60, 0.40, 25, -25, 15, {0, 0}},
+      {980, 700, 0.40, -30, 25, -20, {0, 0}}, {512, 40, 0.45, 20, 0, 180, {0, 0}},
   };
   specs.insert(specs.end(), partial.begin(), partial.end());
   std::vector<calibration::CalibrationView> views;
@@ -144,9 +151,12 @@ TEST(DetectionCharuco, RenderedViewsIncludingPartialOnesCalibrateWithin0p3Pixel)
     views.push_back({"view " + std::to_string(i), detection.ids, detection.pixels});
   }
   const double rms = std::sqrt(sum_squared / corners);
-  const calibration::CalibrationResult result = calibration::calibrateCamera(target.points(), views, camera.width, camera.height);
-  std::printf("ChArUco renders: %zu corners in %zu views (%zu partial), corner RMS %.4f px (worst %.2f px); calibration "
-              "RMS %.4f px\n", corners, views.size(), partial_views, rms, worst, result.camera.rms_px);
+  const calibration::CalibrationResult result =
+      calibration::calibrateCamera(target.points(), views, camera.width, camera.height);
+  std::printf(
+      "ChArUco renders: %zu corners in %zu views (%zu partial), corner RMS %.4f px (worst %.2f px); calibration "
+      "RMS %.4f px\n",
+      corners, views.size(), partial_views, rms, worst, result.camera.rms_px);
   EXPECT_GE(partial_views, 6u);
   // Corners of steeply tilted, distant squares sit close to their markers: the sub-pixel window
   // must stay small there (doc/targets.md); measured RMS 0.185 px, worst 1.84 px on 2392 corners.

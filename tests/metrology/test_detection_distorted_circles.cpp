@@ -128,7 +128,8 @@ TEST(DetectionDistortedCircles, EveryCentreIsAtItsDiscThroughTheReferenceLens) {
       const Detection refined = refineDetection(target, rendering.image, shifted);
       ASSERT_EQ(refined.size(), target.points().size()) << label << ": " << refined.reason;
       for (std::size_t k = 0; k < refined.size(); ++k)
-        EXPECT_LT((refined.pixels[k] - detection.pixels[k]).norm(), 0.02) << label << ", refined circle " << refined.ids[k];
+        EXPECT_LT((refined.pixels[k] - detection.pixels[k]).norm(), 0.02)
+            << label << ", refined circle " << refined.ids[k];
     }
   }
 }

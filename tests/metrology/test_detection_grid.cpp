@@ -20,7 +20,8 @@ struct Errors {
 
 // Pixel errors of `detection` against the view's projection of `truth_index(id)`.
 template <typename IndexMap>
-Errors errorsAgainstTruth(const Target& target, const test::SyntheticView& view, const Detection& detection, IndexMap truth_index) {
+Errors errorsAgainstTruth(const Target& target, const test::SyntheticView& view, const Detection& detection,
+                          IndexMap truth_index) {
   Errors errors;
   for (std::size_t i = 0; i < detection.size(); ++i) {
     const double e = (view.project(target.points()[truth_index(detection.ids[i])]) - detection.pixels[i]).norm();

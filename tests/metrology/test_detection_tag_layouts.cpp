@@ -35,8 +35,8 @@ std::vector<ReferenceTag> readReference(const std::filesystem::path& path) {
   while (std::getline(in, line)) {
     double p[4][2];
     ReferenceTag tag;
-    if (std::sscanf(line.c_str(), "%d, (%lf %lf), (%lf %lf), (%lf %lf), (%lf %lf)", &tag.id, &p[0][0], &p[0][1], &p[1][0],
-                    &p[1][1], &p[2][0], &p[2][1], &p[3][0], &p[3][1]) != 9)
+    if (std::sscanf(line.c_str(), "%d, (%lf %lf), (%lf %lf), (%lf %lf), (%lf %lf)", &tag.id, &p[0][0], &p[0][1],
+                    &p[1][0], &p[1][1], &p[2][0], &p[2][1], &p[3][0], &p[3][1]) != 9)
       continue;
     for (int k = 0; k < 4; ++k) tag.corners[3 - k] = Eigen::Vector2d(p[k][0] - 0.5, p[k][1] - 0.5);
     tags.push_back(tag);
@@ -110,7 +110,8 @@ TEST(DetectionTagLayouts, RenderedArucoGridCornersAgainstTruth) {
   double sum_squared = 0.0, worst = 0.0;
   std::size_t count = 0;
   for (int v = 0; v < 3; ++v) {
-    const Eigen::Isometry3d pose = frontView(Eigen::Vector3d(-0.12 + 0.02 * v, -0.17, 0.6 + 0.05 * v), 25.0 * (v - 1), 15.0 * v);
+    const Eigen::Isometry3d pose =
+        frontView(Eigen::Vector3d(-0.12 + 0.02 * v, -0.17, 0.6 + 0.05 * v), 25.0 * (v - 1), 15.0 * v);
     const auto rendering = renderer.render(pose);
     const cv::Mat image = datasets::addNoise(rendering.radiance, {1.0, 0.0}, 60 + v);
     const Detection detection = detectTarget(target, image);
@@ -146,7 +147,8 @@ TEST(DetectionTagLayouts, LayoutKeptAmongForeignAndRepeatedTags) {
   const auto copy = datasets::Renderer(camera, Target(copy_spec)).render(pose);
   const cv::Mat copy_image = datasets::addNoise(copy.radiance, {1.0, 0.0}, 4);
   std::vector<cv::Point> outline;
-  for (int j = 0; j < 4; ++j) outline.emplace_back(static_cast<int>(copy.truth.pixels[j].x()), static_cast<int>(copy.truth.pixels[j].y()));
+  for (int j = 0; j < 4; ++j)
+    outline.emplace_back(static_cast<int>(copy.truth.pixels[j].x()), static_cast<int>(copy.truth.pixels[j].y()));
   const cv::Rect box = cv::boundingRect(outline);
   const cv::Rect grown(box.x - 12, box.y - 12, box.width + 24, box.height + 24);  // the tag's white ring included
   copy_image(grown).copyTo(image(grown));

@@ -41,10 +41,11 @@ TEST(DetectionVispCircles, FindsEveryDiscAndReproducesVispsCalibration) {
   }
   cv::Mat k, d;
   std::vector<cv::Mat> r, t;
-  const double rms = cv::calibrateCamera(object_points, image_points, cv::Size(320, 240), k, d, r, t,
-                                         cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST);
-  std::cout << "ViSP circles: RMS " << rms << " px (ViSP 0.32664), px " << k.at<double>(0, 0) << " py " << k.at<double>(1, 1)
-            << " u0 " << k.at<double>(0, 2) << " v0 " << k.at<double>(1, 2) << "\n";
+  const double rms =
+      cv::calibrateCamera(object_points, image_points, cv::Size(320, 240), k, d, r, t,
+                          cv::CALIB_FIX_K1 | cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST);
+  std::cout << "ViSP circles: RMS " << rms << " px (ViSP 0.32664), px " << k.at<double>(0, 0) << " py "
+            << k.at<double>(1, 1) << " u0 " << k.at<double>(0, 2) << " v0 " << k.at<double>(1, 2) << "\n";
   // ViSP's tutorial: px = 276.5098, py = 272.9595, u0 = 163.8652, v0 = 113.3046, 0.32664 px.
   // (Measured: 0.331 px with mire's centres, 0.340 px with OpenCV's blob centres.)
   EXPECT_LT(rms, 0.335);

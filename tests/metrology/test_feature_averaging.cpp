@@ -1,10 +1,10 @@
 // Multi-image averaging (outlier images, scatter) and the poses.csv files.
 #include "mire/datasets/feature_campaign.hpp"
-#include "mire/metrology/feature_averaging.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/poses_csv.hpp"
-#include "mire/support/csv.hpp"
 #include "mire/metrology/target.hpp"
+#include "mire/support/csv.hpp"
 
 #include "chessboard_views.hpp"
 #include "test_support.hpp"
@@ -23,7 +23,8 @@ std::vector<mire::metrology::Detection> noisyImages(double sigma, int images, st
   const Eigen::Isometry3d pose = mire::datasets::drawCampaignPose(geometry, rng);
   if (truth != nullptr) *truth = pose;
   const auto exact = mire::datasets::exactDetection(camera, mire::test::chessboard9x6().points(), pose);
-  return mire::datasets::noisyDetections(exact, std::vector<double>(mire::test::chessboard9x6().points().size(), sigma), images, rng);
+  return mire::datasets::noisyDetections(exact, std::vector<double>(mire::test::chessboard9x6().points().size(), sigma),
+                                         images, rng);
 }
 
 }  // namespace
@@ -70,7 +71,8 @@ TEST(FeatureAveraging, SingleImageFallsBackOnTheFitResiduals) {
   const auto images = noisyImages(0.2, 1, 6, &truth);
   const auto averaged = mire::metrology::averageDetections(images);
   EXPECT_FALSE(averaged.hasScatter());
-  const auto estimate = mire::metrology::estimatePose(mire::datasets::referenceCamera(), mire::test::chessboard9x6().points(), averaged);
+  const auto estimate =
+      mire::metrology::estimatePose(mire::datasets::referenceCamera(), mire::test::chessboard9x6().points(), averaged);
   ASSERT_TRUE(estimate.valid) << estimate.reason;
   EXPECT_TRUE(estimate.scatter_from_residuals);
   EXPECT_NEAR(estimate.rms_px, 0.2 * std::sqrt(2.0), 0.08);
@@ -85,8 +87,8 @@ TEST(PosesCsv, HeaderIsExactlyTheBriefsAndRoundTrips) {
   auto camera = mire::datasets::referenceCamera();
   camera.covariance = Eigen::MatrixXd::Identity(9, 9) * 1e-8;
   camera.covariance.topLeftCorner(4, 4) = Eigen::Matrix4d::Identity() * 0.25;
-  const auto estimate =
-      mire::metrology::estimatePose(camera, mire::test::chessboard9x6().points(), mire::metrology::averageDetections(images));
+  const auto estimate = mire::metrology::estimatePose(camera, mire::test::chessboard9x6().points(),
+                                                      mire::metrology::averageDetections(images));
   ASSERT_TRUE(estimate.valid);
   EXPECT_GT(estimate.covariance_intrinsics(0, 0), 0.0);
   const std::vector<mire::metrology::MeasuredPose> poses = {{"p01", 10, 10, estimate}, {"p02", 9, 10, estimate}};

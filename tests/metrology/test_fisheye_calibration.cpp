@@ -20,7 +20,13 @@ mire::calibration::Camera fisheyeCamera() {
   camera.width = 1024;
   camera.height = 768;
   camera.lens = mire::calibration::LensModel::Fisheye;
-  camera.params = {300.2, 299.6, 513.4, 381.7, -0.005908650672531068, 0.01587953759563821, -0.024196671184075886,
+  camera.params = {300.2,
+                   299.6,
+                   513.4,
+                   381.7,
+                   -0.005908650672531068,
+                   0.01587953759563821,
+                   -0.024196671184075886,
                    0.015501252412920248};
   camera.validate();
   return camera;

@@ -44,11 +44,12 @@ TEST(PoseFromImages, SixPosesOfTenImagesAgainstTruth) {
     const auto sigma = mire::metrology::PoseEstimate::sigmas(e.covariance);
     const auto sigma_pixel = mire::metrology::PoseEstimate::sigmas(e.covariance_pixel_noise);
     for (int c = 0; c < 6; ++c) worst_pixel_z = std::max(worst_pixel_z, std::abs(error[c]) / sigma_pixel[c]);
-    std::printf("pose %d: err t %.4f %.4f %.4f mm, r %.5f %.5f %.5f deg; sigma t %.4f %.4f %.4f mm, r %.5f %.5f "
-                "%.5f deg; rms %.3f px, chi2/dof %.2f\n",
-                p, error[0] * 1e3, error[1] * 1e3, error[2] * 1e3, error[3] * 180 / M_PI, error[4] * 180 / M_PI,
-                error[5] * 180 / M_PI, sigma[0] * 1e3, sigma[1] * 1e3, sigma[2] * 1e3, sigma[3] * 180 / M_PI,
-                sigma[4] * 180 / M_PI, sigma[5] * 180 / M_PI, e.rms_px, e.reduced_chi2);
+    std::printf(
+        "pose %d: err t %.4f %.4f %.4f mm, r %.5f %.5f %.5f deg; sigma t %.4f %.4f %.4f mm, r %.5f %.5f "
+        "%.5f deg; rms %.3f px, chi2/dof %.2f\n",
+        p, error[0] * 1e3, error[1] * 1e3, error[2] * 1e3, error[3] * 180 / M_PI, error[4] * 180 / M_PI,
+        error[5] * 180 / M_PI, sigma[0] * 1e3, sigma[1] * 1e3, sigma[2] * 1e3, sigma[3] * 180 / M_PI,
+        sigma[4] * 180 / M_PI, sigma[5] * 180 / M_PI, e.rms_px, e.reduced_chi2);
     // Accuracy: of the order of the reference system's 0.2 mm and 0.03° per component (a
     // 9×6 board at 0.65 m; the residual is the detector's own bias on rendered corners, see
     // the reduced χ² printed, not pixel noise).
@@ -61,9 +62,10 @@ TEST(PoseFromImages, SixPosesOfTenImagesAgainstTruth) {
     }
   }
   const double rms_z = std::sqrt(sum_z2 / (6 * kPoses));
-  std::printf("image level: rms(err/sigma) %.2f, worst |err|/sigma %.2f (pixel noise alone: worst %.1f) over %d "
-              "poses x 6 components\n",
-              rms_z, worst_z, worst_pixel_z, kPoses);
+  std::printf(
+      "image level: rms(err/sigma) %.2f, worst |err|/sigma %.2f (pixel noise alone: worst %.1f) over %d "
+      "poses x 6 components\n",
+      rms_z, worst_z, worst_pixel_z, kPoses);
   // Sanity: the σ from pixel noise alone is ~20× optimistic here (one render, 10 noise draws:
   // the detector's bias does not average out); inflated by the reduced χ² it is the right
   // order (paper §5).

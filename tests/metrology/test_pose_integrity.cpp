@@ -1,10 +1,10 @@
 // Static-pose integrity, duplicates, the one-image reduced χ² and campaign screening, from
 // rendered images with known truth (doc/measure-integrity.md).
+#include "chessboard_views.hpp"
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/metrology/campaign_screening.hpp"
 #include "mire/metrology/pose_measurement.hpp"
-#include "chessboard_views.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -126,8 +126,7 @@ TEST(PoseIntegrity, MixOfTwoViewsFailsOrSplitsNamingTheImages) {
     const auto images = mixedImages(renderer, pose, other, 10, moved, seed += 100);
     const PoseMeasurement failed = mire::metrology::measurePose(camera, target, images, names);
     std::printf("%-34s displacement %.3f px rms: ok=%d threshold %.1f | %s\n", motion.name,
-                displacementPx(camera, target, pose, other), failed.ok, failed.integrity.threshold,
-                failed.error.c_str());
+                displacementPx(camera, target, pose, other), failed.ok, failed.integrity.threshold, failed.error.c_str());
     EXPECT_FALSE(failed.ok) << motion.name;
     EXPECT_TRUE(mentions(failed.error, names, moved)) << motion.name << ": " << failed.error;
     EXPECT_FALSE(mentions(failed.error.substr(0, failed.error.find("disagree")), names, {0})) << failed.error;
@@ -166,11 +165,12 @@ TEST(PoseIntegrity, StaticPosesWithRealisticNoiseAreNotFlagged) {
     const auto images = mixedImages(renderer, pose, pose, 10, {}, 5000 + 100 * p);
     const PoseMeasurement result = mire::metrology::measurePose(camera, target, images, names);
     ASSERT_TRUE(result.ok) << result.error;
-    std::printf("static pose %d: max pairwise chi2 %.1f (threshold %.1f), Q %.1f (threshold %.1f), noise sigma %.4f "
-                "%.4f px\n",
-                p, result.integrity.max_statistic, result.integrity.threshold, result.integrity.global_statistic,
-                result.integrity.global_threshold,
-                std::sqrt(result.integrity.noise_covariance(0, 0)), std::sqrt(result.integrity.noise_covariance(1, 1)));
+    std::printf(
+        "static pose %d: max pairwise chi2 %.1f (threshold %.1f), Q %.1f (threshold %.1f), noise sigma %.4f "
+        "%.4f px\n",
+        p, result.integrity.max_statistic, result.integrity.threshold, result.integrity.global_statistic,
+        result.integrity.global_threshold, std::sqrt(result.integrity.noise_covariance(0, 0)),
+        std::sqrt(result.integrity.noise_covariance(1, 1)));
     EXPECT_EQ(result.features.images_used, 10);
     EXPECT_TRUE(result.warnings.empty());
     EXPECT_TRUE(result.notes.empty());
@@ -204,9 +204,11 @@ TEST(PoseIntegrity, IdenticalFramesCountOnceWithTheOneImageSigma) {
   const PoseMeasurement single = mire::metrology::measurePose(camera, target, {frame}, {"img_00.png"});
   ASSERT_TRUE(single.ok);
   EXPECT_LT((single.estimate.translation - result.estimate.translation).norm(), 1e-12);
-  EXPECT_NEAR(single.estimate.covariance(0, 0), result.estimate.covariance(0, 0), 1e-12 * single.estimate.covariance(0, 0));
+  EXPECT_NEAR(single.estimate.covariance(0, 0), result.estimate.covariance(0, 0),
+              1e-12 * single.estimate.covariance(0, 0));
   EXPECT_DOUBLE_EQ(single.estimate.reduced_chi2, 1.0);
-  EXPECT_EQ(mire::metrology::measurementFlags(result), (std::vector<std::string>{"duplicates:9", "sigma_from_residuals"}));
+  EXPECT_EQ(mire::metrology::measurementFlags(result),
+            (std::vector<std::string>{"duplicates:9", "sigma_from_residuals"}));
 
   // Averaging identical detections directly: zero scatter is explicit, not a division by zero.
   std::vector<mire::metrology::Detection> detections(3, mire::metrology::detectTarget(target, frame));
@@ -253,8 +255,8 @@ TEST(CampaignScreening, DownscaledPoseIsFlaggedBlurredPoseStaysAccurate) {
     std::string flags;
     for (const auto& f : pose.flags) flags += f + " ";
     std::printf("pose %d: rms %.3f px, sigma t %.4f mm, chi2 %.1f, flags: %s\n", p, pose.estimate.rms_px,
-                1e3 * std::sqrt(pose.estimate.covariance_noise.topLeftCorner<3, 3>().trace()), pose.estimate.reduced_chi2,
-                flags.c_str());
+                1e3 * std::sqrt(pose.estimate.covariance_noise.topLeftCorner<3, 3>().trace()),
+                pose.estimate.reduced_chi2, flags.c_str());
     const Eigen::Vector3d error = pose.estimate.translation - nominalPose(400 + p).translation();
     std::printf("         translation error %.3f mm\n", 1e3 * error.norm());
     if (p == kBlurred) {

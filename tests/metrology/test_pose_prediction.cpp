@@ -62,8 +62,7 @@ TEST(PosePrediction, PartlyOutsideTheImageIsExcluded) {
   }
   ASSERT_LT(shift, 1.0);
   ASSERT_GT(shift, 0.1);
-  EXPECT_TRUE(v.reason.find("border") != std::string::npos || v.reason.find("outline") != std::string::npos)
-      << v.reason;
+  EXPECT_TRUE(v.reason.find("border") != std::string::npos || v.reason.find("outline") != std::string::npos) << v.reason;
   // 10 cm further about half the board is beyond the border: refused, naming a feature.
   const Eigen::Isometry3d cTm = boardPose(board, 0.8, 0.0, Eigen::Vector3d(shift + 0.1, 0, 0));
   int inside = 0;

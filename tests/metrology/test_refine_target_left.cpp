@@ -68,12 +68,13 @@ TEST(RefineTargetLeft, FiniteAndTheCyShiftIsTheBoardsDeformation) {
   const double sigma_flat = flat.camera.sigmas()[3], sigma_refined = refined.camera.sigmas()[3];
   const double shift = flat.camera.cy() - refined.camera.cy();
   const double predicted = explained.camera.cy() - refined.camera.cy();
-  std::printf("left*.jpg: cy flat %.3f +- %.3f, refined %.3f +- %.3f (shift %.3f px = %.1f sigma); the refined board "
-              "(out of plane RMS %.3f mm, max %.3f mm) calibrated flat predicts a shift of %.3f px; fx flat %.3f refined "
-              "%.3f predicted %.3f\n",
-              flat.camera.cy(), sigma_flat, refined.camera.cy(), sigma_refined, shift, shift / sigma_flat,
-              refined.target_out_of_plane_rms_m * 1e3, refined.target_out_of_plane_max_m * 1e3, predicted,
-              flat.camera.fx(), refined.camera.fx(), explained.camera.fx());
+  std::printf(
+      "left*.jpg: cy flat %.3f +- %.3f, refined %.3f +- %.3f (shift %.3f px = %.1f sigma); the refined board "
+      "(out of plane RMS %.3f mm, max %.3f mm) calibrated flat predicts a shift of %.3f px; fx flat %.3f refined "
+      "%.3f predicted %.3f\n",
+      flat.camera.cy(), sigma_flat, refined.camera.cy(), sigma_refined, shift, shift / sigma_flat,
+      refined.target_out_of_plane_rms_m * 1e3, refined.target_out_of_plane_max_m * 1e3, predicted, flat.camera.fx(),
+      refined.camera.fx(), explained.camera.fx());
   EXPECT_LT(std::abs(shift - predicted), 2.0 * sigma_flat);
   // The deformed board leaves residuals correlated within each view: the flat calibration's σ
   // grow with that evidence (view-cluster sandwich), here cy's by ≈ 1.9 (doc/camera-models.md).

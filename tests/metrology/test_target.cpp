@@ -26,8 +26,8 @@ TEST(Target, ChessboardAndCircleLayouts) {
   const Target board(spec);
   ASSERT_EQ(board.points().size(), 70u);
   EXPECT_TRUE(board.points()[0].isZero());
-  EXPECT_TRUE(board.points()[1].isApprox(Eigen::Vector3d(0.03, 0, 0)));            // x along cols
-  EXPECT_TRUE(board.points()[10].isApprox(Eigen::Vector3d(0, 0.03, 0)));           // y along rows
+  EXPECT_TRUE(board.points()[1].isApprox(Eigen::Vector3d(0.03, 0, 0)));   // x along cols
+  EXPECT_TRUE(board.points()[10].isApprox(Eigen::Vector3d(0, 0.03, 0)));  // y along rows
   EXPECT_TRUE(board.points()[69].isApprox(Eigen::Vector3d(0.27, 0.18, 0)));
   EXPECT_FALSE(board.isRotationallyAmbiguous());
   spec.cols = 9;
@@ -76,7 +76,8 @@ TEST(Target, AprilTagGridCorners) {
 
 TEST(Target, YamlRoundTripForEveryType) {
   const test::TempDir dir;
-  for (const char* name : {"target_chessboard.yaml", "target_circles.yaml", "target_acircles.yaml", "target_apriltag.yaml"}) {
+  for (const char* name :
+       {"target_chessboard.yaml", "target_circles.yaml", "target_acircles.yaml", "target_apriltag.yaml"}) {
     const Target original = Target::fromFile(test::sourceDir() / "datasets" / "specs" / name);
     writeText(dir.path() / "copy.yaml", original.yamlString());
     const Target copy = Target::fromFile(dir.path() / "copy.yaml");
@@ -104,10 +105,13 @@ TEST(Target, BadSpecsAreRejectedNamingFileAndKey) {
   expectError("type: chessboard\ncols: 2\nrows: 6\nsquare_size_m: 0.02\n", "at least 3");
   expectError("type: circles\ncols: 9\nrows: 6\nspacing_m: 0.02\n", "missing key 'diameter_m'");
   expectError("type: circles\ncols: 9\nrows: 6\nspacing_m: 0.02\ndiameter_m: 0.03\n", "diameter_m must be smaller");
-  expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag99h1\ntag_size_m: 0.04\ntag_spacing_m: 0.05\n", "unknown AprilTag family");
-  expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag36h11\ntag_size_m: 0.04\ntag_spacing_m: 0.03\n", "tag_spacing_m");
-  expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag36h11\ntag_size_m: 0.04\ntag_spacing_m: 0.05\nfirst_id: 584\n",
-              "do not exist");
+  expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag99h1\ntag_size_m: 0.04\ntag_spacing_m: 0.05\n",
+              "unknown AprilTag family");
+  expectError("type: apriltag\ncols: 3\nrows: 2\nfamily: tag36h11\ntag_size_m: 0.04\ntag_spacing_m: 0.03\n",
+              "tag_spacing_m");
+  expectError(
+      "type: apriltag\ncols: 3\nrows: 2\nfamily: tag36h11\ntag_size_m: 0.04\ntag_spacing_m: 0.05\nfirst_id: 584\n",
+      "do not exist");
   writeText(path, "type: [unclosed\n");
   EXPECT_NE(loadError(path).find(path.string()), std::string::npos);
   EXPECT_NE(loadError(dir.path() / "absent.yaml").find("absent.yaml"), std::string::npos);

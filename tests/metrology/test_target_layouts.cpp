@@ -65,8 +65,10 @@ TEST(TargetLayouts, FreeAprilTagLayoutAndSingleTag) {
 
   const test::TempDir dir;
   // A single tag: as a one-entry list, or as a 1 x 1 grid without tag_spacing_m.
-  writeText(dir.path() / "one.yaml", "type: apriltag\nfamily: tag36h11\ntag_size_m: 0.1\ntags: [{id: 8, x: 0, y: 0}]\n");
-  writeText(dir.path() / "grid.yaml", "type: apriltag\nfamily: tag36h11\ntag_size_m: 0.1\ncols: 1\nrows: 1\nfirst_id: 8\n");
+  writeText(dir.path() / "one.yaml",
+            "type: apriltag\nfamily: tag36h11\ntag_size_m: 0.1\ntags: [{id: 8, x: 0, y: 0}]\n");
+  writeText(dir.path() / "grid.yaml",
+            "type: apriltag\nfamily: tag36h11\ntag_size_m: 0.1\ncols: 1\nrows: 1\nfirst_id: 8\n");
   for (const char* name : {"one.yaml", "grid.yaml"}) {
     const Target single = Target::fromFile(dir.path() / name);
     ASSERT_EQ(single.points().size(), 4u) << name;
@@ -93,9 +95,11 @@ TEST(TargetLayouts, PlainYamlRoundTripsOfTheNewExamples) {
     EXPECT_EQ(Target::fromFile(dir.path() / "crlf.yaml").yamlString(), text) << name;
     // Plain YAML that PyYAML (python3-yaml, scripts/setup.sh) reads, with the same numbers.
     int code = 0;
-    const std::string check = "python3 -c \"import sys, yaml; d = yaml.safe_load(open(sys.argv[1])); "
-                              "sys.exit(0 if isinstance(d['" + std::string(std::string(name) == "target_apriltag_layout.yaml" ? "tag_size_m" : "marker_size_m") +
-                              "'], float) else 3)\" " + (dir.path() / "copy.yaml").string();
+    const std::string check =
+        "python3 -c \"import sys, yaml; d = yaml.safe_load(open(sys.argv[1])); "
+        "sys.exit(0 if isinstance(d['" +
+        std::string(std::string(name) == "target_apriltag_layout.yaml" ? "tag_size_m" : "marker_size_m") +
+        "'], float) else 3)\" " + (dir.path() / "copy.yaml").string();
     const std::string out = test::captureCommand(check, &code);
     EXPECT_EQ(code, 0) << name << ": " << out;
   }
@@ -127,7 +131,8 @@ TEST(TargetLayouts, BadSpecsNameFileLineAndKey) {
   expectError(tags + "  - {id: 1, x: 0}\n", "missing key 'tags[0].y'");
   expectError(tags + "  - {id: 1, x: 0, y: 0, z: 1}\n", "unknown key 'tags[0].z'");
   expectError(tags + "  - [1, 0, 0]\n", ":5: key 'tags[0]': each tag must be a map");
-  expectError("type: apriltag\nfamily: tag36h11\ntag_size_m: 0.05\ntags: []\n", ":4: key 'tags': must be a non-empty list");
+  expectError("type: apriltag\nfamily: tag36h11\ntag_size_m: 0.05\ntags: []\n",
+              ":4: key 'tags': must be a non-empty list");
   expectError("type: apriltag\nfamily: tag36h11\ntag_size_m: 0.05\ncols: 2\nrows: 1\n", "missing key 'tag_spacing_m'");
 }
 

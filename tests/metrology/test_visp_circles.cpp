@@ -41,9 +41,10 @@ TEST(VispCircles, CalibrationMatchesVispWithoutDistortion) {
   options.fixed_parameters = {"k1", "k2", "p1", "p2"};  // ViSP's model without distortion
   const auto result = mire::calibration::calibrateCamera(target.points(), views, 320, 240, options);
   const auto& p = result.camera.params;
-  std::printf("visp circles: px %.4f py %.4f u0 %.4f v0 %.4f (ViSP 276.5098 272.9595 163.8652 113.3046), rms %.4f px "
-              "(ViSP 0.32664), rejected %d points\n",
-              p[0], p[1], p[2], p[3], result.camera.rms_px, result.rejected_points);
+  std::printf(
+      "visp circles: px %.4f py %.4f u0 %.4f v0 %.4f (ViSP 276.5098 272.9595 163.8652 113.3046), rms %.4f px "
+      "(ViSP 0.32664), rejected %d points\n",
+      p[0], p[1], p[2], p[3], result.camera.rms_px, result.rejected_points);
   EXPECT_NEAR(p[0], 276.5098, 1.0);
   EXPECT_NEAR(p[1], 272.9595, 1.0);
   EXPECT_NEAR(p[2], 163.8652, 1.0);

@@ -11,7 +11,10 @@ TEST(AtomicFile, ReplacesContentsAndLeavesNoTemporary) {
   mire::support::writeFileAtomically(path, "second");
   EXPECT_EQ(mire::test::readText(path), "second");
   int files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) { (void)entry; ++files; }
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    (void)entry;
+    ++files;
+  }
   EXPECT_EQ(files, 1);
 }
 

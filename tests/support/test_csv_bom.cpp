@@ -21,9 +21,12 @@ TEST(CsvBom, ByteOrderMarkIsDropped) {
 TEST(CsvBom, ByteOrderMarkElsewhereIsNotDropped) {
   const test::TempDir dir;
   const auto path = dir.path() / "poses.csv";
-  std::ofstream(path) << "pose_id,tx_m\n\xEF\xBB\xBF" "1,0.5\n";
+  std::ofstream(path) << "pose_id,tx_m\n\xEF\xBB\xBF"
+                         "1,0.5\n";
   const CsvTable table = readCsv(path);
-  EXPECT_EQ(table.rows.at(0).at(0), "\xEF\xBB\xBF" "1");
+  EXPECT_EQ(table.rows.at(0).at(0),
+            "\xEF\xBB\xBF"
+            "1");
 }
 
 }  // namespace

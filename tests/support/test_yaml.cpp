@@ -66,9 +66,8 @@ TEST(Yaml, LoadsFromDiskWithLineNumbers) {
 }
 
 TEST(Yaml, OutOfRangeIntegerPrintsTheValueAsWritten) {
-  const auto message = errorOf("type: chess\n\n\ncols: 3000000000\n", [](const YamlFile& f) {
-    f.rootMap().integer("cols", 1, 10000);
-  });
+  const auto message =
+      errorOf("type: chess\n\n\ncols: 3000000000\n", [](const YamlFile& f) { f.rootMap().integer("cols", 1, 10000); });
   EXPECT_EQ(message, "f.yaml:4: key 'cols': 3000000000 is out of range (1..10000)");
 }
 
@@ -84,9 +83,8 @@ TEST(Yaml, RangeErrorsUseSixSignificantDigits) {
 TEST(Yaml, NonFiniteAndNonNumbersAreRejected) {
   for (const char* bad : {".inf", "-.Inf", ".nan", "1e999", "12abc", "nan", "inf", "", "[1]", "0x"}) {
     SCOPED_TRACE(bad);
-    const auto message = errorOf(std::string("x: ") + bad + "\n", [](const YamlFile& f) {
-      f.rootMap().number("x", kAny);
-    });
+    const auto message =
+        errorOf(std::string("x: ") + bad + "\n", [](const YamlFile& f) { f.rootMap().number("x", kAny); });
     EXPECT_EQ(message.rfind("f.yaml:1: key 'x': ", 0), 0u) << message;
   }
   EXPECT_EQ(errorOf("x: 2.5\n", [](const YamlFile& f) { f.rootMap().integer("x", 0, 9); }),
@@ -106,18 +104,21 @@ TEST(Yaml, NumberSyntaxes) {
 }
 
 TEST(Yaml, DuplicateKeysAreErrorsAtAnyDepth) {
-  EXPECT_EQ(errorOf("a: 1\nb: 2\na: 3\n", [](const YamlFile&) {}),
-            "f.yaml:3: key 'a' appears twice (first at line 1)");
+  EXPECT_EQ(errorOf("a: 1\nb: 2\na: 3\n", [](const YamlFile&) {}), "f.yaml:3: key 'a' appears twice (first at line 1)");
   EXPECT_EQ(errorOf("m:\n  - {x: 1, x: 2}\n", [](const YamlFile&) {}),
             "f.yaml:2: key 'm[0].x' appears twice (first at line 2)");
 }
 
 TEST(Yaml, UnknownKeySuggestsTheClosest) {
-  EXPECT_EQ(errorOf("noise: 1\n\nnosie: 2\n", [](const YamlFile& f) {
-              f.rootMap().checkKeys({"noise", "seed"});
-            }),
+  EXPECT_EQ(errorOf("noise: 1\n\nnosie: 2\n",
+                    [](const YamlFile& f) {
+                      f.rootMap().checkKeys({"noise", "seed"});
+                    }),
             "f.yaml:3: unknown key 'nosie' (did you mean 'noise'?)");
-  EXPECT_EQ(errorOf("zzzzzz: 1\n", [](const YamlFile& f) { f.rootMap().checkKeys({"noise", "seed"}); }),
+  EXPECT_EQ(errorOf("zzzzzz: 1\n",
+                    [](const YamlFile& f) {
+                      f.rootMap().checkKeys({"noise", "seed"});
+                    }),
             "f.yaml:1: unknown key 'zzzzzz' (known keys: noise seed)");
 }
 
@@ -170,10 +171,15 @@ TEST(Yaml, DeepNestingIsAnErrorNotACrash) {
 // libyaml's syntax pass refuses them first, with the line.
 TEST(Yaml, MalformedTextIsRefusedWithItsLineNotAHang) {
   const auto parseOnly = [](const YamlFile&) {};
-  for (const auto& [text, line] : std::vector<std::pair<std::string, int>>{
-           {",a\n", 1}, {"# c\n---\n,\n", 3}, {"  ,\n", 1}, {"    a: 3\n  , 3\n", 2},
-           {"# identified\n,ode|: h4-12\nvariant: D\n", 2}, {"a: !tag,\n", 1}, {"a: {{{\n,\n", 2},
-           {"a: [1,\n ,2]\n", 2}}) {
+  for (const auto& [text, line] :
+       std::vector<std::pair<std::string, int>>{{",a\n", 1},
+                                                {"# c\n---\n,\n", 3},
+                                                {"  ,\n", 1},
+                                                {"    a: 3\n  , 3\n", 2},
+                                                {"# identified\n,ode|: h4-12\nvariant: D\n", 2},
+                                                {"a: !tag,\n", 1},
+                                                {"a: {{{\n,\n", 2},
+                                                {"a: [1,\n ,2]\n", 2}}) {
     const std::string error = errorOf(text, parseOnly);
     EXPECT_NE(error.find("f.yaml:" + std::to_string(line) + ": invalid YAML: "), std::string::npos)
         << text << " -> " << error;
@@ -196,9 +202,9 @@ TEST(Yaml, AliasesShareTheirAnchorAndCannotLoop) {
   EXPECT_NE(self.find("f.yaml:1: invalid YAML: alias '*x'"), std::string::npos) << self;
   std::string laughs = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
   for (char c = 'b'; c <= 'j'; ++c)
-    laughs += std::string(1, c) + ": &" + c + " [*" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) +
-              ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" +
-              char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + "]\n";
+    laughs += std::string(1, c) + ": &" + c + " [*" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" +
+              char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) +
+              ", *" + char(c - 1) + ", *" + char(c - 1) + "]\n";
   const std::string expanded = errorOf(laughs, [](const YamlFile&) {});
   EXPECT_NE(expanded.find("too many nodes"), std::string::npos) << expanded;
 }

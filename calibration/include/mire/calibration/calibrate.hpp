@@ -52,11 +52,11 @@ struct CalibrationOptions {
   std::optional<std::vector<double>> initial_params;
 
   RobustLoss robust_loss = RobustLoss::Huber;
-  double robust_scale_sigmas = 3.0;        // loss scale, in σ of the first pass
-  double outlier_threshold_sigmas = 5.0;   // points beyond are rejected (≈4e-6 false rate)
-  double min_sigma_px = 0.01;              // floor for σ when data are (nearly) exact
+  double robust_scale_sigmas = 3.0;       // loss scale, in σ of the first pass
+  double outlier_threshold_sigmas = 5.0;  // points beyond are rejected (≈4e-6 false rate)
+  double min_sigma_px = 0.01;             // floor for σ when data are (nearly) exact
   int min_points_per_view = 6;
-  double min_inlier_fraction = 0.5;        // a view keeping fewer of its points is rejected
+  double min_inlier_fraction = 0.5;  // a view keeping fewer of its points is rejected
 
   // Lavest & Dhome: the target's points become unknowns (gauge: see CalibrationResult).
   bool refine_target = false;
@@ -81,11 +81,11 @@ struct CalibrationView {
 struct CalibrationViewResult {
   std::string name;
   bool used = false;
-  std::string rejection_reason;  // empty when used
+  std::string rejection_reason;                           // empty when used
   Eigen::Vector3d rotation = Eigen::Vector3d::Zero();     // cTm, angle-axis (rad)
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // cTm, target units (metres)
   double rms_px = 0.0;                                    // over this view's inliers
-  double tilt_deg = 0.0;  // angle between the target normal and the optical axis
+  double tilt_deg = 0.0;                                  // angle between the target normal and the optical axis
   std::vector<int> ids;
   std::vector<Eigen::Vector2d> pixels;
   std::vector<Eigen::Vector2d> residuals;  // projected − observed, px
@@ -149,8 +149,8 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
 // cv::calibrateCamera-shaped overload: per-view object points and image points. Identical
 // object points across views are the same target point (needed by refine_target).
 CalibrationResult calibrateCamera(const std::vector<std::vector<Eigen::Vector3d>>& object_points,
-                                  const std::vector<std::vector<Eigen::Vector2d>>& image_points,
-                                  int width, int height, const CalibrationOptions& options = {});
+                                  const std::vector<std::vector<Eigen::Vector2d>>& image_points, int width, int height,
+                                  const CalibrationOptions& options = {});
 
 // Projection uncertainty à la mrcal: the pixel `pixel` is unprojected through the estimated
 // intrinsics to the point at `distance_m` along its ray (z = distance), that point is carried
@@ -158,11 +158,9 @@ CalibrationResult calibrateCamera(const std::vector<std::vector<Eigen::Vector3d>
 // by the perturbed intrinsics; the 2×2 covariance of that pixel is propagated (first order)
 // from `state_covariance`. Returns the 1-σ of the worst direction (sqrt of the larger
 // eigenvalue), in px. NaN where the pixel cannot be unprojected.
-double projectionUncertaintyPx(const CalibrationResult& result, const Eigen::Vector2d& pixel,
-                               double distance_m);
+double projectionUncertaintyPx(const CalibrationResult& result, const Eigen::Vector2d& pixel, double distance_m);
 // The full 2×2 covariance (px²) behind projectionUncertaintyPx (NaN where undefined).
-Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Eigen::Vector2d& pixel,
-                                       double distance_m);
+Eigen::Matrix2d projectionCovariancePx(const CalibrationResult& result, const Eigen::Vector2d& pixel, double distance_m);
 // The function whose spread that is: the pixel where the point seen at `pixel` (through
 // `truth_params`, at `distance_m`, carried through the true poses `truth_poses`) lands with
 // the estimated intrinsics and poses. Exposed for Monte-Carlo validation. Poses: 6-vectors

@@ -38,8 +38,6 @@ inline void distortNormalized(const T* coefficients, int count, const T& x, cons
 }
 
 // True for the coefficient counts OpenCV's model defines here (4, 5, 8, 12).
-constexpr bool isSupportedDistortionCount(int count) {
-  return count == 4 || count == 5 || count == 8 || count == 12;
-}
+constexpr bool isSupportedDistortionCount(int count) { return count == 4 || count == 5 || count == 8 || count == 12; }
 
 }  // namespace mire::calibration

@@ -77,32 +77,41 @@ struct FisheyeLens {
 template <typename T>
 inline void distortLens(LensModel lens, const T* coefficients, int count, const T& x, const T& y, T* xd, T* yd) {
   switch (lens) {
-    case LensModel::Fisheye: FisheyeLens::distort(coefficients, count, x, y, xd, yd); return;
-    case LensModel::OpenCV: break;
+    case LensModel::Fisheye:
+      FisheyeLens::distort(coefficients, count, x, y, xd, yd);
+      return;
+    case LensModel::OpenCV:
+      break;
   }
   OpenCVLens::distort(coefficients, count, x, y, xd, yd);
 }
 
 inline bool isValidCoefficientCount(LensModel lens, int count) {
   switch (lens) {
-    case LensModel::Fisheye: return FisheyeLens::isValidCount(count);
-    case LensModel::OpenCV: break;
+    case LensModel::Fisheye:
+      return FisheyeLens::isValidCount(count);
+    case LensModel::OpenCV:
+      break;
   }
   return OpenCVLens::isValidCount(count);
 }
 
 inline const char* coefficientName(LensModel lens, int i) {
   switch (lens) {
-    case LensModel::Fisheye: return FisheyeLens::coefficientName(i);
-    case LensModel::OpenCV: break;
+    case LensModel::Fisheye:
+      return FisheyeLens::coefficientName(i);
+    case LensModel::OpenCV:
+      break;
   }
   return OpenCVLens::coefficientName(i);
 }
 
 inline const char* lensName(LensModel lens) {
   switch (lens) {
-    case LensModel::Fisheye: return FisheyeLens::kName;
-    case LensModel::OpenCV: break;
+    case LensModel::Fisheye:
+      return FisheyeLens::kName;
+    case LensModel::OpenCV:
+      break;
   }
   return OpenCVLens::kName;
 }

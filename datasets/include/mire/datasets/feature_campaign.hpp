@@ -46,8 +46,8 @@ std::vector<double> drawFeatureSigmas(std::size_t count, double sigma_px, double
 // N(0, sigma_px[i]²), independently per image.
 metrology::Detection exactDetection(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                                     const Eigen::Isometry3d& cTm);
-std::vector<metrology::Detection> noisyDetections(const metrology::Detection& exact, const std::vector<double>& sigma_px,
-                                                  int images, std::mt19937_64& rng);
+std::vector<metrology::Detection> noisyDetections(const metrology::Detection& exact,
+                                                  const std::vector<double>& sigma_px, int images, std::mt19937_64& rng);
 
 // A realistic intrinsics covariance: the Cramér–Rao bound of a simulated calibration
 // (`views` random views of the target over the field, tilts up to ±35°, distances 0.45–0.9 m,

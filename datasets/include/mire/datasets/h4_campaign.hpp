@@ -25,10 +25,10 @@ struct H4CampaignSpec {
   std::filesystem::path camera_file;  // true camera (camera.yaml); default: the reference camera
   std::filesystem::path target_file;  // default: datasets/specs/target_h4.yaml
   int calibration_views = 25;
-  int images_per_pose = 10;           // paper §5 (doc/measurement.md)
-  int line_points = 20;               // per straight line (V3)
-  H4ProtocolGrid grid;                // the 81-pose protocol (paper §6)
-  H4ErrorSizes errors;                // manufacturing errors and unmodelled defects
+  int images_per_pose = 10;  // paper §5 (doc/measurement.md)
+  int line_points = 20;      // per straight line (V3)
+  H4ProtocolGrid grid;       // the 81-pose protocol (paper §6)
+  H4ErrorSizes errors;       // manufacturing errors and unmodelled defects
   double encoder_noise_rad = 2e-5;
   RenderOptions render;
   NoiseOptions noise;

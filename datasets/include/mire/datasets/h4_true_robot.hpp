@@ -47,20 +47,20 @@ using H4Joints = Eigen::Vector4d;
 
 struct H4TrueLeg {
   Eigen::Vector3d pivot = Eigen::Vector3d::Zero();  // P_i in B (m)
-  double psi = 0.0;               // first Euler angle of the arm axis (eq. 17), rad
-  double beta = 0.0;              // second Euler angle of the arm axis (eq. 17), rad
-  double arm_length = 0.0;        // L_i (m)
-  double forearm_length = 0.0;    // l_i (m), centre line of the parallelogram
-  double joint_offset = 0.0;      // q0_i (rad): φ_i = q̄_i + q0_i
-  double bar_mismatch = 0.0;      // δ_i (m): length difference of the two forearm bars
+  double psi = 0.0;                                 // first Euler angle of the arm axis (eq. 17), rad
+  double beta = 0.0;                                // second Euler angle of the arm axis (eq. 17), rad
+  double arm_length = 0.0;                          // L_i (m)
+  double forearm_length = 0.0;                      // l_i (m), centre line of the parallelogram
+  double joint_offset = 0.0;                        // q0_i (rad): φ_i = q̄_i + q0_i
+  double bar_mismatch = 0.0;                        // δ_i (m): length difference of the two forearm bars
 };
 
 struct H4TrueGeometry {
   std::array<H4TrueLeg, 4> legs;
-  double h = 0.075;               // half length of a half-nacelle (m)
-  double d = 0.10;                // half length of the central bar (m)
-  double bar_spacing = 0.10;      // s: distance between the two bars of a forearm (m)
-  double rotation_ratio = 1.0;    // k: effector rotation = k·θ
+  double h = 0.075;             // half length of a half-nacelle (m)
+  double d = 0.10;              // half length of the central bar (m)
+  double bar_spacing = 0.10;    // s: distance between the two bars of a forearm (m)
+  double rotation_ratio = 1.0;  // k: effector rotation = k·θ
   // The nacelle was levelled at assembly at this pose (the workspace centre, H configuration):
   // the tilt is zero there, so z_B (normal to the nacelle, doc/mechanism-models.md) stays well defined.
   Eigen::Vector4d level_pose{0.0, 0.0, -0.62, 0.0};
@@ -78,17 +78,17 @@ H4TrueGeometry geometryFromModel12(const H4Model12Values& values);
 // Sizes (1σ) of the random errors drawn by makeTrueGeometry.
 struct H4ErrorSizes {
   // Manufacturing errors model 12 CAN represent (default ≈1 mm / 0.5°, doc/identification-h4.md).
-  double length_m = 1e-3;         // R, L, l, h
-  double angle_rad = 0.5 * kH4Degree;         // α_i
+  double length_m = 1e-3;              // R, L, l, h
+  double angle_rad = 0.5 * kH4Degree;  // α_i
   // q0_i: encoder zero offsets. The paper's robot was off by far more than 0.5° (V2 −98 %,
   // square sides 4–7 mm, V3 1.8 mm before identification); a few degrees here reproduce
   // those magnitudes (measured: 3° → V2 1.5e-2 rad, V3 0.30 mm before identification).
   double joint_offset_rad = 0.5 * kH4Degree;
   // Defects model 12 can NOT represent (set all to 0 for a model-12-exact robot).
-  double leg_length_m = 0.5e-3;   // per-leg differences of L_i and l_i
-  double pivot_height_m = 1e-3;   // non-coplanar pivots (z of P_i)
+  double leg_length_m = 0.5e-3;            // per-leg differences of L_i and l_i
+  double pivot_height_m = 1e-3;            // non-coplanar pivots (z of P_i)
   double axis_tilt_rad = 0.3 * kH4Degree;  // ψ_i, β_i deviations (tilted arm axes)
-  double bar_mismatch_m = 1.0e-3; // δ_i, parallelogram bar mismatch (≈0.1° nacelle tilt)
+  double bar_mismatch_m = 1.0e-3;          // δ_i, parallelogram bar mismatch (≈0.1° nacelle tilt)
 
   static H4ErrorSizes withoutUnmodelledDefects() {
     H4ErrorSizes sizes;
@@ -100,12 +100,10 @@ struct H4ErrorSizes {
 // A random true geometry around `nominal`; deterministic for a seed. The errors model 12 can
 // represent are drawn first, so two calls with the same seed that differ only in the
 // unmodelled sizes share the same model-12 part.
-H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSizes& sizes,
-                                std::uint64_t seed);
+H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSizes& sizes, std::uint64_t seed);
 // The model-12 part of makeTrueGeometry(nominal, sizes, seed): the best model-12 description
 // of that robot (exact when `sizes` has no unmodelled defects).
-H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes,
-                                  std::uint64_t seed);
+H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes, std::uint64_t seed);
 
 // Default true mounting of the camera (doc/identification-h4.md, "The simulated true H4"): below the workspace,
 // looking up (z_C ≈ z_B), ≈0.8 m from the target, turned by ψ_BC = 25° with a 1–2° tilt like a real bracket.
@@ -116,8 +114,7 @@ Eigen::Isometry3d defaultMarkerTEffector();
 
 class H4TrueRobot {
  public:
-  explicit H4TrueRobot(H4TrueGeometry geometry,
-                       const Eigen::Isometry3d& base_T_camera = defaultBaseTCamera(),
+  explicit H4TrueRobot(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera = defaultBaseTCamera(),
                        const Eigen::Isometry3d& marker_T_effector = defaultMarkerTEffector());
 
   const H4TrueGeometry& geometry() const { return geometry_; }
@@ -159,7 +156,7 @@ class H4TrueRobot {
 
 struct H4ProtocolGrid {
   Eigen::Vector3d centre{0.0, 0.0, -0.62};
-  Eigen::Vector3d extent{0.20, 0.20, 0.15};   // full size of the 3×3×3 grid (m)
+  Eigen::Vector3d extent{0.20, 0.20, 0.15};  // full size of the 3×3×3 grid (m)
   std::array<double, 3> thetas{-20.0 * kH4Degree, 0.0, 20.0 * kH4Degree};
 };
 
@@ -168,13 +165,12 @@ std::vector<H4Pose> protocolPoses(const H4ProtocolGrid& grid = {});
 
 // The two straight-line motions of criterion V3 (paper §6.1): configuration 1 along x through
 // the centre, configuration 2 along a space diagonal (x, y and z change), θ = 0.
-std::array<std::vector<H4Pose>, 2> straightLineMotions(const H4ProtocolGrid& grid = {},
-                                                       int points_per_line = 20);
+std::array<std::vector<H4Pose>, 2> straightLineMotions(const H4ProtocolGrid& grid = {}, int points_per_line = 20);
 
 // Encoder readings the true robot records along a motion (the effector being guided on the
 // line); throws std::runtime_error if a pose is unreachable.
-std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
-                                   double noise_rad, std::mt19937_64& rng);
+std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H4Pose>& poses, double noise_rad,
+                                   std::mt19937_64& rng);
 
 // The square test of paper §6.4 (Table 4): corners of a `side` square at constant z commanded
 // through a control model's IKM (pose → encoder readings q̄); the TRUE robot's FKM gives the
@@ -184,12 +180,11 @@ using CommandIkm = std::function<std::optional<H4Joints>(const H4Pose&)>;
 struct SquareTestResult {
   std::array<H4Pose, 4> commanded;
   std::array<H4Pose, 4> reached;
-  std::array<double, 4> side_error_m{};   // reached side length − commanded side (m)
+  std::array<double, 4> side_error_m{};  // reached side length − commanded side (m)
   double max_abs_error_m = 0.0;
 };
 SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_ikm,
-                            const Eigen::Vector3d& centre = Eigen::Vector3d(0.0, 0.0, -0.62),
-                            double side = 0.100);
+                            const Eigen::Vector3d& centre = Eigen::Vector3d(0.0, 0.0, -0.62), double side = 0.100);
 
 // A simulated measurement campaign: for each pose, the measured target pose cTm (true value
 // plus Gaussian noise of σ_t per translation component and σ_r per rotation-vector
@@ -197,23 +192,20 @@ SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_
 struct H4SimulatedMeasurement {
   int pose_id = 0;
   H4Pose true_pose;
-  Eigen::Isometry3d camera_T_marker;      // measured (noisy)
-  H4Joints joints;                         // recorded (noisy)
+  Eigen::Isometry3d camera_T_marker;  // measured (noisy)
+  H4Joints joints;                    // recorded (noisy)
 };
 struct H4MeasurementNoise {
   double translation_m = 0.2e-3;
   double rotation_rad = 0.03 * kH4Degree;
   double encoder_rad = 0.0;
 };
-std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueRobot& robot,
-                                                         const std::vector<H4Pose>& poses,
-                                                         const H4MeasurementNoise& noise,
-                                                         std::uint64_t seed);
+std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
+                                                         const H4MeasurementNoise& noise, std::uint64_t seed);
 
 // Applies the measurement noise model above to a pose (rotation noise as a right-multiplied
 // rotation vector).
-Eigen::Isometry3d perturbPose(const Eigen::Isometry3d& pose, const H4MeasurementNoise& noise,
-                              std::mt19937_64& rng);
+Eigen::Isometry3d perturbPose(const Eigen::Isometry3d& pose, const H4MeasurementNoise& noise, std::mt19937_64& rng);
 
 // The measurements as identification input: ids "1".."N", cTm, joints and the diagonal
 // covariance of the noise model (σ_t², σ_r²).
@@ -223,16 +215,14 @@ std::vector<mechanism::PoseObservation> toObservations(const std::vector<H4Simul
 // Writes a campaign as `mire identify` reads it (doc/file-formats.md): dir/poses.csv (σ columns from
 // `noise`, images_used = images_total = 10, rms_px = 0), dir/joints.csv and, when `lines` is
 // not empty, dir/lines.csv (line_id 1, 2, ...). Atomic per file.
-void writeSimulatedCampaign(const std::filesystem::path& dir,
-                            const std::vector<H4SimulatedMeasurement>& measurements,
-                            const H4MeasurementNoise& noise,
-                            const std::vector<std::vector<H4Joints>>& lines = {});
+void writeSimulatedCampaign(const std::filesystem::path& dir, const std::vector<H4SimulatedMeasurement>& measurements,
+                            const H4MeasurementNoise& noise, const std::vector<std::vector<H4Joints>>& lines = {});
 
 // Smallest distance (pixels) between the projections of `marker_points` (in M) and the border
 // of a width×height pinhole image (fx = fy = focal_px, principal point at the centre) over all
 // `poses`; negative when a point leaves the image or goes behind the camera.
 double smallestImageMargin(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
-                           const std::vector<Eigen::Vector3d>& marker_points, int width = 1024,
-                           int height = 768, double focal_px = 817.0);
+                           const std::vector<Eigen::Vector3d>& marker_points, int width = 1024, int height = 768,
+                           double focal_px = 817.0);
 
 }  // namespace mire::datasets

@@ -14,10 +14,10 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
-#include <Eigen/Geometry>
 
 namespace mire::datasets {
 
@@ -43,8 +43,7 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
     for (int iy = -1; iy <= 1; ++iy)
       for (int iz = -1; iz <= 1; ++iz) {
         if (motion == MotionType::Translation) {
-          out.push_back(makeTransform(Eigen::Vector3d::Zero(),
-                                      Eigen::Vector3d(0.15 * ix, 0.15 * iy, -0.65 + 0.075 * iz)));
+          out.push_back(makeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.15 * ix, 0.15 * iy, -0.65 + 0.075 * iz)));
           continue;
         }
         for (int k = -1; k <= 1; ++k) {
@@ -55,8 +54,9 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
             // A different tilt axis per position, ±6° plus a yaw.
             const double a = 2.1 * (ix + 3 * iy + 9 * iz);
             const Eigen::Vector3d axis(std::cos(a), std::sin(a), 0.5 * k);
-            out.push_back(makeTransform(6 * kCampaignDeg * k * axis.normalized() + Eigen::Vector3d(0, 0, 4 * kCampaignDeg * ix * k),
-                                        Eigen::Vector3d(ref[0] + 0.04 * ix, ref[1] + 0.04 * iy, ref[2] + 0.03 * iz)));
+            out.push_back(makeTransform(
+                6 * kCampaignDeg * k * axis.normalized() + Eigen::Vector3d(0, 0, 4 * kCampaignDeg * ix * k),
+                Eigen::Vector3d(ref[0] + 0.04 * ix, ref[1] + 0.04 * iy, ref[2] + 0.03 * iz)));
           }
         }
       }
@@ -100,8 +100,8 @@ inline Campaign simulateCampaign(const std::string& name, unsigned seed, double 
   std::mt19937 rng(seed + 1000);
   std::normal_distribution<double> normal;
   PoseCovariance cov = PoseCovariance::Zero();
-  cov.diagonal() << noise_t * noise_t, noise_t * noise_t, noise_t * noise_t, noise_r * noise_r,
-      noise_r * noise_r, noise_r * noise_r;
+  cov.diagonal() << noise_t * noise_t, noise_t * noise_t, noise_t * noise_t, noise_r * noise_r, noise_r * noise_r,
+      noise_r * noise_r;
   c.bTe = protocolPoses(m, c.truth.values());
   {
     // Random poses drawn inside the protocol's box of positions and orientations.

@@ -111,8 +111,7 @@ inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e
 
 // Measured campaign of a defective robot at the protocol poses (+ `extra` random ones).
 inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std::string& model_name, unsigned seed,
-                                          double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg,
-                                          int extra = 0) {
+                                          double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg, int extra = 0) {
   Campaign c = simulateCampaign(model_name, seed, 0.0, 0.0, extra);  // mountings, protocol (+ extra)
   c.truth = robot.geometry;
   std::mt19937 rng(seed + 3000);

@@ -63,18 +63,18 @@ class RayGrid {
 enum class Vignetting { None, Cos4, Polynomial };
 
 struct RenderOptions {
-  int supersampling = 4;          // n: n x n sub-samples per pixel (1 = point sampling)
-  bool adaptive = true;           // supersample only pixels near an edge (exact for features > 1 px)
-  double dark_level = 25.0;       // grey level (0-255) of the target's dark parts
-  double light_level = 225.0;     // grey level of the target's white paper
-  double background_level = 110.0;  // uniform background beyond the paper
+  int supersampling = 4;              // n: n x n sub-samples per pixel (1 = point sampling)
+  bool adaptive = true;               // supersample only pixels near an edge (exact for features > 1 px)
+  double dark_level = 25.0;           // grey level (0-255) of the target's dark parts
+  double light_level = 225.0;         // grey level of the target's white paper
+  double background_level = 110.0;    // uniform background beyond the paper
   bool cluttered_background = false;  // random shapes instead of the uniform background
-  double blur_sigma_px = 0.0;     // defocus: Gaussian blur sigma in pixels (0 = sharp)
+  double blur_sigma_px = 0.0;         // defocus: Gaussian blur sigma in pixels (0 = sharp)
   Vignetting vignetting = Vignetting::None;
   // Polynomial vignetting: gain = 1 + a1 r^2 + a2 r^4 + ..., r the distorted normalised
   // radius ((u - cx) / fx, (v - cy) / fy). Cos4: gain = cos^4 of the ray's angle to the axis.
   std::vector<double> vignetting_coefficients;
-  std::uint64_t seed = 0;         // the cluttered background's shapes
+  std::uint64_t seed = 0;  // the cluttered background's shapes
 };
 
 // Sensor noise, added to a clean radiance image (so that the 10 images of one static pose

@@ -94,7 +94,7 @@ struct SimulationSpec {
   NoiseOptions noise;
   std::uint64_t seed = 1;
   CalibrationViewsSpec calibration;
-  int images_per_view = 1;      // calibration: noisy images per view (view_XXX.png, view_XXX_YY.png)
+  int images_per_view = 1;           // calibration: noisy images per view (view_XXX.png, view_XXX_YY.png)
   std::vector<SimulatedPose> poses;  // poses: explicit list, or generated from `grid`
   bool poses_from_grid = true;
   PoseGridSpec grid;
@@ -110,7 +110,7 @@ SimulationSpec readSimulationSpec(const std::filesystem::path& path);
 using ProgressCallback = std::function<void(std::size_t done, std::size_t total)>;
 
 struct SimulationResult {
-  std::size_t images = 0;        // images written
+  std::size_t images = 0;  // images written
   std::size_t views_or_poses = 0;
   double visible_fraction = 0.0;  // of all features over all views/poses
 };

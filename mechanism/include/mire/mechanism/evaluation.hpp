@@ -19,9 +19,9 @@ namespace mire::mechanism {
 
 // ---- V1, V2 -----------------------------------------------------------------------------
 struct JointResidualCriteria {
-  double v1_rad = 0.0;   // eq. 27: (1/4N) Σ (q̄ − f), signed mean over all joints
-  double v2_rad = 0.0;   // eq. 28: √((1/4N) Σ (q̄ − f)²)
-  int pose_count = 0;    // validation poses used (reachable ones)
+  double v1_rad = 0.0;                   // eq. 27: (1/4N) Σ (q̄ − f), signed mean over all joints
+  double v2_rad = 0.0;                   // eq. 28: √((1/4N) Σ (q̄ − f)²)
+  int pose_count = 0;                    // validation poses used (reachable ones)
   std::vector<std::string> unreachable;  // ids skipped because the IKM fails there
 };
 // Residuals q̄ − f(X(ξe, cTm), ξg) at the model's current values.
@@ -34,10 +34,10 @@ JointResidualCriteria jointResidualCriteria(const IdentificationModel& model,
 double straightness(const std::vector<Eigen::Vector3d>& points);
 
 struct StraightnessResult {
-  std::vector<double> per_line_m;  // R of each line
-  double v3_m = 0.0;               // eq. 29: mean over the lines
+  std::vector<double> per_line_m;                    // R of each line
+  double v3_m = 0.0;                                 // eq. 29: mean over the lines
   std::vector<std::vector<Eigen::Vector3d>> points;  // rebuilt effector positions
-  bool ok = true;                  // false when the FKM failed somewhere
+  bool ok = true;                                    // false when the FKM failed somewhere
   std::string message;
 };
 // Rebuilds the effector positions of every recorded joint vector with the numerical FKM of
@@ -60,25 +60,25 @@ struct MonteCarloOptions {
   std::vector<int> subset_sizes{6, 15, 71};
   int repeats = 100;
   std::uint64_t seed = 1;
-  int threads = 2;                        // std::thread workers; results do not depend on it
-  IdentificationOptions identification;   // compute_identifiability is forced off per run
+  int threads = 2;                       // std::thread workers; results do not depend on it
+  IdentificationOptions identification;  // compute_identifiability is forced off per run
   // Called after every identification (from worker threads): e.g. Progress::advance.
   std::function<void()> on_run_done;
 };
 
 struct MonteCarloRun {
-  std::vector<std::string> subset;   // pose ids identified on
+  std::vector<std::string> subset;  // pose ids identified on
   bool ok = false;
   std::string error;
-  Eigen::VectorXd values;            // all parameters, model order
-  double v1_rad = 0.0, v2_rad = 0.0; // on the other poses
-  double v3_m = 0.0;                 // NaN without lines or when the FKM failed
+  Eigen::VectorXd values;             // all parameters, model order
+  double v1_rad = 0.0, v2_rad = 0.0;  // on the other poses
+  double v3_m = 0.0;                  // NaN without lines or when the FKM failed
 };
 
 struct MonteCarloSummary {
   int subset_size = 0;
   int runs_ok = 0, runs_failed = 0;
-  Eigen::VectorXd mean, sigma;       // of every parameter (model order), sample σ (n − 1)
+  Eigen::VectorXd mean, sigma;  // of every parameter (model order), sample σ (n − 1)
   double v1_mean = 0, v1_sigma = 0, v2_mean = 0, v2_sigma = 0, v3_mean = 0, v3_sigma = 0;
   std::vector<MonteCarloRun> runs;
 };
@@ -93,8 +93,7 @@ struct MonteCarloStudy {
 // work starts, so the result is deterministic whatever the thread count), each identified
 // from `initial`'s values; the remaining poses give V1, V2 and `line_joints` (may be empty)
 // V3. Throws std::invalid_argument when a size is < 1 or ≥ the pose count.
-MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial,
-                                   const std::vector<PoseObservation>& poses,
+MonteCarloStudy runMonteCarloStudy(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                                    const std::vector<std::vector<Eigen::VectorXd>>& line_joints,
                                    const MonteCarloOptions& options);
 

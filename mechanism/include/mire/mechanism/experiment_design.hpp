@@ -46,8 +46,8 @@ struct Interval {
 struct Workspace {
   enum class Shape { Box, Cylinder };
   Shape shape = Shape::Box;
-  Interval x, y, z;                       // [m]
-  std::vector<Interval> rotations;        // [rad], one per rotational pose component
+  Interval x, y, z;                 // [m]
+  std::vector<Interval> rotations;  // [rad], one per rotational pose component
   // Margin to the IKM's reach limit (serial singularity) and to the joints' workable range:
   // a candidate is kept only when every pose one "margin" of joint motion away, in every pose
   // direction, is still reachable ([rad] for revolute joints, [m] for prismatic ones).
@@ -102,11 +102,11 @@ DesignModel makeDesignModel(const std::string& name, const H4Nominal& h4 = {});
 
 struct DesignOptions {
   DesignCriterion criterion = DesignCriterion::D;
-  int count = 15;                 // N poses to choose
+  int count = 15;  // N poses to choose
   // Pose measurement noise (per component of cTm) used when a candidate has no covariance.
-  double sigma_translation = 0.2e-3;   // [m]
+  double sigma_translation = 0.2e-3;                              // [m]
   double sigma_rotation = 0.03 * 3.14159265358979323846 / 180.0;  // [rad]
-  int random_designs = 50;        // random N-subsets drawn for the comparison
+  int random_designs = 50;                                        // random N-subsets drawn for the comparison
   unsigned seed = 1;
   int max_exchanges = 500;
 };
@@ -114,12 +114,12 @@ struct DesignOptions {
 // The candidate set as the identification sees it: per candidate the whitened Jacobian rows
 // of eq. 4 over the free parameters (W·∂ε/∂ξ, jointCount() rows).
 struct CandidateInformation {
-  IdentificationModel model;                 // nominal geometry, mounting from the guess, gauge fixed
-  std::vector<std::string> free_names;       // columns, geometric free names first
-  int geometric_free = 0;                    // the first ones are geometric
-  std::vector<Eigen::VectorXd> poses;        // mechanism pose components
-  std::vector<PoseObservation> observations; // noise-free cTm and nominal IKM joints
-  std::vector<Eigen::MatrixXd> rows;         // whitened Jacobian per candidate
+  IdentificationModel model;                  // nominal geometry, mounting from the guess, gauge fixed
+  std::vector<std::string> free_names;        // columns, geometric free names first
+  int geometric_free = 0;                     // the first ones are geometric
+  std::vector<Eigen::VectorXd> poses;         // mechanism pose components
+  std::vector<PoseObservation> observations;  // noise-free cTm and nominal IKM joints
+  std::vector<Eigen::MatrixXd> rows;          // whitened Jacobian per candidate
 };
 
 // Per-candidate pose covariance of cTm (e.g. from the camera model); empty: the options' σ.
@@ -153,20 +153,20 @@ std::vector<double> predictedPositionSigma(const CandidateInformation& info, con
 // Everything `mire plan` reports.
 struct DesignReport {
   DesignCriterion criterion = DesignCriterion::D;
-  std::vector<int> design;                 // chosen candidate indices, in order of choice
-  std::vector<std::string> names;          // free parameters
+  std::vector<int> design;         // chosen candidate indices, in order of choice
+  std::vector<std::string> names;  // free parameters
   std::vector<Unit> units;
   int geometric_free = 0;
-  Eigen::VectorXd sigma_plan;              // per free parameter [SI]
-  Eigen::VectorXd sigma_random;            // median over the random designs of the same size
-  Eigen::VectorXd sigma_all;               // the whole candidate set
+  Eigen::VectorXd sigma_plan;    // per free parameter [SI]
+  Eigen::VectorXd sigma_random;  // median over the random designs of the same size
+  Eigen::VectorXd sigma_all;     // the whole candidate set
   // median over the geometric parameters of σ_plan/σ_random: < 1 when the plan is better.
   double median_ratio_plan_random = 0.0;
   double position_sigma_plan_rms = 0.0;    // [m], RMS over evaluation poses
   double position_sigma_random_rms = 0.0;  // [m], median over random designs
   double position_sigma_plan_max = 0.0;
   int random_designs_used = 0;
-  double seconds = 0.0;                    // time to choose the design
+  double seconds = 0.0;  // time to choose the design
 };
 
 DesignReport planExperiment(const CandidateInformation& info, const DesignOptions& options);

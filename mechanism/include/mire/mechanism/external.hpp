@@ -79,8 +79,7 @@ class ExternalParameterization {
   // Same with the measured cTm given as a column-major rotation matrix and a translation
   // (constants: cheaper under autodiff).
   template <class T>
-  void effectorInBaseFromMeasured(const T* external, const double* cRm, const double* ctm, T* R,
-                                  T* t) const;
+  void effectorInBaseFromMeasured(const T* external, const double* cRm, const double* ctm, T* R, T* t) const;
 
   // Per-pose constants of the chain, computed once per measured pose: cRm, ctm and, for the
   // aligned forms, M = Acᵀ·cRm·Am and v = Acᵀ·ctm, so that bRe = Rz(psi_BC)·M·Rz(psi_ME) and
@@ -115,8 +114,7 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses);
 // Effector poses bTe from the encoder readings through the FKM at `geometric`, started at
 // the mechanism's reference pose. Throws std::runtime_error naming the pose ids where the
 // FKM does not converge.
-std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism,
-                                                  const Eigen::VectorXd& geometric,
+std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
                                                   const std::vector<PoseObservation>& poses);
 
 // Mountings (bTc, mTe) with bTe_j = bTc · cTm_j · mTe from effector poses and measured cTm.
@@ -129,13 +127,11 @@ struct Mounting {
 // the target's offset cannot be told from the camera position, so mTe's translation is 0
 // and bTc's absorbs it. Throws std::invalid_argument when the positions do not span a
 // volume (fewer than 3 non-collinear displacements).
-Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe,
-                                  const std::vector<PoseVector>& cTm);
+Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm);
 // Full 6-DoF motion: robot-world hand-eye solve (cv::calibrateRobotWorldHandEye, Shah's
 // method) of mTc_j · cTb = mTe · eTb_j. Throws std::invalid_argument when the orientations
 // span less than 2°.
-Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe,
-                             const std::vector<PoseVector>& cTm);
+Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm);
 
 // Initial external values from the data, never typed by users (doc/mechanism-models.md, "External parameters"):
 // the effector poses are computed with the FKM at `geometric` (nominal) and the encoder readings, then

@@ -17,12 +17,12 @@
 namespace mire::mechanism {
 
 struct GaugeAnalysis {
-  IdentifiabilityReport report;            // over the model's free parameters
+  IdentifiabilityReport report;  // over the model's free parameters
   std::vector<std::string> identified;
   std::vector<std::string> combination_only;
-  std::vector<std::string> gauge;          // the pivoted-QR dependents
-  std::vector<std::string> no_influence;   // gauge parameters whose column is zero
-  std::string text() const;                // human summary with the named combinations
+  std::vector<std::string> gauge;         // the pivoted-QR dependents
+  std::vector<std::string> no_influence;  // gauge parameters whose column is zero
+  std::string text() const;               // human summary with the named combinations
 };
 
 // cTm_j the model predicts from q̄_j (FKM at the current values, then the mounting).
@@ -40,8 +40,8 @@ GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<P
 // it. Sets it from the measured orientations and the identified camera mounting,
 // eRm = cRbᵀ · mean_j(cRm_j), so that the model predicts cTm's orientation too. No-op for
 // other motions or forms. (Defined in external_mounting.cpp.)
-void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form,
-                            ParameterSet& parameters, const std::vector<PoseObservation>& poses);
+void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form, ParameterSet& parameters,
+                            const std::vector<PoseObservation>& poses);
 
 // analyzeGauge(), then fixes the gauge parameters in `model`.
 GaugeAnalysis fixGauge(IdentificationModel& model, const std::vector<PoseObservation>& poses,

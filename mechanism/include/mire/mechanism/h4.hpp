@@ -65,8 +65,7 @@ ParameterSet model31FromModel12(const ParameterSet& m12, Eigen::Vector3d* origin
 // Camera-frame model-31 values (eq. 25–26) from base-frame model-31 values and the
 // transform aligned-camera <- model-31 base frame (B' = axis-aligned camera frame). Leg
 // axes are re-expressed as Z-X-Z Euler angles; a third Euler angle folds into q0_i.
-ParameterSet model31CameraFromModel31(const ParameterSet& m31,
-                                      const Eigen::Isometry3d& alignedCamera_T_base);
+ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isometry3d& alignedCamera_T_base);
 
 // The templated IKMs (for autodiff); see detail/h4_kinematics.hpp.
 struct H4Model12Kinematics;

@@ -33,25 +33,25 @@ struct IdentifiabilityOptions {
 struct UnidentifiableCombination {
   std::string dependent;
   std::vector<std::pair<std::string, double>> direction;  // (name, coefficient), dependent first
-  std::vector<std::string> identifiable_sums;              // k − c_k·dependent, per other member
-  double singular_value = 0.0;                             // of the scaled Jacobian
+  std::vector<std::string> identifiable_sums;             // k − c_k·dependent, per other member
+  double singular_value = 0.0;                            // of the scaled Jacobian
   std::string text() const;  // "unidentifiable: z_ME; only z_BC + 1.0000·z_ME is identifiable"
 };
 
 struct IdentifiabilityReport {
   std::vector<std::string> parameter_names;  // the Jacobian's columns (free parameters)
   std::string scaling = "columns scaled to unit Euclidean norm";
-  Eigen::VectorXd column_norms;              // ‖J_k‖ in SI (rad per m or rad per rad)
-  Eigen::VectorXd singular_values;           // of the scaled Jacobian, descending
+  Eigen::VectorXd column_norms;     // ‖J_k‖ in SI (rad per m or rad per rad)
+  Eigen::VectorXd singular_values;  // of the scaled Jacobian, descending
   // Per singular value: the parameter with the largest weight in its right singular vector (the
   // scaled parameter direction it measures), e.g. to name the bars of a singular-value plot.
   std::vector<std::string> dominant_parameters;
-  double condition_number = 0.0;             // σ_max/σ_min of the scaled Jacobian (inf if σ_min = 0)
-  double condition_number_unscaled = 0.0;    // same for the SI Jacobian
+  double condition_number = 0.0;               // σ_max/σ_min of the scaled Jacobian (inf if σ_min = 0)
+  double condition_number_unscaled = 0.0;      // same for the SI Jacobian
   double condition_number_identifiable = 0.0;  // scaled, restricted to `identifiable`
   int rank = 0;
-  std::vector<std::string> identifiable;     // pivoted-QR order, first `rank` columns
-  std::vector<std::string> unidentifiable;   // the other columns (dependents)
+  std::vector<std::string> identifiable;                // pivoted-QR order, first `rank` columns
+  std::vector<std::string> unidentifiable;              // the other columns (dependents)
   std::vector<UnidentifiableCombination> combinations;  // one per null direction
   bool fullRank() const { return rank == static_cast<int>(parameter_names.size()); }
   std::string text() const;  // multi-line human summary
@@ -59,8 +59,7 @@ struct IdentifiabilityReport {
 
 // Analyses a Jacobian (rows: residuals, columns: parameters named `names`).
 // Throws std::invalid_argument on a size mismatch or non-finite entries.
-IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& jacobian,
-                                      const std::vector<std::string>& names,
+IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& jacobian, const std::vector<std::string>& names,
                                       const IdentifiabilityOptions& options = {});
 
 }  // namespace mire::mechanism

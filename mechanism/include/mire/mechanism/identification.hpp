@@ -34,20 +34,16 @@ struct IdentificationModel {
 
 // Builds the combined model; `geometric` must have the mechanism's names (in order) and
 // `external` the form's names. Throws std::invalid_argument otherwise.
-IdentificationModel makeIdentificationModel(std::shared_ptr<const Mechanism> mechanism,
-                                            const ParameterSet& geometric,
+IdentificationModel makeIdentificationModel(std::shared_ptr<const Mechanism> mechanism, const ParameterSet& geometric,
                                             const ExternalParameterization& external,
                                             const ParameterSet& external_values);
 
 // Nominal geometry + external values estimated from the data (estimateExternal()).
-IdentificationModel makeInitialModel(std::shared_ptr<const Mechanism> mechanism,
-                                     const ParameterSet& geometric,
-                                     const std::vector<PoseObservation>& poses,
-                                     ExternalForm form, double z_ME = 0.0);
+IdentificationModel makeInitialModel(std::shared_ptr<const Mechanism> mechanism, const ParameterSet& geometric,
+                                     const std::vector<PoseObservation>& poses, ExternalForm form, double z_ME = 0.0);
 
 // Ids of the poses whose IKM is unreachable at the model's current values.
-std::vector<std::string> unreachablePoses(const IdentificationModel& model,
-                                          const std::vector<PoseObservation>& poses);
+std::vector<std::string> unreachablePoses(const IdentificationModel& model, const std::vector<PoseObservation>& poses);
 
 enum class RobustLoss { None, Huber, Cauchy };
 
@@ -85,13 +81,13 @@ struct PoseResidual {
   Eigen::VectorXd residual;  // q̄ − f [rad], unwhitened
   double chi2 = 0.0;         // whitened (σ̂-normalised when unweighted)
   bool outlier = false;
-  bool used = true;          // in the covariance (false: an outlier left out under a robust loss)
+  bool used = true;  // in the covariance (false: an outlier left out under a robust loss)
 };
 
 struct IdentificationResult {
-  IdentificationModel model;              // identified values (fixed ones unchanged)
-  std::vector<std::string> free_names;    // the unknowns (tie leaders), covariance order
-  Eigen::MatrixXd covariance;             // of the free parameters, SI
+  IdentificationModel model;            // identified values (fixed ones unchanged)
+  std::vector<std::string> free_names;  // the unknowns (tie leaders), covariance order
+  Eigen::MatrixXd covariance;           // of the free parameters, SI
   // The part of `covariance` due to the estimated rotation-axis alignment (aligned forms:
   // AxisAlignment::covariance propagated through the solution's sensitivity to the tilts).
   Eigen::MatrixXd alignment_covariance;
@@ -99,12 +95,12 @@ struct IdentificationResult {
   // sensitivity to the alignment, so that predictions through the aligned mounting can carry
   // the alignment's own uncertainty jointly with the parameters' (prediction.cpp).
   Eigen::MatrixXd alignment_sensitivity;
-  Eigen::VectorXd sigma;                  // per parameter in model.parameters order; 0 if fixed
+  Eigen::VectorXd sigma;                          // per parameter in model.parameters order; 0 if fixed
   double sigmaOf(const std::string& name) const;  // throws for an unknown name
 
-  bool weighted = false;        // residuals whitened by the pose covariances
-  double chi2 = 0.0;            // Σ whitened residual² (without priors)
-  int dof = 0;                  // residual count − free parameter count (+ prior count)
+  bool weighted = false;  // residuals whitened by the pose covariances
+  double chi2 = 0.0;      // Σ whitened residual² (without priors)
+  int dof = 0;            // residual count − free parameter count (+ prior count)
   // Unweighted: σ̂ = √(χ²_rad/dof) [rad], covariance = σ̂²(JᵀJ)⁻¹.
   // Weighted: √(χ²/dof) (≈ 1 when the pose covariances are right); covariance = (JᵀWJ)⁻¹,
   // not rescaled (the measured covariances set the scale).
@@ -116,10 +112,10 @@ struct IdentificationResult {
   // shared term is added (shared_covariance).
   std::string covariance_method;
   double covariance_scale2 = 1.0;
-  double outlier_scale2 = 1.0;              // scale² of the outlier test (achieved, robust)
-  Eigen::MatrixXd information_inverse;      // (AᵀA)⁻¹ of the whitened problem, unscaled
-  std::vector<Eigen::MatrixXd> whitening;   // W_j of every pose (4 × 4 for the H4)
-  Eigen::MatrixXd shared_covariance;        // G Σ_k Gᵀ when added (else empty)
+  double outlier_scale2 = 1.0;             // scale² of the outlier test (achieved, robust)
+  Eigen::MatrixXd information_inverse;     // (AᵀA)⁻¹ of the whitened problem, unscaled
+  std::vector<Eigen::MatrixXd> whitening;  // W_j of every pose (4 × 4 for the H4)
+  Eigen::MatrixXd shared_covariance;       // G Σ_k Gᵀ when added (else empty)
   std::vector<PoseResidual> poses;
   std::vector<std::string> outliers;  // pose ids
 
@@ -134,18 +130,15 @@ struct IdentificationResult {
 // on bad input (unknown names in options, non-finite values, joint count mismatch,
 // fewer residuals than unknowns) and std::runtime_error naming the unreachable pose ids
 // when the IKM fails at the initial values.
-IdentificationResult identify(const IdentificationModel& initial,
-                              const std::vector<PoseObservation>& poses,
+IdentificationResult identify(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                               const IdentificationOptions& options = {});
 
 // J_ξ = ∂ε/∂ξ (unwhitened, rad per SI unit) over the model's free parameters at its
 // current values, 4 rows per pose in pose order. Throws naming unreachable poses.
-Eigen::MatrixXd identificationJacobian(const IdentificationModel& model,
-                                       const std::vector<PoseObservation>& poses);
+Eigen::MatrixXd identificationJacobian(const IdentificationModel& model, const std::vector<PoseObservation>& poses);
 
 // analyzeJacobian(identificationJacobian(model, poses), model.parameters.freeNames()).
-IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model,
-                                             const std::vector<PoseObservation>& poses,
+IdentifiabilityReport analyzeIdentifiability(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
                                              const IdentifiabilityOptions& options = {});
 
 }  // namespace mire::mechanism

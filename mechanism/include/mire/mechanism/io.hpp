@@ -60,12 +60,9 @@ struct ObservationSet {
   std::vector<PoseObservation> poses;
   std::vector<std::string> unused_joint_ids;
 };
-ObservationSet readObservations(const std::filesystem::path& poses_csv,
-                                const std::filesystem::path& joints_csv,
-                                const std::optional<std::filesystem::path>& covariance_csv = {},
-                                int joint_count = 4);
-ObservationSet readObservations(const std::filesystem::path& poses_csv,
-                                const std::filesystem::path& joints_csv,
+ObservationSet readObservations(const std::filesystem::path& poses_csv, const std::filesystem::path& joints_csv,
+                                const std::optional<std::filesystem::path>& covariance_csv = {}, int joint_count = 4);
+ObservationSet readObservations(const std::filesystem::path& poses_csv, const std::filesystem::path& joints_csv,
                                 const std::optional<std::filesystem::path>& covariance_csv,
                                 const std::vector<std::string>& joint_columns);
 

@@ -36,8 +36,8 @@ std::string motionTypeName(MotionType type);  // "schoenflies", "translation", "
 // Result of an IKM evaluation. An unreachable pose (no real solution for a leg) lists the
 // failing joints: their entries in `joints` are NaN and must never be used silently.
 struct IkmResult {
-  Eigen::VectorXd joints;                // q [rad or m], size jointCount()
-  std::vector<int> unreachable_joints;   // 0-based joint indices
+  Eigen::VectorXd joints;               // q [rad or m], size jointCount()
+  std::vector<int> unreachable_joints;  // 0-based joint indices
   bool reachable() const { return unreachable_joints.empty(); }
   // Reachable, but outside the joint's stroke (mechanisms that declare one: the
   // Gough–Stewart leg lengths, doc/mechanisms.md); `joints` keeps the value. The
@@ -53,12 +53,12 @@ struct FkmOptions {
 
 // Numerical FKM (Levenberg–Marquardt on the IKM, Ceres): the pose X whose IKM gives q̄.
 struct FkmResult {
-  Eigen::VectorXd pose;                    // X, size poseDof(), mechanism's pose components
+  Eigen::VectorXd pose;  // X, size poseDof(), mechanism's pose components
   Eigen::Isometry3d bTe = Eigen::Isometry3d::Identity();
   bool converged = false;
   int iterations = 0;
-  double max_joint_error = 0.0;            // max |q(X) − q̄| at the returned pose
-  std::string message;                     // why it did not converge, when it did not
+  double max_joint_error = 0.0;  // max |q(X) − q̄| at the returned pose
+  std::string message;           // why it did not converge, when it did not
 };
 
 class Mechanism {
@@ -90,35 +90,29 @@ class Mechanism {
   virtual Eigen::VectorXd referencePose(const Eigen::VectorXd& geometric) const = 0;
 
   // IKM (eq. 1) at the effector transform bTe; `geometric` in nominal()'s order.
-  virtual IkmResult inverseKinematics(const Eigen::VectorXd& geometric,
-                                      const Eigen::Isometry3d& bTe) const = 0;
+  virtual IkmResult inverseKinematics(const Eigen::VectorXd& geometric, const Eigen::Isometry3d& bTe) const = 0;
 
   // FKM by Levenberg–Marquardt on the IKM from `initial_pose` (poseDof() values).
   // Non-convergence (or an unreachable start) is reported in the result, never thrown.
-  virtual FkmResult forwardKinematics(const Eigen::VectorXd& geometric,
-                                      const Eigen::VectorXd& joints,
-                                      const Eigen::VectorXd& initial_pose,
-                                      const FkmOptions& options = {}) const = 0;
+  virtual FkmResult forwardKinematics(const Eigen::VectorXd& geometric, const Eigen::VectorXd& joints,
+                                      const Eigen::VectorXd& initial_pose, const FkmOptions& options = {}) const = 0;
 
   // IKM from a measured target pose through the external parameters (eq. 3 then eq. 1).
-  virtual IkmResult predictJoints(const ExternalParameterization& external,
-                                  const Eigen::VectorXd& geometric,
-                                  const Eigen::VectorXd& external_values,
-                                  const PoseVector& cTm) const = 0;
+  virtual IkmResult predictJoints(const ExternalParameterization& external, const Eigen::VectorXd& geometric,
+                                  const Eigen::VectorXd& external_values, const PoseVector& cTm) const = 0;
 
   // ∂f/∂cTm (jointCount() x 6), to propagate a pose covariance: Σq = J Σ_X Jᵀ.
-  virtual Eigen::MatrixXd jointJacobianWrtPose(const ExternalParameterization& external,
-                                               const Eigen::VectorXd& geometric,
-                                               const Eigen::VectorXd& external_values,
-                                               const PoseVector& cTm) const = 0;
+  virtual Eigen::MatrixXd jointJacobianWrtPose(const ExternalParameterization& external, const Eigen::VectorXd& geometric,
+                                               const Eigen::VectorXd& external_values, const PoseVector& cTm) const = 0;
 
   // Ceres cost for one pose: residual W·(q̄ − f(X(ξe, cTm), ξg)) (jointCount() values) over two
   // parameter blocks [ξg (geometricCount()), ξe (ExternalParameterization::size())].
   // `whitening` W is jointCount() x jointCount() (identity, 1/σ, or L⁻¹ with Σq = L Lᵀ).
   // The cost returns false (Ceres rejects the step) where the pose is unreachable.
-  virtual std::unique_ptr<ceres::CostFunction> makeJointResidual(
-      const ExternalParameterization& external, const PoseVector& cTm,
-      const Eigen::VectorXd& measured_joints, const Eigen::MatrixXd& whitening) const = 0;
+  virtual std::unique_ptr<ceres::CostFunction> makeJointResidual(const ExternalParameterization& external,
+                                                                 const PoseVector& cTm,
+                                                                 const Eigen::VectorXd& measured_joints,
+                                                                 const Eigen::MatrixXd& whitening) const = 0;
 
   virtual std::unique_ptr<Mechanism> clone() const = 0;
 };

@@ -27,8 +27,8 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -124,9 +124,8 @@ class MechanismAdapter final : public Mechanism {
   MechanismAdapter(K kinematics, ParameterSet nominal)
       : kinematics_(std::move(kinematics)), nominal_(std::move(nominal)) {
     if (static_cast<int>(nominal_.size()) != K::kGeometric)
-      throw std::invalid_argument(kinematics_.name() + ": nominal parameter count " +
-                                  std::to_string(nominal_.size()) + " != " +
-                                  std::to_string(K::kGeometric));
+      throw std::invalid_argument(kinematics_.name() + ": nominal parameter count " + std::to_string(nominal_.size()) +
+                                  " != " + std::to_string(K::kGeometric));
   }
 
   const K& kinematics() const { return kinematics_; }
@@ -138,9 +137,7 @@ class MechanismAdapter final : public Mechanism {
   }
   MotionType motionType() const override { return K::kMotion; }
   int poseDof() const override { return K::kPoseDof; }
-  std::vector<std::string> poseComponentNames() const override {
-    return kinematics_.poseComponentNames();
-  }
+  std::vector<std::string> poseComponentNames() const override { return kinematics_.poseComponentNames(); }
   std::vector<Unit> poseComponentUnits() const override { return kinematics_.poseComponentUnits(); }
   ParameterSet nominal() const override { return nominal_; }
 
@@ -161,15 +158,13 @@ class MechanismAdapter final : public Mechanism {
     return kinematics_.referencePose(geometric);
   }
 
-  IkmResult inverseKinematics(const Eigen::VectorXd& geometric,
-                              const Eigen::Isometry3d& bTe) const override {
+  IkmResult inverseKinematics(const Eigen::VectorXd& geometric, const Eigen::Isometry3d& bTe) const override {
     checkSize(geometric, K::kGeometric, "geometric parameter vector");
     const Eigen::Matrix3d R = bTe.linear();
     const Eigen::Vector3d t = bTe.translation();
     IkmResult result;
     result.joints.resize(K::kJoints);
-    const int mask = kinematics_.inverseKinematics(geometric.data(), R.data(), t.data(),
-                                                   result.joints.data());
+    const int mask = kinematics_.inverseKinematics(geometric.data(), R.data(), t.data(), result.joints.data());
     markUnreachable(mask, result);
     if constexpr (detail::HasStroke<K>::value)
       for (int i = 0; i < K::kJoints; ++i)
@@ -179,8 +174,7 @@ class MechanismAdapter final : public Mechanism {
   }
 
   FkmResult forwardKinematics(const Eigen::VectorXd& geometric, const Eigen::VectorXd& joints,
-                              const Eigen::VectorXd& initial_pose,
-                              const FkmOptions& options) const override {
+                              const Eigen::VectorXd& initial_pose, const FkmOptions& options) const override {
     checkSize(geometric, K::kGeometric, "geometric parameter vector");
     checkSize(joints, K::kJoints, "joint vector");
     checkSize(initial_pose, K::kPoseDof, "initial pose");
@@ -200,9 +194,8 @@ class MechanismAdapter final : public Mechanism {
     }
     ceres::Problem problem;
     problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<detail::FkmFunctor<K>, K::kJoints, K::kPoseDof>(
-            functor.release()),
-        nullptr, result.pose.data());
+        new ceres::AutoDiffCostFunction<detail::FkmFunctor<K>, K::kJoints, K::kPoseDof>(functor.release()), nullptr,
+        result.pose.data());
     ceres::Solver::Options solver_options;
     solver_options.linear_solver_type = ceres::DENSE_QR;
     solver_options.max_num_iterations = options.max_iterations;
@@ -223,30 +216,24 @@ class MechanismAdapter final : public Mechanism {
     result.bTe = poseToTransform(result.pose);
     result.converged = result.max_joint_error < options.joint_tolerance;
     if (!result.converged)
-      result.message = "no pose reproduces the joints (max joint error " +
-                       std::to_string(result.max_joint_error) + " " +
-                       unitName(K::kJointUnit) + " after " +
-                       std::to_string(result.iterations) + " iterations)";
+      result.message = "no pose reproduces the joints (max joint error " + std::to_string(result.max_joint_error) +
+                       " " + unitName(K::kJointUnit) + " after " + std::to_string(result.iterations) + " iterations)";
     return result;
   }
 
-  IkmResult predictJoints(const ExternalParameterization& external,
-                          const Eigen::VectorXd& geometric, const Eigen::VectorXd& external_values,
-                          const PoseVector& cTm) const override {
+  IkmResult predictJoints(const ExternalParameterization& external, const Eigen::VectorXd& geometric,
+                          const Eigen::VectorXd& external_values, const PoseVector& cTm) const override {
     checkSize(external_values, external.size(), "external parameter vector");
     return inverseKinematics(geometric, external.effectorInBase(external_values, cTm));
   }
 
-  Eigen::MatrixXd jointJacobianWrtPose(const ExternalParameterization& external,
-                                       const Eigen::VectorXd& geometric,
-                                       const Eigen::VectorXd& external_values,
-                                       const PoseVector& cTm) const override {
+  Eigen::MatrixXd jointJacobianWrtPose(const ExternalParameterization& external, const Eigen::VectorXd& geometric,
+                                       const Eigen::VectorXd& external_values, const PoseVector& cTm) const override {
     checkSize(geometric, K::kGeometric, "geometric parameter vector");
     checkSize(external_values, external.size(), "external parameter vector");
     auto functor = std::make_unique<detail::PoseJointFunctor<K>>(
         detail::PoseJointFunctor<K>{kinematics_, external, geometric, external_values});
-    ceres::AutoDiffCostFunction<detail::PoseJointFunctor<K>, K::kJoints, 6> cost(
-        functor.release());
+    ceres::AutoDiffCostFunction<detail::PoseJointFunctor<K>, K::kJoints, 6> cost(functor.release());
     double q[K::kJoints];
     Eigen::Matrix<double, K::kJoints, 6, Eigen::RowMajor> jacobian;
     double* jacobians[1] = {jacobian.data()};
@@ -256,15 +243,15 @@ class MechanismAdapter final : public Mechanism {
     return jacobian;
   }
 
-  std::unique_ptr<ceres::CostFunction> makeJointResidual(
-      const ExternalParameterization& external, const PoseVector& cTm,
-      const Eigen::VectorXd& measured_joints, const Eigen::MatrixXd& whitening) const override {
+  std::unique_ptr<ceres::CostFunction> makeJointResidual(const ExternalParameterization& external,
+                                                         const PoseVector& cTm, const Eigen::VectorXd& measured_joints,
+                                                         const Eigen::MatrixXd& whitening) const override {
     checkSize(measured_joints, K::kJoints, "joint vector");
     if (whitening.rows() != K::kJoints || whitening.cols() != K::kJoints)
-      throw std::invalid_argument(name() + ": whitening matrix must be " +
-                                  std::to_string(K::kJoints) + "x" + std::to_string(K::kJoints));
-    auto functor = std::make_unique<detail::JointResidualFunctor<K>>(detail::JointResidualFunctor<K>{
-        kinematics_, external, external.prepare(cTm), measured_joints, whitening});
+      throw std::invalid_argument(name() + ": whitening matrix must be " + std::to_string(K::kJoints) + "x" +
+                                  std::to_string(K::kJoints));
+    auto functor = std::make_unique<detail::JointResidualFunctor<K>>(
+        detail::JointResidualFunctor<K>{kinematics_, external, external.prepare(cTm), measured_joints, whitening});
     switch (external.form()) {
       case ExternalForm::AxisAligned:
         return make<8>(std::move(functor));
@@ -276,31 +263,25 @@ class MechanismAdapter final : public Mechanism {
     throw std::logic_error("unknown external form");
   }
 
-  std::unique_ptr<Mechanism> clone() const override {
-    return std::make_unique<MechanismAdapter<K>>(*this);
-  }
+  std::unique_ptr<Mechanism> clone() const override { return std::make_unique<MechanismAdapter<K>>(*this); }
 
  private:
   template <int kExternal>
-  static std::unique_ptr<ceres::CostFunction> make(
-      std::unique_ptr<detail::JointResidualFunctor<K>> functor) {
-    return std::make_unique<ceres::AutoDiffCostFunction<detail::JointResidualFunctor<K>,
-                                                        K::kJoints, K::kGeometric, kExternal>>(
+  static std::unique_ptr<ceres::CostFunction> make(std::unique_ptr<detail::JointResidualFunctor<K>> functor) {
+    return std::make_unique<ceres::AutoDiffCostFunction<detail::JointResidualFunctor<K>, K::kJoints, K::kGeometric, kExternal>>(
         functor.release());
   }
 
   void checkSize(const Eigen::VectorXd& v, int expected, const char* what) const {
     if (v.size() != expected)
-      throw std::invalid_argument(name() + ": " + what + " has " + std::to_string(v.size()) +
-                                  " values, expected " + std::to_string(expected));
-    if (!v.allFinite())
-      throw std::invalid_argument(name() + ": " + what + " has a non-finite value");
+      throw std::invalid_argument(name() + ": " + what + " has " + std::to_string(v.size()) + " values, expected " +
+                                  std::to_string(expected));
+    if (!v.allFinite()) throw std::invalid_argument(name() + ": " + what + " has a non-finite value");
   }
 
   static void markUnreachable(int mask, IkmResult& result) {
     result.unreachable_joints = detail::unreachableList(mask, K::kJoints);
-    for (int i : result.unreachable_joints)
-      result.joints[i] = std::numeric_limits<double>::quiet_NaN();
+    for (int i : result.unreachable_joints) result.joints[i] = std::numeric_limits<double>::quiet_NaN();
   }
 
   K kinematics_;

@@ -19,9 +19,9 @@
 namespace mire::mechanism {
 
 struct SelectionCandidate {
-  std::string label;   // a variant letter ("D") or a model name ("delta-legs")
-  DesignModel model;   // registry entry + nominal geometry
-  char variant = 0;    // H4 variant A–H, 0 for a plain registry model
+  std::string label;  // a variant letter ("D") or a model name ("delta-legs")
+  DesignModel model;  // registry entry + nominal geometry
+  char variant = 0;   // H4 variant A–H, 0 for a plain registry model
 };
 
 // "h4-12:A,B,C,D,h4-31c:E,F,G,H" (a model name, then its variant letters) or plain model
@@ -41,22 +41,23 @@ struct SelectionOptions {
 struct ModelScore {
   std::string label;
   bool ok = false;
-  std::string message;          // why it failed, when it did
-  int parameters = 0;           // free parameters (geometric + mounting)
-  double cv_mse = std::numeric_limits<double>::quiet_NaN();  // mean over folds of the held-out mean squared joint residual
-  double cv_se = std::numeric_limits<double>::quiet_NaN();   // its standard error over the folds
-  double cv_rms() const;        // √cv_mse [rad or m]
-  double cv_rms_se() const;     // SE of √cv_mse (first order)
-  double fit_rms = 0.0;         // joint residual RMS of the fit on all poses
-  double chi2 = 0.0;            // weighted χ² (or RSS when unweighted)
+  std::string message;  // why it failed, when it did
+  int parameters = 0;   // free parameters (geometric + mounting)
+  double cv_mse =
+      std::numeric_limits<double>::quiet_NaN();  // mean over folds of the held-out mean squared joint residual
+  double cv_se = std::numeric_limits<double>::quiet_NaN();  // its standard error over the folds
+  double cv_rms() const;                                    // √cv_mse [rad or m]
+  double cv_rms_se() const;                                 // SE of √cv_mse (first order)
+  double fit_rms = 0.0;                                     // joint residual RMS of the fit on all poses
+  double chi2 = 0.0;                                        // weighted χ² (or RSS when unweighted)
   bool weighted = false;
   int residuals = 0;
   double aic = 0.0, bic = 0.0;
-  double condition = 0.0;       // scaled Jacobian (doc/mechanism-models.md)
+  double condition = 0.0;  // scaled Jacobian (doc/mechanism-models.md)
   int rank = 0;
   double v3 = std::numeric_limits<double>::quiet_NaN();  // [m], when lines are given
-  std::string model_name;              // registry name
-  std::vector<std::string> free_names; // for the nesting of the F-tests
+  std::string model_name;                                // registry name
+  std::vector<std::string> free_names;                   // for the nesting of the F-tests
 };
 
 struct NestedTest {
@@ -74,9 +75,8 @@ struct SelectionResult {
   std::string recommendedLabel() const;
 };
 
-SelectionResult selectModel(const std::vector<SelectionCandidate>& candidates,
-                            const std::vector<PoseObservation>& poses, const std::vector<LineRecord>& lines = {},
-                            const SelectionOptions& options = {});
+SelectionResult selectModel(const std::vector<SelectionCandidate>& candidates, const std::vector<PoseObservation>& poses,
+                            const std::vector<LineRecord>& lines = {}, const SelectionOptions& options = {});
 
 // The table `mire select` prints (without the final "recommended:" line).
 std::string selectionTable(const SelectionResult& result, Unit joint_unit);

@@ -23,10 +23,10 @@ Eigen::Matrix3d fromRotationVector(const Eigen::Vector3d& rotation_vector);
 
 // One calibration pose: the measured target pose cTm and the encoder readings q̄.
 struct PoseObservation {
-  std::string id;                             // pose id, used in every message
-  PoseVector cTm = PoseVector::Zero();        // camera <- target
-  Eigen::VectorXd joints;                     // q̄ [rad], one per actuated joint
-  std::optional<PoseCovariance> covariance;   // of cTm, when the measurement gives it
+  std::string id;                            // pose id, used in every message
+  PoseVector cTm = PoseVector::Zero();       // camera <- target
+  Eigen::VectorXd joints;                    // q̄ [rad], one per actuated joint
+  std::optional<PoseCovariance> covariance;  // of cTm, when the measurement gives it
 };
 
 // Throws std::invalid_argument naming the pose id when a value is non-finite, the joint

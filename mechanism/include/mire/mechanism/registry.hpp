@@ -13,7 +13,7 @@
 namespace mire::mechanism {
 
 struct ModelInfo {
-  std::string name;         // as typed by users
+  std::string name;  // as typed by users
   std::string description;
 };
 const std::vector<ModelInfo>& registeredModels();
@@ -22,8 +22,8 @@ std::string registeredModelList();  // "h4-12, h4-31, ..."
 struct RegisteredModel {
   std::string name;
   std::shared_ptr<const Mechanism> mechanism;
-  ParameterSet nominal;         // geometric parameters, nominal values, default fixed flags
-  ExternalForm external_form;   // the form identify uses for this model
+  ParameterSet nominal;        // geometric parameters, nominal values, default fixed flags
+  ExternalForm external_form;  // the form identify uses for this model
 };
 
 // Throws std::invalid_argument "unknown model 'x' (known: ...)". The H4 models take their

@@ -37,13 +37,11 @@ const H4Variant& h4Variant(char letter);
 // applied, external values estimated from the poses. Model-31 variants are initialised
 // from a preliminary model-12 identification (variant D with `options`) converted to the
 // camera frame (model31FromModel12 then model31CameraFromModel31).
-IdentificationModel makeH4VariantModel(char letter, const H4Nominal& nominal,
-                                       const std::vector<PoseObservation>& poses,
+IdentificationModel makeH4VariantModel(char letter, const H4Nominal& nominal, const std::vector<PoseObservation>& poses,
                                        const IdentificationOptions& options = {});
 
 // makeH4VariantModel() then identify().
-IdentificationResult identifyH4Variant(char letter, const H4Nominal& nominal,
-                                       const std::vector<PoseObservation>& poses,
+IdentificationResult identifyH4Variant(char letter, const H4Nominal& nominal, const std::vector<PoseObservation>& poses,
                                        const IdentificationOptions& options = {});
 
 }  // namespace mire::mechanism

@@ -26,7 +26,7 @@ struct ScreeningOptions {
 };
 
 struct ScreeningResult {
-  bool applied = false;                      // false: fewer than min_poses poses
+  bool applied = false;                           // false: fewer than min_poses poses
   std::vector<std::vector<std::string>> reasons;  // per pose, human-readable (empty: not flagged)
 };
 

@@ -14,9 +14,9 @@
 namespace mire::metrology {
 
 struct DetectionOptions {
-  bool subpixel = true;          // corner refinement (chessboard) / edge refinement (tags)
-  int subpixel_window_px = 0;    // 0 = chosen from the feature spacing in the image
-  bool allow_partial = true;     // AprilTag grids: accept a subset of the tags
+  bool subpixel = true;        // corner refinement (chessboard) / edge refinement (tags)
+  int subpixel_window_px = 0;  // 0 = chosen from the feature spacing in the image
+  bool allow_partial = true;   // AprilTag grids: accept a subset of the tags
 };
 
 struct Detection {

@@ -14,8 +14,8 @@ namespace mire::metrology {
 
 // The features found in one image.
 struct ImageDetections {
-  std::string image;  // file name (mire measure: "<pose id>/<file name>")
-  std::vector<int> ids;  // indices into Target::points()
+  std::string image;                    // file name (mire measure: "<pose id>/<file name>")
+  std::vector<int> ids;                 // indices into Target::points()
   std::vector<Eigen::Vector2d> pixels;  // OpenCV's pixel convention
 };
 

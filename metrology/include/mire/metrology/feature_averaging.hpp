@@ -36,17 +36,17 @@ struct AveragingOptions {
 };
 
 struct AveragedFeatures {
-  std::vector<int> ids;                           // indices into Target::points()
-  std::vector<Eigen::Vector2d> pixels;            // mean position over the images kept
-  std::vector<Eigen::Matrix2d> covariance;        // covariance of that mean (px²)
-  std::vector<int> observations;                  // images that contributed to each feature
+  std::vector<int> ids;                     // indices into Target::points()
+  std::vector<Eigen::Vector2d> pixels;      // mean position over the images kept
+  std::vector<Eigen::Matrix2d> covariance;  // covariance of that mean (px²)
+  std::vector<int> observations;            // images that contributed to each feature
   int images_used = 0;
   int images_total = 0;
-  std::vector<int> rejected_images;               // indices into the input, for reports
-  int rejected_observations = 0;                  // single-feature outliers dropped
+  std::vector<int> rejected_images;                             // indices into the input, for reports
+  int rejected_observations = 0;                                // single-feature outliers dropped
   Eigen::Matrix2d pooled_covariance = Eigen::Matrix2d::Zero();  // one observation (px²)
-  int pooled_dof = 0;                             // 0 when a single image: no scatter known
-  double prior_dof = 0.0;                         // ν0 used for the shrinkage
+  int pooled_dof = 0;                                           // 0 when a single image: no scatter known
+  double prior_dof = 0.0;                                       // ν0 used for the shrinkage
   // Several images but no scatter at all (identical features): treated as a single image
   // (pooled_dof = 0, the pose fit takes its noise from its residuals), never divided by zero.
   bool zero_scatter = false;

@@ -44,19 +44,19 @@ struct PoseOptions {
 
 struct PoseEstimate {
   bool valid = false;
-  std::string reason;                 // why not valid
+  std::string reason;  // why not valid
   Eigen::Isometry3d cTm = Eigen::Isometry3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();      // m
   Eigen::Vector3d rotation_vector = Eigen::Vector3d::Zero();  // rad, cv::Rodrigues convention
-  Matrix6d covariance_pixel_noise = Matrix6d::Zero();  // from the feature scatter alone
-  Matrix6d covariance_noise = Matrix6d::Zero();        // (a) = pixel noise × max(1, reduced χ²)
-  Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b) from Camera::covariance
+  Matrix6d covariance_pixel_noise = Matrix6d::Zero();         // from the feature scatter alone
+  Matrix6d covariance_noise = Matrix6d::Zero();               // (a) = pixel noise × max(1, reduced χ²)
+  Matrix6d covariance_intrinsics = Matrix6d::Zero();          // (b) from Camera::covariance
   // ∂(t, r)/∂k, 6 × n over Camera::params (the implicit-function sensitivity behind (b)); the
   // same calibration error k enters every pose, so `identify` needs it (shared_term_csv.hpp).
   // Empty without a camera covariance.
   Eigen::MatrixXd intrinsics_sensitivity;
-  Matrix6d covariance = Matrix6d::Zero();             // (a) + (b)
-  double rms_px = 0.0;          // RMS reprojection residual of the averaged features (px)
+  Matrix6d covariance = Matrix6d::Zero();  // (a) + (b)
+  double rms_px = 0.0;                     // RMS reprojection residual of the averaged features (px)
   // Σ of the whitened residuals² / (2N − 6), whitened with the covariance actually used: the
   // features' covariance of the mean (several images), or for one image (or copies of one)
   // the isotropic σ² estimated from these same residuals, which makes it 1 by construction
@@ -66,7 +66,7 @@ struct PoseEstimate {
   int feature_count = 0;
   bool scatter_from_residuals = false;  // no multi-image scatter: (a) uses the residuals
   bool ambiguous = false;
-  double ambiguity_cost_ratio = 0.0;    // cost(second) / cost(best); +inf when a single minimum
+  double ambiguity_cost_ratio = 0.0;  // cost(second) / cost(best); +inf when a single minimum
   Eigen::Isometry3d alternative_cTm = Eigen::Isometry3d::Identity();  // the second minimum
 
   // One-sigma of each component (sqrt of the diagonal) of a covariance, in its units.
@@ -82,9 +82,8 @@ PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<E
 // features carry no scatter): J_p is 2N×6 in (tx ty tz rx ry rz) order, J_k is 2N×params.
 // (J_pᵀ J_p)⁻¹ is then the Cramér–Rao bound of the pose for that feature noise.
 void reprojectionJacobians(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
-                           const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
-                           Eigen::MatrixXd* jacobian_pose, Eigen::MatrixXd* jacobian_intrinsics,
-                           const PoseOptions& options = {});
+                           const AveragedFeatures& features, const Eigen::Isometry3d& cTm, Eigen::MatrixXd* jacobian_pose,
+                           Eigen::MatrixXd* jacobian_intrinsics, const PoseOptions& options = {});
 
 // Step 3 of estimatePose from whitened Jacobians at the pose (J_p 2N×6, J_k 2N×params, as
 // reprojectionJacobians gives them): the inverse Fisher information (J_pᵀ J_p)⁻¹ and, when the

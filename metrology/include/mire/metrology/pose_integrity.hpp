@@ -38,23 +38,23 @@ enum class SplitPolicy { Fail, KeepLargest };
 
 struct IntegrityOptions {
   bool enabled = true;
-  double false_alarm = 1e-3;           // α: probability of failing a genuinely static pose
+  double false_alarm = 1e-3;  // α: probability of failing a genuinely static pose
   double duplicate_tolerance_px = 1e-9;
   SplitPolicy split = SplitPolicy::Fail;
 };
 
 struct IntegrityResult {
-  bool consistent = true;             // every (unique) image agrees, or the split was allowed
-  std::string error;                  // when !consistent: names the images that disagree
-  std::vector<std::string> notes;     // duplicates counted once, images left out by a split
-  std::vector<int> duplicate_of;      // per input image: index of the earlier identical frame, or −1
-  std::vector<int> moved;             // input indices outside the largest consistent group
-  std::vector<bool> use;              // per input image: enters the average
-  double threshold = 0.0;             // χ²₆ threshold applied to each pair
-  double max_statistic = 0.0;         // largest T_jk among the images used (0 when < 2 images)
-  double global_statistic = 0.0;      // Q over every tested image (0 when < 3 images)
-  double global_threshold = 0.0;      // χ² with 6(n − 1) dof at 1 − α/2
-  int tested_images = 0;              // unique images with a per-image pose
+  bool consistent = true;          // every (unique) image agrees, or the split was allowed
+  std::string error;               // when !consistent: names the images that disagree
+  std::vector<std::string> notes;  // duplicates counted once, images left out by a split
+  std::vector<int> duplicate_of;   // per input image: index of the earlier identical frame, or −1
+  std::vector<int> moved;          // input indices outside the largest consistent group
+  std::vector<bool> use;           // per input image: enters the average
+  double threshold = 0.0;          // χ²₆ threshold applied to each pair
+  double max_statistic = 0.0;      // largest T_jk among the images used (0 when < 2 images)
+  double global_statistic = 0.0;   // Q over every tested image (0 when < 3 images)
+  double global_threshold = 0.0;   // χ² with 6(n − 1) dof at 1 − α/2
+  int tested_images = 0;           // unique images with a per-image pose
   Eigen::Matrix2d noise_covariance = Eigen::Matrix2d::Zero();  // Σ of one observation (px²)
 };
 

@@ -36,9 +36,9 @@ struct VisibilityOptions {
 
 struct Visibility {
   bool visible = false;
-  std::string reason;           // why not visible (empty when visible)
-  double tilt_deg = 0.0;        // angle between the target normal and the line of sight
-  double min_margin_px = 0.0;   // smallest distance of a feature (or the board outline) to the image border
+  std::string reason;          // why not visible (empty when visible)
+  double tilt_deg = 0.0;       // angle between the target normal and the line of sight
+  double min_margin_px = 0.0;  // smallest distance of a feature (or the board outline) to the image border
 };
 
 // Whether the whole target is seen at `cTm`: every feature in front of the camera, inside the
@@ -65,16 +65,16 @@ enum class SystematicModel { Constant, BoardImage };
 // 10 poses that are not planned (doc/plan-and-select.md): random 0.0139 px; systematic 0.0313 px
 // (median, Constant), or the BoardImage fit a, b below.
 struct PredictionOptions {
-  double pixel_sigma = 0.014;     // σ_px: random detector noise per feature per image and axis [px]
-  int images = 10;                // images per pose (paper §5)
+  double pixel_sigma = 0.014;  // σ_px: random detector noise per feature per image and axis [px]
+  int images = 10;             // images per pose (paper §5)
   SystematicModel systematic_model = SystematicModel::BoardImage;
-  double systematic_px = 0.031;   // Constant: σ_sys per feature and axis, does not average [px]
-  double reference_square_px = 20.0;      // BoardImage: s at which σ_sys = a + b cos 4φ [px]
-  double systematic_mean_px = 0.0278;     // BoardImage: a [px]
-  double systematic_grid_px = 0.0045;     // BoardImage: b [px]
+  double systematic_px = 0.031;        // Constant: σ_sys per feature and axis, does not average [px]
+  double reference_square_px = 20.0;   // BoardImage: s at which σ_sys = a + b cos 4φ [px]
+  double systematic_mean_px = 0.0278;  // BoardImage: a [px]
+  double systematic_grid_px = 0.0045;  // BoardImage: b [px]
   // σ_sys at a pose whose squares are `square_px` wide at edge angle `edge_angle_rad`.
   double systematicSigma(double square_px, double edge_angle_rad) const;
-  double featureSigma() const;    // σ_f = sqrt(σ_px² / images + σ_sys²), σ_sys = systematic_px
+  double featureSigma() const;                   // σ_f = sqrt(σ_px² / images + σ_sys²), σ_sys = systematic_px
   double featureSigma(double systematic) const;  // the same with the given σ_sys
 };
 

@@ -35,13 +35,16 @@ struct MeasuredPose {
   // without naming the flags.
   MeasuredPose() = default;
   MeasuredPose(std::string id, int used, int total, PoseEstimate pose_estimate, std::vector<std::string> pose_flags = {})
-      : pose_id(std::move(id)), images_used(used), images_total(total), estimate(std::move(pose_estimate)),
+      : pose_id(std::move(id)),
+        images_used(used),
+        images_total(total),
+        estimate(std::move(pose_estimate)),
         flags(std::move(pose_flags)) {}
 
   std::string pose_id;
   int images_used = 0;
   int images_total = 0;
-  PoseEstimate estimate;  // must be valid
+  PoseEstimate estimate;           // must be valid
   std::vector<std::string> flags;  // written ';'-separated in the `flags` column
 };
 

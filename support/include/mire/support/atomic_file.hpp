@@ -15,7 +15,6 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view con
 // renames it onto `path`. The temporary keeps the target's extension so writers that pick
 // the format from it still work. Throws std::runtime_error naming the path if the writer
 // fails or returns false.
-void writeAtomically(const std::filesystem::path& path,
-                     const std::function<bool(const std::filesystem::path&)>& writer);
+void writeAtomically(const std::filesystem::path& path, const std::function<bool(const std::filesystem::path&)>& writer);
 
 }  // namespace mire::support

@@ -38,7 +38,9 @@ struct YamlMatrix {
   int rows = 0;
   int cols = 0;
   std::vector<double> data;
-  double operator()(int r, int c) const { return data[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)]; }
+  double operator()(int r, int c) const {
+    return data[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)];
+  }
 };
 
 // One node of a loaded file, with its location (file, line) and its key path for messages.
@@ -74,13 +76,13 @@ class YamlNode {
   void requireMap() const;
 
   // ----- sequences -----
-  std::size_t size() const;  // number of items (sequence) or keys (map); 0 for a scalar/null
+  std::size_t size() const;                      // number of items (sequence) or keys (map); 0 for a scalar/null
   YamlNode operator[](std::size_t index) const;  // sequence item; throws out of range
-  std::vector<YamlNode> items() const;  // sequence items; throws if not a sequence
+  std::vector<YamlNode> items() const;           // sequence items; throws if not a sequence
 
   // ----- scalars (strict) -----
   std::string asString() const;  // any scalar, as written
-  bool asBool() const;  // true/false (also yes/no/on/off as YAML 1.1 readers accept)
+  bool asBool() const;           // true/false (also yes/no/on/off as YAML 1.1 readers accept)
   // A finite number in any YAML/OpenCV syntax (1, -2.5, 1e-3, 1.5E+2, .5, 0x1F, 0o17);
   // rejects .inf/.nan and values outside the range.
   double asDouble(YamlRange range) const;

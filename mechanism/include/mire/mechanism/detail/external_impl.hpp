@@ -12,8 +12,7 @@ namespace detail {
 template <class T, class U, class V>
 void multiply3(const U* a, const V* b, T* out) {
   for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r)
-      out[3 * c + r] = a[r] * b[3 * c] + a[3 + r] * b[3 * c + 1] + a[6 + r] * b[3 * c + 2];
+    for (int r = 0; r < 3; ++r) out[3 * c + r] = a[r] * b[3 * c] + a[3 + r] * b[3 * c + 1] + a[6 + r] * b[3 * c + 2];
 }
 
 // out = m · v for a column-major 3x3 matrix.
@@ -28,9 +27,15 @@ void rotationZ(const T& angle, T* out) {
   using std::cos;
   using std::sin;
   const T c = cos(angle), s = sin(angle);
-  out[0] = c;    out[1] = s;    out[2] = T(0);
-  out[3] = -s;   out[4] = c;    out[5] = T(0);
-  out[6] = T(0); out[7] = T(0); out[8] = T(1);
+  out[0] = c;
+  out[1] = s;
+  out[2] = T(0);
+  out[3] = -s;
+  out[4] = c;
+  out[5] = T(0);
+  out[6] = T(0);
+  out[7] = T(0);
+  out[8] = T(1);
 }
 
 }  // namespace detail
@@ -43,14 +48,13 @@ void ExternalParameterization::effectorInBase(const T* external, const T* cTm, T
 }
 
 template <class T>
-void ExternalParameterization::effectorInBaseFromMeasured(const T* external, const double* cRm,
-                                                          const double* ctm, T* R, T* t) const {
+void ExternalParameterization::effectorInBaseFromMeasured(const T* external, const double* cRm, const double* ctm, T* R,
+                                                          T* t) const {
   chain(external, cRm, ctm, R, t);
 }
 
 template <class T>
-void ExternalParameterization::effectorInBase(const T* external, const PreparedPose& pose, T* R,
-                                              T* t) const {
+void ExternalParameterization::effectorInBase(const T* external, const PreparedPose& pose, T* R, T* t) const {
   if (form_ == ExternalForm::Full) {
     chain(external, pose.cRm.data(), pose.ctm.data(), R, t);
     return;
@@ -86,8 +90,7 @@ void ExternalParameterization::effectorInBase(const T* external, const PreparedP
 }
 
 template <class T, class S>
-void ExternalParameterization::chain(const T* external, const S* cRm, const S* ctm, T* R,
-                                     T* t) const {
+void ExternalParameterization::chain(const T* external, const S* cRm, const S* ctm, T* R, T* t) const {
   // camera_ / target_ hold Ac, Am column-major (see external.cpp).
   if (form_ == ExternalForm::Full) {
     // bTe = cTb⁻¹ · cTm · eTm⁻¹ with cTb = (Rcb, tcb), eTm = (Rem, tem).

@@ -54,9 +54,7 @@ struct H4PoseConvention {
   double amplification = 1.0;
 
   std::vector<std::string> poseComponentNames() const { return {"x", "y", "z", "theta"}; }
-  std::vector<Unit> poseComponentUnits() const {
-    return {Unit::Metre, Unit::Metre, Unit::Metre, Unit::Radian};
-  }
+  std::vector<Unit> poseComponentUnits() const { return {Unit::Metre, Unit::Metre, Unit::Metre, Unit::Radian}; }
   Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const {
     Eigen::VectorXd pose(4);
     pose << bTe.translation(), std::atan2(bTe.linear()(1, 0), bTe.linear()(0, 0)) / amplification;
@@ -69,9 +67,15 @@ struct H4PoseConvention {
     using std::sin;
     const T angle = pose[3] * T(amplification);
     const T c = cos(angle), s = sin(angle);
-    R[0] = c;    R[1] = s;    R[2] = T(0);
-    R[3] = -s;   R[4] = c;    R[5] = T(0);
-    R[6] = T(0); R[7] = T(0); R[8] = T(1);
+    R[0] = c;
+    R[1] = s;
+    R[2] = T(0);
+    R[3] = -s;
+    R[4] = c;
+    R[5] = T(0);
+    R[6] = T(0);
+    R[7] = T(0);
+    R[8] = T(1);
     t[0] = pose[0];
     t[1] = pose[1];
     t[2] = pose[2];
@@ -120,7 +124,6 @@ struct H4Model12Kinematics : H4PoseConvention {
     }
     return unreachable;
   }
-
 };
 
 // Model 31 (paper §3.3): x2 y2 z2 x3 y3 z3 x4 y4 z4 psi1..4 beta1..4 L1..4 l1..4 q01..4 h d,
@@ -151,8 +154,7 @@ struct H4Model31Kinematics : H4PoseConvention {
       if (i > 0)
         for (int k = 0; k < 3; ++k) P[k] = g[3 * (i - 1) + k];
       // W = A_i − P_i, A_i = X + ε_i h (cosθ, sinθ, 0) + σ_i d y_B (eq. 18).
-      const T W[3] = {t[0] + eps * h * ct - P[0], t[1] + eps * h * st + sig * d - P[1],
-                      t[2] - P[2]};
+      const T W[3] = {t[0] + eps * h * ct - P[0], t[1] + eps * h * st + sig * d - P[1], t[2] - P[2]};
       T phi;
       if (!detail::legAngleGeneralAxis(W, g[9 + i], g[13 + i], g[17 + i], g[21 + i], &phi)) {
         unreachable |= 1 << i;
@@ -163,7 +165,6 @@ struct H4Model31Kinematics : H4PoseConvention {
     }
     return unreachable;
   }
-
 };
 
 // Model 31 in the camera frame (eq. 25–26): xpp1 ypp1 zpp1 .. xpp4 ypp4 zpp4, psi1..4,
@@ -197,7 +198,6 @@ struct H4Model31CameraKinematics : H4PoseConvention {
     }
     return unreachable;
   }
-
 };
 
 }  // namespace mire::mechanism

@@ -24,9 +24,7 @@ struct TranslationPoseConvention {
   std::vector<std::string> poseComponentNames() const { return {"x", "y", "z"}; }
   std::vector<Unit> poseComponentUnits() const { return {Unit::Metre, Unit::Metre, Unit::Metre}; }
   Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const { return bTe.translation(); }
-  Eigen::VectorXd referencePose(const Eigen::VectorXd&) const {
-    return Eigen::Vector3d(0.0, 0.0, reference_z);
-  }
+  Eigen::VectorXd referencePose(const Eigen::VectorXd&) const { return Eigen::Vector3d(0.0, 0.0, reference_z); }
   template <class T>
   void poseToTransform(const T* pose, T* R, T* t) const {
     for (int k = 0; k < 9; ++k) R[k] = T(k % 4 == 0 ? 1 : 0);
@@ -52,8 +50,7 @@ struct DeltaKinematics : TranslationPoseConvention {
       const T w[3] = {t[0] + (r - R) * ux, t[1] + (r - R) * uy, t[2]};
       const T norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
       T phi;
-      if (!detail::solveElbowOut(-w[2], w[0] * ux + w[1] * uy, (norm2 + L * L - l * l) / (T(2) * L),
-                                 &phi)) {
+      if (!detail::solveElbowOut(-w[2], w[0] * ux + w[1] * uy, (norm2 + L * L - l * l) / (T(2) * L), &phi)) {
         mask |= 1 << i;
         joints[i] = T(0);
         continue;
