@@ -42,7 +42,12 @@ struct DemoMeasurement {
   Eigen::Vector3d median_sigma_deg = Eigen::Vector3d::Zero();  // predicted, rotation
   Eigen::Vector3d rms_error_mm = Eigen::Vector3d::Zero();      // against truth
   Eigen::Vector3d rms_error_deg = Eigen::Vector3d::Zero();
-  double normalized_error_std = 0.0;  // std of error/σ over all components (≈1 when honest)
+  double normalized_error_std = 0.0;  // RMS of error/σ over all components (≈1 when honest)
+  // Per component: RMS of error/σ pose by pose, and whitened with the cross-pose covariance
+  // (the calibration's error is shared by every pose; demo_pose_scores.hpp).
+  Eigen::Matrix<double, 6, 1> normalized_error_rms = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> whitened_error_rms = Eigen::Matrix<double, 6, 1>::Zero();
+  double whitened_error_rms_all = 0.0;
 };
 
 struct DemoVariant {

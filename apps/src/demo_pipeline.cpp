@@ -2,6 +2,7 @@
 // exactly as a user would (calibrate from images, measure poses from images, identify from
 // poses.csv + joints.csv), and score against the simulator's truth only at the end.
 #include "demo.hpp"
+#include "demo_pose_scores.hpp"
 #include "image_folders.hpp"
 
 #include "mire/calibration/calibrate.hpp"
@@ -81,7 +82,7 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
   std::vector<metrology::MeasuredPose> measured;
   std::vector<double> sigma[6];
   Eigen::Matrix<double, 6, 1> squared_error = Eigen::Matrix<double, 6, 1>::Zero();
-  std::vector<double> normalized;
+  std::vector<PoseErrorSample> samples;
   for (const auto& pose : measurements) {
     const auto& m = pose.measurement;
     if (!m.ok) {
@@ -91,15 +92,17 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
     measured.emplace_back(pose.pose_id, m.features.images_used, pose.images_total, m.estimate);
     // Scoring against the simulator's truth.
     const Eigen::Isometry3d truth = campaign.trueCameraTMarker(pose.pose_id);
-    Eigen::Matrix<double, 6, 1> error;
-    error << m.estimate.translation - truth.translation(),
+    PoseErrorSample sample;
+    sample.error << m.estimate.translation - truth.translation(),
         m.estimate.rotation_vector - metrology::rotationVector(truth.linear());
-    const auto sigmas = metrology::PoseEstimate::sigmas(m.estimate.covariance);
+    sample.independent = m.estimate.covariance_noise;
+    sample.sensitivity = m.estimate.intrinsics_sensitivity;
+    sample.sigma = metrology::PoseEstimate::sigmas(m.estimate.covariance);
     for (int k = 0; k < 6; ++k) {
-      sigma[k].push_back(sigmas[k]);
-      squared_error[k] += error[k] * error[k];
-      normalized.push_back(error[k] / sigmas[k]);
+      sigma[k].push_back(sample.sigma[k]);
+      squared_error[k] += sample.error[k] * sample.error[k];
     }
+    samples.push_back(std::move(sample));
   }
   if (measured.empty()) throw std::runtime_error("no pose could be measured");
   metrology::writePosesCsv(poses_csv, measured);
@@ -115,9 +118,11 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
     summary.rms_error_mm[k] = 1e3 * std::sqrt(squared_error[k] / n);
     summary.rms_error_deg[k] = 180.0 / kPi * std::sqrt(squared_error[k + 3] / n);
   }
-  double sum_squares = 0.0;
-  for (const double z : normalized) sum_squares += z * z;
-  summary.normalized_error_std = std::sqrt(sum_squares / static_cast<double>(normalized.size()));
+  const PoseErrorScores scores = scorePoseErrors(samples, camera.covariance);
+  summary.normalized_error_std = scores.rms_per_pose_all;
+  summary.normalized_error_rms = scores.rms_per_pose;
+  summary.whitened_error_rms = scores.rms_whitened;
+  summary.whitened_error_rms_all = scores.rms_whitened_all;
 }
 
 std::vector<std::vector<Eigen::VectorXd>> lineJoints(const fs::path& lines_csv) {

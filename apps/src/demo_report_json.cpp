@@ -36,6 +36,9 @@ Json measurementJson(const DemoMeasurement& m) {
   out["rms_error_translation_mm"] = numberArray(Eigen::VectorXd(m.rms_error_mm));
   out["rms_error_rotation_deg"] = numberArray(Eigen::VectorXd(m.rms_error_deg));
   setNumber(out, "normalized_error_rms", m.normalized_error_std, "no pose measured");
+  out["normalized_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.normalized_error_rms));
+  out["whitened_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.whitened_error_rms));
+  setNumber(out, "whitened_error_rms", m.whitened_error_rms_all, "no pose measured");
   out["pose_covariances_file"] = "poses_covariance.csv";
   return out;
 }
