@@ -72,17 +72,17 @@ std::string scoresCsv(const mech::SelectionResult& r) {
 
 void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech::Unit unit) {
   std::vector<std::string> labels;
-  Series cv{"CV rms", {}, seriesColour(0)}, upper{"CV rms + 1 SE", {}, seriesColour(1)},
-      fit{"fit rms (all poses)", {}, seriesColour(2)};
+  // CV score with its standard error as an error bar (the one-SE rule reads off it), beside the fit.
+  Series cv{"CV rms (bar: +/- 1 SE)", {}, seriesColour(0)}, fit{"fit rms (all poses)", {}, seriesColour(2)};
   for (const mech::ModelScore& s : r.scores) {
     labels.push_back(s.label + " (" + std::to_string(s.parameters) + ")");
     cv.values.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms()) : NAN);
-    upper.values.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms() + s.cv_rms_se()) : NAN);
+    cv.sigma.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms_se()) : NAN);
     fit.values.push_back(s.ok ? mech::toDisplay(unit, s.fit_rms) : NAN);
   }
   writePng(path,
            barChart("cross-validated joint residual per model (parameter count); recommended: " + r.recommendedLabel(),
-                    "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, upper, fit}));
+                    "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, fit}));
 }
 
 int runSelect(const SelectArguments& args) {
