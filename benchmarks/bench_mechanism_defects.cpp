@@ -169,6 +169,13 @@ std::vector<Case> cases(double wide_spread, double wide_reach) {
       {"Hexapod wide, gains + ecc.", "gough-stewart", hexapod(2e-3, 0.3e-3), true, wide_spread, wide_reach},
       {"Hexapod wide, gains + ecc.", "gough-stewart-gains", hexapod(2e-3, 0.3e-3), true, wide_spread, wide_reach},
       {"Hexapod wide FLOOR (no defect)", "gough-stewart", hexapod(0.0, 0.0), true, wide_spread, wide_reach},
+      // The Delta's protocol (±150 mm, ±75 mm) and lines over twice the extent: ±300 mm and
+      // ±150 mm, lines ±240 mm in x and y (the reachable radius is ≈ 0.45–0.53 m at these heights).
+      {"Delta wide, equal legs, tilt", "delta", delta(false, 0.0116), true, 2.0, 2.0},
+      {"Delta wide FLOOR (no defect)", "delta", delta(false, 0.0), true, 2.0, 2.0},
+      {"Delta wide, legs differ, tilt", "delta", delta(true, 0.0116), true, 2.0, 2.0},
+      {"Delta wide, legs differ, tilt", "delta-legs", delta(true, 0.0116), true, 2.0, 2.0},
+      {"Delta-legs wide FLOOR (no tilt)", "delta-legs", delta(true, 0.0), true, 2.0, 2.0},
       // The floor is the identification noise: 4x the poses should halve it.
       {"Delta FLOOR, 4x poses (27 + 81)", "delta", delta(false, 0.0), true, 1.0, 1.0, 81},
       {"Hexapod FLOOR, 4x poses (81 + 243)", "gough-stewart", hexapod(0.0, 0.0), true, 1.0, 1.0, 243},
@@ -193,10 +200,11 @@ int main(int argc, char** argv) {
       }
       printRow(all[i], s, o);
       Summary& m = summary[i];
-      m.v3_before += o.before.v3 / seeds;
-      m.v3_after += o.after.v3 / seeds;
-      m.sq_before += o.before.square / seeds;
-      m.sq_after += o.after.square / seeds;
+      m.v3_before += o.before.v3;
+      m.v3_after += o.after.v3;
+      m.sq_before += o.before.square;
+      m.sq_after += o.after.square;
+      ++m.n;
       m.v3_worst = std::max(m.v3_worst, change(o.before.v3, o.after.v3));
       m.sq_worst = std::max(m.sq_worst, change(o.before.square, o.after.square));
     }
@@ -205,10 +213,15 @@ int main(int argc, char** argv) {
       "| robot | model | V3 before -> after [mm] | square side RMS before -> after [mm] |\n|---|---|---|---|\n");
   for (std::size_t i = 0; i < all.size(); ++i) {
     const Summary& m = summary[i];
-    std::printf("| %s | `%s` | %.4f -> %.4f (%+.0f %%; worst %+.0f %%) | %.4f -> %.4f (%+.0f %%; worst %+.0f %%) |\n",
-                all[i].robot.c_str(), all[i].model.c_str(), m.v3_before * 1e3, m.v3_after * 1e3,
-                change(m.v3_before, m.v3_after), m.v3_worst, m.sq_before * 1e3, m.sq_after * 1e3,
-                change(m.sq_before, m.sq_after), m.sq_worst);
+    if (m.n == 0) {
+      std::printf("| %s | `%s` | every seed failed | |\n", all[i].robot.c_str(), all[i].model.c_str());
+      continue;
+    }
+    std::printf("| %s | `%s` | %.4f -> %.4f (%+.0f %%; worst %+.0f %%) | %.4f -> %.4f (%+.0f %%; worst %+.0f %%) |%s\n",
+                all[i].robot.c_str(), all[i].model.c_str(), 1e3 * m.v3_before / m.n, 1e3 * m.v3_after / m.n,
+                change(m.v3_before, m.v3_after), m.v3_worst, 1e3 * m.sq_before / m.n, 1e3 * m.sq_after / m.n,
+                change(m.sq_before, m.sq_after), m.sq_worst,
+                m.n < static_cast<int>(seeds) ? (" " + std::to_string(m.n) + " seeds").c_str() : "");
   }
   return 0;
 }
