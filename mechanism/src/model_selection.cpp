@@ -112,13 +112,14 @@ bool nested(const ModelScore& a, const ModelScore& b) {
     return true;
   }
   // Model 12 is model 31 at ψ_i = α_i + π, β_i = π/2 (doc/mechanism-models.md); the Delta is
-  // its per-leg model with equal legs (doc/mechanisms.md).
+  // its per-leg model with equal legs, the hexapod its gains model at s_i = 1 (doc/mechanisms.md).
   // Only a model-31 variant that frees h and the forearms nests every model-12 variant.
   const auto frees = [&b](const char* n) {
     return std::find(b.free_names.begin(), b.free_names.end(), n) != b.free_names.end();
   };
   return (a.model_name == "h4-12" && (b.model_name == "h4-31c" || b.model_name == "h4-31") && frees("h") && frees("l1")) ||
-         (a.model_name == "delta" && b.model_name == "delta-legs");
+         (a.model_name == "delta" && b.model_name == "delta-legs") ||
+         (a.model_name == "gough-stewart" && b.model_name == "gough-stewart-gains");
 }
 
 // F-tests between nested pairs, each model against the smallest richer model nesting it.

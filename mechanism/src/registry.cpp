@@ -5,6 +5,7 @@
 
 #include "mire/mechanism/delta.hpp"
 #include "mire/mechanism/gough_stewart.hpp"
+#include "mire/mechanism/gough_stewart_gains.hpp"
 
 namespace mire::mechanism {
 
@@ -16,6 +17,7 @@ const std::vector<ModelInfo>& registeredModels() {
       {"delta", "Delta robot, common geometry (R r L l alpha1..3 q01..3), full mounting"},
       {"delta-legs", "Delta robot, per-leg geometry (24 parameters), full mounting"},
       {"gough-stewart", "Gough-Stewart platform (42 parameters), full mounting"},
+      {"gough-stewart-gains", "Gough-Stewart platform + one encoder scale per leg (48 parameters), full mounting"},
   };
   return models;
 }
@@ -47,6 +49,9 @@ RegisteredModel makeRegisteredModel(const std::string& name, const H4Nominal& h4
     out.nominal = out.mechanism->nominal();
   } else if (name == "gough-stewart") {
     out.mechanism = makeGoughStewartMechanism();
+    out.nominal = out.mechanism->nominal();
+  } else if (name == "gough-stewart-gains") {
+    out.mechanism = makeGoughStewartGainsMechanism();
     out.nominal = out.mechanism->nominal();
   } else {
     throw std::invalid_argument("unknown model '" + name + "' (known: " + registeredModelList() + ")");

@@ -37,10 +37,14 @@ struct GoughStewart {
   static std::string name() { return "gough-stewart"; }
   static constexpr int kRank = 42;
 };
+struct GoughStewartGains {
+  static std::string name() { return "gough-stewart-gains"; }
+  static constexpr int kRank = 48;
+};
 
 template <class M>
 class MechanismContract : public ::testing::Test {};
-using Models = ::testing::Types<H4Model12, H4Model31, Delta, DeltaLegs, GoughStewart>;
+using Models = ::testing::Types<H4Model12, H4Model31, Delta, DeltaLegs, GoughStewart, GoughStewartGains>;
 TYPED_TEST_SUITE(MechanismContract, Models);
 
 TYPED_TEST(MechanismContract, IkmAndFkmAreInverse) {

@@ -96,7 +96,8 @@ TEST_P(PredictionSigma, HeldOutRotationErrorsMatchPredictedSigma) {
   EXPECT_LT(ratio, 1.25) << GetParam();
 }
 
-INSTANTIATE_TEST_SUITE_P(Mechanisms, PredictionSigma, ::testing::Values("h4-12", "delta", "gough-stewart"),
+INSTANTIATE_TEST_SUITE_P(Mechanisms, PredictionSigma,
+                         ::testing::Values("h4-12", "delta", "gough-stewart", "gough-stewart-gains"),
                          [](const auto& info) {
                            std::string s = info.param;
                            for (char& ch : s)

@@ -85,23 +85,40 @@ struct DefectiveRobot {
   }
 };
 
-// A Delta whose legs differ (1 mm / 0.5° per leg on every per-leg parameter when
-// `legs_differ`, else only the common-geometry errors) and whose plate tilts by κ.
-inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double tilt_per_m = 0.0116) {
+// perturbed() with other error sizes: `metre` / `radian` × U(−1, 1) on every free parameter
+// (the same draws as perturbed(), which is perturbedBy(nominal, seed, 1e-3, 0.5°)).
+inline ParameterSet perturbedBy(const ParameterSet& nominal, unsigned seed, double metre, double radian) {
+  ParameterSet truth = nominal;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (truth[i].fixed) continue;
+    truth.setValue(truth[i].name, truth[i].value + (truth[i].unit == Unit::Radian ? radian : metre) * u(rng));
+  }
+  return truth;
+}
+
+// A Delta whose legs differ (`metre` / `radian` per leg on every per-leg parameter when
+// `legs_differ`, else only the common-geometry errors of that size) and whose plate tilts by κ.
+inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double tilt_per_m = 0.0116,
+                                         double metre = 1e-3, double radian = 0.5 * kCampaignDeg) {
   DefectiveRobot robot;
   robot.geometry_model = makeRegisteredModel("delta-legs");
-  const ParameterSet common = perturbed(makeRegisteredModel("delta").nominal, seed);
-  robot.geometry = legs_differ ? perturbed(deltaLegsFromDelta(common), seed + 1) : deltaLegsFromDelta(common);
+  const ParameterSet common = perturbedBy(makeRegisteredModel("delta").nominal, seed, metre, radian);
+  robot.geometry =
+      legs_differ ? perturbedBy(deltaLegsFromDelta(common), seed + 1, metre, radian) : deltaLegsFromDelta(common);
   robot.tilt_per_m = tilt_per_m;
   return robot;
 }
 
-// A hexapod with 1 mm errors on every joint centre and length, encoder gains 1 ± 2·10⁻³ and
-// 0.3 mm joint eccentricities.
-inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e-3, double eccentricity = 0.3e-3) {
+// A hexapod with `metre` (1 mm) errors on every joint centre and length, encoder gains
+// 1 ± 2·10⁻³ and 0.3 mm joint eccentricities. The eccentricity is perpendicular to the leg,
+// so it changes the leg length by only ε²/(2ρ) (0.1 µm for 0.3 mm: doc/mechanisms.md).
+inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e-3, double eccentricity = 0.3e-3,
+                                           double metre = 1e-3) {
   DefectiveRobot robot;
   robot.geometry_model = makeRegisteredModel("gough-stewart");
-  robot.geometry = perturbed(robot.geometry_model.nominal, seed);
+  robot.geometry = perturbedBy(robot.geometry_model.nominal, seed, metre, 0.0);
   std::mt19937 rng(seed + 7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 6; ++i) robot.encoder_gain.push_back(1.0 + gain_error * u(rng));
@@ -109,11 +126,17 @@ inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e
   return robot;
 }
 
-// Measured campaign of a defective robot at the protocol poses (+ `extra` random ones).
+// Measured campaign of a defective robot at the protocol poses (+ `extra` random ones), their
+// positions spread `spread` times as far from the reference pose (a protocol over more of the
+// workspace; orientations unchanged).
 inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std::string& model_name, unsigned seed,
-                                          double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg, int extra = 0) {
+                                          double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg, int extra = 0,
+                                          double spread = 1.0) {
   Campaign c = simulateCampaign(model_name, seed, 0.0, 0.0, extra);  // mountings, protocol (+ extra)
   c.truth = robot.geometry;
+  const Eigen::Vector3d centre =
+      robot.mechanism().poseToTransform(robot.mechanism().referencePose(c.truth.values())).translation();
+  for (Eigen::Isometry3d& T : c.bTe) T.translation() = centre + spread * (T.translation() - centre);
   std::mt19937 rng(seed + 3000);
   std::normal_distribution<double> normal;
   PoseCovariance cov = PoseCovariance::Zero();
@@ -124,6 +147,7 @@ inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std
     c.bTe[j] = robot.effector(X);
     PoseObservation& p = c.poses[j];
     p.joints = robot.joints(X);
+    if (p.joints.size() == 0) throw std::logic_error("defective robot: protocol pose " + p.id + " is out of reach");
     p.cTm = toPoseVector(c.bTc.inverse() * c.bTe[j] * c.mTe.inverse());
     for (int k = 0; k < 3; ++k) p.cTm[k] += noise_t * normal(rng);
     for (int k = 3; k < 6; ++k) p.cTm[k] += noise_r * normal(rng);
