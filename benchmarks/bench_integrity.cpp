@@ -8,6 +8,7 @@
 //  2. sensitivity: for 10 of those poses, 6 + 4 images of two views 1 mm or 0.1° apart
 //     (rendered with the campaign's optics and noise): caught, and the image displacement;
 //  3. screening: the campaign with one pose downscaled (×¼ and back) and one blurred (σ 3 px).
+#include "feature_displacement.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/render.hpp"
@@ -40,15 +41,6 @@ std::vector<std::string> names(const std::vector<fs::path>& files) {
   std::vector<std::string> result;
   for (const auto& file : files) result.push_back(file.filename().string());
   return result;
-}
-
-double displacementPx(const mire::calibration::Camera& camera, const mire::metrology::Target& target,
-                      const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  const auto pa = mire::datasets::projectFeatures(camera, target, a);
-  const auto pb = mire::datasets::projectFeatures(camera, target, b);
-  double sum = 0.0;
-  for (std::size_t i = 0; i < pa.pixels.size(); ++i) sum += (pa.pixels[i] - pb.pixels[i]).squaredNorm();
-  return std::sqrt(sum / static_cast<double>(pa.pixels.size()));
 }
 
 // Rotation by `degrees` about `axis` (target frame) through the target's centre.
@@ -158,7 +150,7 @@ int main(int argc, char** argv) {
       const Eigen::Isometry3d pose = poses[index].estimate.cTm;
       Eigen::Isometry3d other = rotatedAboutCentre(pose, target, motion.axis, motion.degrees);
       other.translation() += motion.shift;
-      const double px = displacementPx(camera, target, pose, other);
+      const double px = mire::test::displacementPx(camera, target, pose, other);
       min_px = std::min(min_px, px);
       max_px = std::max(max_px, px);
       const auto a = renderer.render(pose), b = renderer.render(other);

@@ -20,6 +20,7 @@
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/translating_target.hpp"
+#include "sample_statistics.hpp"
 
 using namespace mire::mechanism;
 using mire::datasets::Campaign;
@@ -36,14 +37,6 @@ double cpuMs(const std::function<void()>& f, int repeats = 21) {
   }
   std::nth_element(ms.begin(), ms.begin() + repeats / 2, ms.end());
   return ms[static_cast<std::size_t>(repeats / 2)];
-}
-
-double stdOf(const std::vector<double>& v) {
-  double mean = 0, sq = 0;
-  for (double x : v) mean += x;
-  mean /= static_cast<double>(v.size());
-  for (double x : v) sq += (x - mean) * (x - mean);
-  return std::sqrt(sq / static_cast<double>(v.size() - 1));
 }
 
 void sigmaStudy(const std::string& name, int campaigns) {
@@ -101,7 +94,7 @@ void sigmaStudy(const std::string& name, int campaigns) {
               params, gauge_names.c_str());
   double lo = 1e9, hi = 0;
   for (const auto& [n, v] : normalised) {
-    const double s = stdOf(v);
+    const double s = mire::test::sampleStandardDeviation(v);
     lo = std::min(lo, s);
     hi = std::max(hi, s);
     std::printf("  %-8s std(error/sigma) %.3f\n", n.c_str(), s);
@@ -115,7 +108,7 @@ void sigmaStudy(const std::string& name, int campaigns) {
   std::printf(
       "  fkm --frame camera, per component: position std(error/sigma) %.3f, rotation-vector std(error/sigma) %.3f "
       "(target [0.8, 1.25])\n",
-      stdOf(ratio_t), stdOf(ratio_r));
+      mire::test::sampleStandardDeviation(ratio_t), mire::test::sampleStandardDeviation(ratio_r));
 }
 
 void timing(const std::string& name) {

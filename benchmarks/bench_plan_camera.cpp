@@ -28,6 +28,7 @@
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/pose.hpp"
 #include "mire/metrology/pose_measurement.hpp"
+#include "mire/support/constants.hpp"
 #include "plan_camera.hpp"
 
 namespace {
@@ -35,7 +36,7 @@ namespace {
 namespace mech = mire::mechanism;
 namespace metro = mire::metrology;
 using Sigma6 = Eigen::Matrix<double, 6, 1>;
-constexpr double kPi = 3.14159265358979323846;
+using mire::support::kPi;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

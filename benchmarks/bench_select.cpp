@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "h4_selection_campaign.hpp"
 #include "mire/datasets/h4_true_robot.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/datasets/mechanism_true_robots.hpp"
@@ -29,24 +30,6 @@ namespace {
 std::vector<SelectionCandidate> h4Candidates() {
   return parseSelectionCandidates("h4-12:A,B,C,D,h4-31c:E,F,G,H",
                                   [](const std::string& n) { return makeDesignModel(n); });
-}
-
-// A true H4 with model-12 errors (1 mm / 0.5°) and, when `legs_differ`, arm and forearm
-// lengths changed per leg by 1–3 mm (random sign).
-std::vector<PoseObservation> h4Campaign(unsigned seed, bool legs_differ) {
-  const ds::H4ErrorSizes sizes = ds::H4ErrorSizes::withoutUnmodelledDefects();
-  ds::H4TrueGeometry g = ds::geometryFromModel12(ds::drawModel12Values(H4Nominal{}, sizes, seed));
-  if (legs_differ) {
-    std::mt19937 rng(seed + 77);
-    std::uniform_real_distribution<double> size(1e-3, 3e-3);
-    for (auto& leg : g.legs) {
-      leg.arm_length += (rng() & 1U ? 1 : -1) * size(rng);
-      leg.forearm_length += (rng() & 1U ? 1 : -1) * size(rng);
-    }
-  }
-  const ds::H4TrueRobot robot(g);
-  const ds::H4MeasurementNoise noise;
-  return ds::toObservations(ds::simulateMeasurements(robot, ds::protocolPoses(), noise, seed), noise);
 }
 
 std::string describe(const SelectionResult& r) {
@@ -65,7 +48,7 @@ void h4Case(bool legs_differ, int campaigns) {
   std::map<std::string, int> counts;
   std::vector<double> times;
   for (int c = 0; c < campaigns; ++c) {
-    const auto poses = h4Campaign(100u + static_cast<unsigned>(c), legs_differ);
+    const auto poses = mire::test::h4SelectionCampaign(100u + static_cast<unsigned>(c), legs_differ);
     const std::clock_t c0 = std::clock();
     const SelectionResult r = selectModel(candidates, poses);
     const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;

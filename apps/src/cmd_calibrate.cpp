@@ -237,7 +237,9 @@ int runCalibrate(const CalibrateArguments& args) {
   options.model = model;
   options.fixed_parameters = args.fixed_parameters;
   options.refine_target = args.refine_target;
-  options.num_threads = threads;
+  // The solve stays on one thread (options.num_threads = 1): with more, Ceres sums the cost and
+  // gradient per thread in an order that depends on the scheduling, and camera.yaml would change
+  // in its last digits from run to run (calibrate.hpp). --threads parallelises the detection.
   const calibration::CalibrationResult result =
       calibration::calibrateCamera(target.points(), folder.views, folder.width, folder.height, options);
   const calibration::ProjectionUncertaintySummary uncertainty = calibration::summarizeProjectionUncertainty(result);
@@ -289,7 +291,8 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_option(
       "--report", args->report_dir,
       "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, views.csv, report.json");
-  command->add_option("--threads", args->threads, "detection/solver threads (default: all cores)");
+  command->add_option("--threads", args->threads,
+                      "detection threads (default: all cores); the result does not depend on them");
   return [args, command] {
     args->command_line = commandLineOf(*command);
     return runCalibrate(*args);

@@ -11,6 +11,7 @@
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
@@ -58,7 +59,7 @@ std::string cameraFrameCsv(const std::vector<std::string>& ids, const std::vecto
     for (int k = 0; k < 6; ++k) out << ',' << support::formatNumber(p.cTm[k]);
     for (int k = 0; k < 6; ++k) {
       const double s = std::sqrt(std::max(0.0, p.cTm_covariance(k, k)));
-      out << ',' << support::formatNumber(k < 3 ? s * 1e3 : s * 180.0 / 3.14159265358979323846, 6);
+      out << ',' << support::formatNumber(k < 3 ? s * 1e3 : s * 180.0 / support::kPi, 6);
     }
     out << ",0\n";
   }

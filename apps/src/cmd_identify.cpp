@@ -20,6 +20,7 @@
 #include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 
@@ -42,7 +43,7 @@ namespace {
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+using support::kDegreesPerRadian;
 
 struct IdentifyArguments {
   std::string poses, joints, covariances, nominal, model, variant, lines, output, report, shared;
@@ -351,7 +352,7 @@ void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, 
   const double rms_after = result.rms_joint_residual;
   char line[256];
   std::snprintf(line, sizeof line, "joint residual RMS: before %.4f deg (%.3e rad), after %.4f deg (%.3e rad)\n",
-                rms_before * kRadToDeg, rms_before, rms_after * kRadToDeg, rms_after);
+                rms_before * kDegreesPerRadian, rms_before, rms_after * kDegreesPerRadian, rms_after);
   out << line;
   std::snprintf(line, sizeof line, "condition number %.4g (%s), rank %d of %zu\n",
                 result.identifiability.condition_number, result.identifiability.scaling.c_str(),
@@ -401,8 +402,8 @@ void writeStudySummary(const IdentifyArguments& args, const Criteria& criteria,
   out << line;
   for (const auto& s : study.summaries) {
     std::snprintf(line, sizeof line, "  %3d poses: %d ok, %d failed; V1 %+.4f ± %.4f deg, V2 %.4f ± %.4f deg",
-                  s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean * kRadToDeg, s.v1_sigma * kRadToDeg,
-                  s.v2_mean * kRadToDeg, s.v2_sigma * kRadToDeg);
+                  s.subset_size, s.runs_ok, s.runs_failed, s.v1_mean * kDegreesPerRadian,
+                  s.v1_sigma * kDegreesPerRadian, s.v2_mean * kDegreesPerRadian, s.v2_sigma * kDegreesPerRadian);
     out << line;
     if (criteria.line_joints.empty()) {
       out << ", V3 n/a (no --lines)\n";  // never "nan ± nan"

@@ -14,6 +14,7 @@
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/shared_term_csv.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/statistics.hpp"
 
@@ -55,7 +56,7 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
     const auto sigma = metrology::PoseEstimate::sigmas(pose.estimate.covariance);
     const auto sigma_noise = metrology::PoseEstimate::sigmas(pose.estimate.covariance_pixel_noise);
     for (int c = 0; c < 6; ++c) {
-      const double scale = c < 3 ? 1000.0 : 180.0 / M_PI;
+      const double scale = c < 3 ? 1000.0 : 180.0 / support::kPi;
       total[static_cast<std::size_t>(c)].push_back(sigma[c] * scale);
       noise[static_cast<std::size_t>(c)].push_back(sigma_noise[c] * scale);
     }

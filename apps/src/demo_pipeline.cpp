@@ -17,6 +17,7 @@
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/shared_term_csv.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/progress.hpp"
 #include "mire/support/statistics.hpp"
 
@@ -34,7 +35,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 class Stopwatch {
  public:

@@ -13,8 +13,6 @@
 namespace mire::app {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
 // The paper's published values (Renaud et al. 2004, Tables 1, 3, 4 and §6.2).
 struct PaperVariant {
   double cond, v1, v2, v3;

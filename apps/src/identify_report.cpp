@@ -3,6 +3,7 @@
 #include "plot.hpp"
 
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -14,7 +15,7 @@
 namespace mire::app {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+using support::kDegreesPerRadian;
 const cv::Scalar kLegColours[4] = {cv::Scalar(200, 80, 30), cv::Scalar(40, 150, 40), cv::Scalar(30, 30, 200),
                                    cv::Scalar(160, 40, 160)};
 
@@ -53,7 +54,7 @@ void residualPanel(cv::Mat& image, cv::Rect area, const std::vector<mechanism::P
   for (std::size_t k = 0; k < n; ++k) {
     const int x = area.x + static_cast<int>((k + 0.5) * area.width / std::max<std::size_t>(n, 1));
     for (int leg = 0; leg < residuals[k].residual.size() && leg < 4; ++leg) {
-      const double r = residuals[k].residual[leg] * kRadToDeg;
+      const double r = residuals[k].residual[leg] * kDegreesPerRadian;
       const double clamped = std::clamp(r / limit_deg, -1.0, 1.0);
       const int y = mid - static_cast<int>(clamped * area.height / 2);
       cv::circle(image, {x + (leg - 2) * 2, y}, 3, kLegColours[leg], cv::FILLED, cv::LINE_AA);
@@ -66,9 +67,9 @@ void writeResidualsPng(const std::filesystem::path& path, const IdentifyReportDa
   double max_before = 0.0, max_after = 0.0;
   for (const auto& p : data.residuals_before) max_before = std::max(max_before, p.residual.cwiseAbs().maxCoeff());
   for (const auto& p : data.residuals_after) max_after = std::max(max_after, p.residual.cwiseAbs().maxCoeff());
-  residualPanel(image, {90, 40, 880, 230}, data.residuals_before, std::max(max_before * kRadToDeg, 1e-6),
+  residualPanel(image, {90, 40, 880, 230}, data.residuals_before, std::max(max_before * kDegreesPerRadian, 1e-6),
                 "joint residuals q - f(X) per pose, before identification (nominal geometry)");
-  residualPanel(image, {90, 330, 880, 230}, data.residuals_after, std::max(max_after * kRadToDeg, 1e-6),
+  residualPanel(image, {90, 330, 880, 230}, data.residuals_after, std::max(max_after * kDegreesPerRadian, 1e-6),
                 "after identification (" + data.model_label + ")");
   for (int leg = 0; leg < 4; ++leg) {
     cv::circle(image, {100 + leg * 120, 595}, 5, kLegColours[leg], cv::FILLED);
@@ -177,7 +178,7 @@ void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportD
   md << "## Poses\n\n| pose | q1 (deg) | q2 (deg) | q3 (deg) | q4 (deg) | outlier |\n|---|---|---|---|---|---|\n";
   for (const auto& p : data.result.poses) {
     md << "| " << p.id;
-    for (int k = 0; k < p.residual.size(); ++k) md << " | " << format("%+.4f", p.residual[k] * kRadToDeg);
+    for (int k = 0; k < p.residual.size(); ++k) md << " | " << format("%+.4f", p.residual[k] * kDegreesPerRadian);
     md << " | " << (p.outlier ? "yes" : "") << " |\n";
   }
   support::writeFileAtomically(dir / "report.md", md.str());

@@ -7,12 +7,13 @@
 
 #include "mire/mechanism/pose.hpp"
 #include "mire/metrology/pose_estimation.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::app {
 namespace {
 
 namespace mech = mire::mechanism;
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 }  // namespace
 

@@ -7,13 +7,14 @@
 #include <vector>
 
 #include "mire/mechanism/io.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/yaml.hpp"
 
 namespace mire::app {
 namespace {
 
 namespace mech = mire::mechanism;
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+using support::kRadiansPerDegree;
 
 bool isH4(const std::string& name) { return name == "h4-12" || name == "h4-31" || name == "h4-31c"; }
 
@@ -92,11 +93,11 @@ mech::Workspace readWorkspaceYaml(const std::filesystem::path& path, const mech:
   w.x = interval(root, "x_m", 1.0);
   w.y = interval(root, "y_m", 1.0);
   w.z = interval(root, "z_m", 1.0);
-  for (const std::string& key : rotations) w.rotations.push_back(interval(root, key, kDeg));
+  for (const std::string& key : rotations) w.rotations.push_back(interval(root, key, kRadiansPerDegree));
   if (prismatic)
     w.joint_margin = root.optionalNumber("joint_margin_m", {0.0, 1.0}).value_or(1e-3);
   else
-    w.joint_margin = root.optionalNumber("joint_margin_deg", {0.0, 90.0}).value_or(1.0) * kDeg;
+    w.joint_margin = root.optionalNumber("joint_margin_deg", {0.0, 90.0}).value_or(1.0) * kRadiansPerDegree;
   return w;
 }
 

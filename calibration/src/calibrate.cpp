@@ -1,5 +1,6 @@
 // Camera calibration by bundle adjustment (see calibrate.hpp for the pipeline).
 #include "mire/calibration/calibrate.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/statistics.hpp"
 
 #include <ceres/ceres.h>
@@ -421,9 +422,8 @@ Eigen::VectorXd viewClusterInflation(const Linearisation& linear, const Eigen::M
         linear.jacobian.row(row).transpose() * linear.residuals(row);
   const Eigen::MatrixXd spread = normal_inverse * scores;  // A⁻¹ g_v per view
   const double small_sample = groups > 1 ? static_cast<double>(groups) / (groups - 1) : 1.0;
-  const double dof = std::max(1, groups - 1);
-  const double wilson_hilferty = 1.0 - 2.0 / (9.0 * dof) + 2.326 * std::sqrt(2.0 / (9.0 * dof));
-  const double threshold = wilson_hilferty * wilson_hilferty * wilson_hilferty;  // χ²₀.₉₉(dof) / dof
+  const int dof = std::max(1, groups - 1);
+  const double threshold = support::chi2Quantile(dof, 0.01) / dof;  // χ²₀.₉₉(dof) / dof
   Eigen::VectorXd inflation = Eigen::VectorXd::Ones(n);
   for (Eigen::Index j = 0; j < n; ++j) {
     const double classic = sigma2 * normal_inverse(j, j);
@@ -679,7 +679,7 @@ ResidualSummary collectViewResults(const std::vector<Eigen::Vector3d>& target_po
     Eigen::Vector3d normal;
     const Eigen::Vector3d z_axis(0.0, 0.0, 1.0);
     ceres::AngleAxisRotatePoint(out.rotation.data(), z_axis.data(), normal.data());
-    out.tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / M_PI;
+    out.tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / support::kPi;
     double view_ssr = 0.0;
     int view_count = 0;
     for (std::size_t k = 0; k < views[v].ids.size(); ++k) {

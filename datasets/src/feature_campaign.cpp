@@ -3,6 +3,7 @@
 #include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/pose_types.hpp"
+#include "mire/support/constants.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -13,7 +14,7 @@
 namespace mire::datasets {
 namespace {
 
-double radians(double degrees) { return degrees * M_PI / 180.0; }
+double radians(double degrees) { return degrees * support::kPi / 180.0; }
 
 double uniform(std::mt19937_64& rng, double low, double high) {
   return std::uniform_real_distribution<double>(low, high)(rng);

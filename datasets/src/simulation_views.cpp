@@ -1,5 +1,6 @@
 // Where the simulated target goes: calibration views and the effector pose grid.
 #include "mire/datasets/simulation.hpp"
+#include "mire/support/constants.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,8 @@
 namespace mire::datasets {
 namespace {
 
-constexpr double kDegree = M_PI / 180.0;
+using support::kPi;
+using support::kRadiansPerDegree;
 
 Eigen::Vector3d centroid(const metrology::Target& target) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -89,9 +91,9 @@ std::vector<Eigen::Isometry3d> generateCalibrationViews(const calibration::Camer
     ViewPlacement placement;
     placement.distance_m = spec.min_distance_m +
                            (spec.max_distance_m - spec.min_distance_m) * (distance_slot[k] + unit(random)) / spec.views;
-    placement.tilt_rad = spec.max_tilt_deg * kDegree * (tilt_slot[k] + unit(random)) / spec.views;
-    placement.tilt_axis_rad = 2.0 * M_PI * unit(random);
-    placement.roll_rad = spec.max_roll_deg * kDegree * (2.0 * unit(random) - 1.0);
+    placement.tilt_rad = spec.max_tilt_deg * kRadiansPerDegree * (tilt_slot[k] + unit(random)) / spec.views;
+    placement.tilt_axis_rad = 2.0 * kPi * unit(random);
+    placement.roll_rad = spec.max_roll_deg * kRadiansPerDegree * (2.0 * unit(random) - 1.0);
     const int cell = cell_slot[static_cast<std::size_t>(k)];
     const int column = cell % grid_cols, row = cell / grid_cols;
     // Cell corners reach the image corners: the board is pushed there, then pulled back
@@ -124,7 +126,7 @@ Eigen::Isometry3d poseGridCamera(const metrology::Target& /*target*/, const Pose
   Eigen::Matrix3d down;
   down << 1, 0, 0, 0, -1, 0, 0, 0, -1;
   Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();
-  base_T_camera.linear() = Eigen::AngleAxisd(spec.camera_tilt_deg * kDegree, Eigen::Vector3d::UnitX()) * down;
+  base_T_camera.linear() = Eigen::AngleAxisd(spec.camera_tilt_deg * kRadiansPerDegree, Eigen::Vector3d::UnitX()) * down;
   base_T_camera.translation() = -spec.camera_distance_m * base_T_camera.linear().col(2);
   return base_T_camera;
 }
@@ -136,7 +138,7 @@ std::vector<SimulatedPose> generatePoseGrid(const metrology::Target& target, con
   // eTm: the board's centre on the effector, its printed face looking down (-z_E) at the
   // camera: target z (into the board) = -z_E, hence a half turn about x.
   Eigen::Isometry3d effector_T_target = Eigen::Isometry3d::Identity();
-  effector_T_target.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  effector_T_target.linear() = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()).toRotationMatrix();
   effector_T_target.translation() = -(effector_T_target.linear() * centroid(target));
   std::vector<SimulatedPose> poses;
   const auto axis = [&](int i, int index) {
@@ -152,7 +154,7 @@ std::vector<SimulatedPose> generatePoseGrid(const metrology::Target& target, con
           std::snprintf(id, sizeof id, "p%03d", static_cast<int>(poses.size()) + 1);
           pose.id = id;
           pose.has_effector = true;
-          pose.effector = Eigen::Vector4d(axis(0, ix), axis(1, iy), axis(2, iz), theta_deg * kDegree);
+          pose.effector = Eigen::Vector4d(axis(0, ix), axis(1, iy), axis(2, iz), theta_deg * kRadiansPerDegree);
           Eigen::Isometry3d base_T_effector = Eigen::Isometry3d::Identity();
           base_T_effector.linear() = Eigen::AngleAxisd(pose.effector[3], Eigen::Vector3d::UnitZ()).toRotationMatrix();
           base_T_effector.translation() = pose.effector.head<3>();

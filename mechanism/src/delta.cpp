@@ -7,12 +7,13 @@
 #include "mire/mechanism/detail/parallel_kinematics.hpp"
 #include "mire/mechanism/gough_stewart.hpp"
 #include "mire/mechanism/mechanism_adapter.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 std::string indexed(const std::string& base, int i) { return base + std::to_string(i + 1); }
 

@@ -16,11 +16,12 @@
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/pose.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 // Rotations are compared with translations through this length (a lever arm of the size of
 // the effector) in the singularity guard.
 constexpr double kRotationScale = 0.1;

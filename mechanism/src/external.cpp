@@ -17,12 +17,13 @@
 
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/pose.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 Eigen::Matrix3d rotZ(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
 

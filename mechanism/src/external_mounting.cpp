@@ -14,6 +14,7 @@
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/pose.hpp"
 #include "mire/mechanism/translating_target.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -79,7 +80,7 @@ Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe, const st
     R_base2gripper.push_back(Rb);
     t_base2gripper.push_back(tb);
   }
-  if (largest < 2.0 * 3.14159265358979323846 / 180.0)
+  if (largest < 2.0 * support::kPi / 180.0)
     throw std::invalid_argument(
         "mounting: the measured orientations span less than 2 deg: the hand-eye solve is undetermined");
   cv::Mat R_base2world, t_base2world, R_gripper2cam, t_gripper2cam;

@@ -6,12 +6,13 @@
 
 #include "mire/mechanism/detail/h4_kinematics.hpp"
 #include "mire/mechanism/mechanism_adapter.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 

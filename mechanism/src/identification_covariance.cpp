@@ -16,16 +16,6 @@ namespace mire::mechanism {
 
 namespace {
 
-// Upper quantile of the standard normal distribution, by bisection on erfc.
-double normalUpperQuantile(double p) {
-  double lo = -10.0, hi = 10.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
 const char* const kAxes[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
 
 int axisIndex(const std::string& text) {
@@ -35,12 +25,6 @@ int axisIndex(const std::string& text) {
 }
 
 }  // namespace
-
-double chi2Quantile(int k, double p, bool lower) {
-  const double z = normalUpperQuantile(p) * (lower ? -1.0 : 1.0);
-  const double a = 2.0 / (9.0 * std::max(1, k));
-  return std::max(0.0, k * std::pow(1.0 - a + z * std::sqrt(a), 3.0));
-}
 
 double robustPoseScale2(const std::vector<double>& pose_chi2, int joint_count) {
   if (pose_chi2.size() < 3 || joint_count < 1) return 1.0;

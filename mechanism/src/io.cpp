@@ -13,13 +13,14 @@
 #include <unordered_set>
 
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 
 namespace mire::mechanism {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 std::vector<std::string> jointColumns(int joint_count) {
   std::vector<std::string> names;

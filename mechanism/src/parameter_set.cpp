@@ -1,4 +1,5 @@
 #include "mire/mechanism/parameter_set.hpp"
+#include "mire/support/constants.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +36,7 @@ double toDisplay(Unit unit, double value_in_si) {
     case Unit::Metre:
       return value_in_si * 1e3;
     case Unit::Radian:
-      return value_in_si * 180.0 / 3.14159265358979323846;
+      return value_in_si * 180.0 / support::kPi;
     case Unit::Dimensionless:
       return value_in_si;
   }

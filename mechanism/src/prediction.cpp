@@ -10,6 +10,7 @@
 #include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 
 namespace mire::mechanism {
@@ -67,7 +68,7 @@ Eigen::MatrixXd jointsWrtPose(const PredictionModel& m, const Eigen::VectorXd& X
 PoseVector nearestRotationVector(PoseVector v, const PoseVector& reference) {
   const Eigen::Vector3d r = v.tail<3>(), r0 = reference.tail<3>();
   if (r.norm() > 1.0) {
-    const Eigen::Vector3d other = r * (1.0 - 2.0 * 3.14159265358979323846 / r.norm());
+    const Eigen::Vector3d other = r * (1.0 - 2.0 * support::kPi / r.norm());
     if ((other - r0).norm() < (r - r0).norm()) v.tail<3>() = other;
   }
   return v;
@@ -125,7 +126,7 @@ struct FullMountingMap {
     for (int start : {3, 9}) {
       const Eigen::Vector3d r = v.segment<3>(start), r0 = full0.segment<3>(start);
       if (r.norm() > 1.0) {
-        const Eigen::Vector3d other = r * (1.0 - 2.0 * 3.14159265358979323846 / r.norm());
+        const Eigen::Vector3d other = r * (1.0 - 2.0 * support::kPi / r.norm());
         if ((other - r0).norm() < (r - r0).norm()) v.segment<3>(start) = other;
       }
     }

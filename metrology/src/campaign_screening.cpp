@@ -1,4 +1,5 @@
 #include "mire/metrology/campaign_screening.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/statistics.hpp"
 
 #include <algorithm>
@@ -30,7 +31,7 @@ std::vector<Quantity> quantities() {
       {"sigma_t_high", "translation sigma", "mm", false,
        [](const MeasuredPose& p) { return 1e3 * blockSigma(p.estimate.covariance_noise, 0); }},
       {"sigma_r_high", "rotation sigma", "deg", false,
-       [](const MeasuredPose& p) { return 180.0 / M_PI * blockSigma(p.estimate.covariance_noise, 3); }},
+       [](const MeasuredPose& p) { return 180.0 / support::kPi * blockSigma(p.estimate.covariance_noise, 3); }},
   };
 }
 

@@ -2,6 +2,7 @@
 
 #include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/pose_estimation.hpp"
+#include "mire/support/constants.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,7 @@
 namespace mire::metrology {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 std::string threeDigits(double value) {
   char text[32];

@@ -1,6 +1,7 @@
 #include "mire/metrology/poses_csv.hpp"
 
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 
 #include <cmath>
@@ -11,7 +12,7 @@ namespace mire::metrology {
 namespace {
 
 constexpr double kMillimetresPerMetre = 1000.0;
-constexpr double kDegreesPerRadian = 180.0 / M_PI;
+using support::kDegreesPerRadian;
 const char* const kComponents[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
 
 // σ of (t, r) in mm and degrees.

@@ -333,7 +333,10 @@ void bindObservations(py::module_& m) {
   m.def("readLinesCsv",
         py::overload_cast<const std::filesystem::path&, const std::vector<std::string>&>(&mech::readLinesCsv),
         py::arg("lines_csv"), py::arg("joint_columns"));
+}
 
+// Parameter files (mechanism/io.hpp): read, apply to a parameter set, write.
+void bindParameterFiles(py::module_& m) {
   py::class_<mech::ParameterFileEntry>(m, "ParameterFileEntry")
       .def_readonly("key", &mech::ParameterFileEntry::key)
       .def_readonly("text", &mech::ParameterFileEntry::text)
@@ -372,6 +375,7 @@ void bindMechanisms(py::module_& m) {
   bindMechanism(m);
   bindH4AndRegistry(m);
   bindObservations(m);
+  bindParameterFiles(m);
   bindIdentification(m);
 }
 

@@ -98,6 +98,23 @@ cv::Mat renderChessboard(const Eigen::Matrix3d& rotation, const Eigen::Vector3d&
   return image;
 }
 
+// Seven views of the board, tilted up to 0.5 rad, about 0.55 m away: view0.png .. view6.png.
+void writeChessboardViews(const fs::path& images) {
+  fs::create_directories(images);
+  const Eigen::Vector3d centre(0.5 * (kCols - 1) * kSquare, 0.5 * (kRows - 1) * kSquare, 0.0);
+  const double tilts[][2] = {{0.5, 0.0},   {-0.5, 0.1},   {0.0, 0.5}, {0.1, -0.5},
+                             {0.35, 0.35}, {-0.35, -0.3}, {0.2, -0.2}};
+  int index = 0;
+  for (const auto& tilt : tilts) {
+    const Eigen::Matrix3d rotation =
+        (Eigen::AngleAxisd(tilt[0], Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(tilt[1], Eigen::Vector3d::UnitY()))
+            .toRotationMatrix();
+    const Eigen::Vector3d translation =
+        Eigen::Vector3d(0.01 * (index % 3 - 1), 0.01 * (index % 2), 0.55) - rotation * centre;
+    cv::imwrite((images / ("view" + std::to_string(index++) + ".png")).string(), renderChessboard(rotation, translation));
+  }
+}
+
 }  // namespace
 
 TEST(CalibrateCli, EmptyFolderFailsWithoutOutput) {
@@ -154,21 +171,8 @@ TEST(CalibrateCli, TooFewUsableViewsFailsWithoutOutput) {
 
 TEST(CalibrateCli, CalibratesRenderedChessboards) {
   mire::test::TempDir dir;
-  fs::create_directories(dir.path() / "images");
   writeTarget(dir.path() / "target.yaml");
-  const Eigen::Vector3d centre(0.5 * (kCols - 1) * kSquare, 0.5 * (kRows - 1) * kSquare, 0.0);
-  const double tilts[][2] = {{0.5, 0.0},   {-0.5, 0.1},   {0.0, 0.5}, {0.1, -0.5},
-                             {0.35, 0.35}, {-0.35, -0.3}, {0.2, -0.2}};
-  int index = 0;
-  for (const auto& tilt : tilts) {
-    const Eigen::Matrix3d rotation =
-        (Eigen::AngleAxisd(tilt[0], Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(tilt[1], Eigen::Vector3d::UnitY()))
-            .toRotationMatrix();
-    const Eigen::Vector3d translation =
-        Eigen::Vector3d(0.01 * (index % 3 - 1), 0.01 * (index % 2), 0.55) - rotation * centre;
-    cv::imwrite((dir.path() / "images" / ("view" + std::to_string(index++) + ".png")).string(),
-                renderChessboard(rotation, translation));
-  }
+  writeChessboardViews(dir.path() / "images");
   // One image without the board: listed and skipped, not fatal.
   cv::imwrite((dir.path() / "images" / "zz_empty.png").string(), cv::Mat(480, 640, CV_8U, cv::Scalar(200)));
   int code = -1;
@@ -189,4 +193,22 @@ TEST(CalibrateCli, CalibratesRenderedChessboards) {
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "projection_uncertainty.png"));
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "views.csv"));
   checkReportImages(dir.path() / "report");
+}
+
+// The same images give the same camera.yaml, byte for byte, whatever --threads and on every run.
+// With Ceres' threads (the solve used --threads until 2026-11) each thread summed the cost and
+// gradient of the blocks it happened to take, and the last digits changed from run to run.
+TEST(CalibrateCli, SameBytesWhateverTheThreads) {
+  mire::test::TempDir dir;
+  writeTarget(dir.path() / "target.yaml");
+  writeChessboardViews(dir.path() / "images");
+  std::vector<std::string> outputs;
+  for (const char* threads : {"2", "2", "2", "1", "4"}) {
+    int code = -1;
+    const std::string out = mire::test::captureCommand(
+        calibrateCommand(dir.path(), dir.path() / "images", dir.path() / "target.yaml") + " --threads " + threads, &code);
+    ASSERT_EQ(code, 0) << out;
+    outputs.push_back(mire::test::readText(dir.path() / "camera.yaml"));
+  }
+  for (std::size_t k = 1; k < outputs.size(); ++k) EXPECT_EQ(outputs[k], outputs[0]) << "run " << k;
 }

@@ -12,6 +12,7 @@
 // file). So the σ check below compares our residual standard deviation per axis with err.
 #include "mire/calibration/calibrate.hpp"
 
+#include "sample_statistics.hpp"
 #include "test_support.hpp"
 
 #include <Eigen/Geometry>
@@ -57,15 +58,6 @@ Calib1 readCalib1(const std::filesystem::path& path) {
   return data;
 }
 
-double standardDeviation(const std::vector<double>& values) {
-  double mean = 0.0;
-  for (const double v : values) mean += v;
-  mean /= values.size();
-  double sum = 0.0;
-  for (const double v : values) sum += (v - mean) * (v - mean);
-  return std::sqrt(sum / (values.size() - 1));  // MATLAB's std()
-}
-
 }  // namespace
 
 TEST(Calib1, MatchesBouguetToolbox) {
@@ -93,7 +85,7 @@ TEST(Calib1, MatchesBouguetToolbox) {
       ex.push_back(r.x());
       ey.push_back(r.y());
     }
-  const double sx = standardDeviation(ex), sy = standardDeviation(ey);
+  const double sx = mire::test::sampleStandardDeviation(ex), sy = mire::test::sampleStandardDeviation(ey);
   EXPECT_NEAR(sx / data.err_std[0], 1.0, 0.10) << sx;
   EXPECT_NEAR(sy / data.err_std[1], 1.0, 0.10) << sy;
 
@@ -108,7 +100,7 @@ TEST(Calib1, MatchesBouguetToolbox) {
   // σ of the parameters: Bouguet's formula is 3·std(all residual components)·sqrt(diag((JᵀJ)⁻¹))
   // printed as "uncertainty"; ours is σ·sqrt(diag((JᵀJ)⁻¹)) with σ² = SSR/(2N − n). The two σ
   // scales must agree within the (2N−1)/(2N−n) degrees-of-freedom factor (≈ 5 %).
-  const double pooled = standardDeviation([&] {
+  const double pooled = mire::test::sampleStandardDeviation([&] {
     std::vector<double> all = ex;
     all.insert(all.end(), ey.begin(), ey.end());
     return all;

@@ -2,6 +2,7 @@
 // Monte-Carlo coverage of its σ, outliers, target refinement on a bowed board.
 #include "mire/calibration/calibrate.hpp"
 
+#include "sample_statistics.hpp"
 #include "synthetic_calibration.hpp"
 #include "test_support.hpp"
 
@@ -29,15 +30,6 @@ std::vector<CalibrationView> toViews(const std::vector<mire::test::SyntheticView
 CalibrationResult solve(const std::vector<Eigen::Vector3d>& nominal, const std::vector<CalibrationView>& views,
                         const CalibrationOptions& options = {}) {
   return mire::calibration::calibrateCamera(nominal, views, 1024, 768, options);
-}
-
-double standardDeviation(const std::vector<double>& values) {
-  double mean = 0.0;
-  for (const double v : values) mean += v;
-  mean /= values.size();
-  double sum = 0.0;
-  for (const double v : values) sum += (v - mean) * (v - mean);
-  return std::sqrt(sum / (values.size() - 1));
 }
 
 }  // namespace
@@ -110,12 +102,13 @@ TEST(CalibrateSynthetic, MonteCarloSigmaCoverage) {
   }
   const auto names = truth.parameterNames();
   for (int i = 0; i < n; ++i) {
-    const double ratio = standardDeviation(z[i]);
+    const double ratio = mire::test::sampleStandardDeviation(z[i]);
     std::printf("MC %s: std(error/sigma) = %.3f\n", names[i].c_str(), ratio);
     EXPECT_GE(ratio, 0.8) << names[i];
     EXPECT_LE(ratio, 1.25) << names[i];
   }
-  const double centre = standardDeviation(z_centre), corner = standardDeviation(z_corner);
+  const double centre = mire::test::sampleStandardDeviation(z_centre),
+               corner = mire::test::sampleStandardDeviation(z_corner);
   std::printf("MC projection: std(whitened error) centre %.3f corner %.3f\n", centre, corner);
   EXPECT_GE(centre, 0.8);
   EXPECT_LE(centre, 1.25);

@@ -12,10 +12,11 @@
 
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism::test {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kSigmaT = 0.2e-3;       // m
 constexpr double kSigmaR = 0.03 * kDeg;  // rad

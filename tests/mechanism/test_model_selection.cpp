@@ -3,33 +3,14 @@
 // differ; the --models parser and its errors.
 #include <gtest/gtest.h>
 
-#include <random>
-
-#include "mire/datasets/h4_true_robot.hpp"
+#include "h4_selection_campaign.hpp"
 #include "mire/mechanism/model_selection.hpp"
 
 namespace mire::mechanism {
 namespace {
 
-namespace ds = mire::datasets;
-
 std::vector<SelectionCandidate> h4Candidates(const std::string& text = "h4-12:A,B,C,D,h4-31c:E,F,G,H") {
   return parseSelectionCandidates(text, [](const std::string& n) { return makeDesignModel(n); });
-}
-
-std::vector<PoseObservation> h4Campaign(unsigned seed, bool legs_differ) {
-  ds::H4TrueGeometry g =
-      ds::geometryFromModel12(ds::drawModel12Values(H4Nominal{}, ds::H4ErrorSizes::withoutUnmodelledDefects(), seed));
-  if (legs_differ) {
-    std::mt19937 rng(seed + 77);
-    std::uniform_real_distribution<double> size(1e-3, 3e-3);
-    for (auto& leg : g.legs) {
-      leg.arm_length += (rng() & 1U ? 1 : -1) * size(rng);
-      leg.forearm_length += (rng() & 1U ? 1 : -1) * size(rng);
-    }
-  }
-  const ds::H4MeasurementNoise noise;
-  return ds::toObservations(ds::simulateMeasurements(ds::H4TrueRobot(g), ds::protocolPoses(), noise, seed), noise);
 }
 
 TEST(ModelSelection, ParsesVariantsAndModels) {
@@ -51,7 +32,7 @@ TEST(ModelSelection, ParsesVariantsAndModels) {
 }
 
 TEST(ModelSelection, ExactModel12RobotGetsAModel12Variant) {
-  const SelectionResult r = selectModel(h4Candidates("h4-12:B,C,D,h4-31c:G,H"), h4Campaign(100, false));
+  const SelectionResult r = selectModel(h4Candidates("h4-12:B,C,D,h4-31c:G,H"), test::h4SelectionCampaign(100, false));
   ASSERT_GE(r.recommended, 0);
   const std::string rec = r.recommendedLabel();
   EXPECT_TRUE(rec == "B" || rec == "C" || rec == "D") << rec;
@@ -64,7 +45,7 @@ TEST(ModelSelection, ExactModel12RobotGetsAModel12Variant) {
 }
 
 TEST(ModelSelection, LegsThatDifferGetAModel31Variant) {
-  const SelectionResult r = selectModel(h4Candidates("h4-12:C,D,h4-31c:G,H"), h4Campaign(101, true));
+  const SelectionResult r = selectModel(h4Candidates("h4-12:C,D,h4-31c:G,H"), test::h4SelectionCampaign(101, true));
   const std::string rec = r.recommendedLabel();
   EXPECT_TRUE(rec == "G" || rec == "H") << rec;
   // The F-test of D within G/H rejects model 12.

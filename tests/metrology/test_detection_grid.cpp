@@ -1,6 +1,7 @@
 // Chessboard and circle-grid detection on exact synthetic renders (synthetic_board.hpp):
 // accuracy against the projected ground truth, frame conventions (doc/file-formats.md), re-refinement.
 #include "mire/metrology/detection.hpp"
+#include "mire/support/constants.hpp"
 
 #include "synthetic_board.hpp"
 
@@ -11,7 +12,7 @@
 namespace mire::metrology {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 struct Errors {
   double rms = 0.0;

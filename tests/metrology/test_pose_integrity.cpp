@@ -1,6 +1,7 @@
 // Static-pose integrity, duplicates, the one-image reduced χ² and campaign screening, from
 // rendered images with known truth (doc/measure-integrity.md).
 #include "chessboard_views.hpp"
+#include "feature_displacement.hpp"
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/metrology/campaign_screening.hpp"
@@ -55,16 +56,6 @@ std::vector<cv::Mat> mixedImages(const mire::datasets::Renderer& renderer, const
     images.push_back(mire::datasets::addNoise(is_moved ? second.radiance : first.radiance, kSensorNoise, seed + i));
   }
   return images;
-}
-
-// RMS image displacement of the target's features between two poses (px).
-double displacementPx(const mire::calibration::Camera& camera, const mire::metrology::Target& target,
-                      const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  const auto pa = mire::datasets::projectFeatures(camera, target, a);
-  const auto pb = mire::datasets::projectFeatures(camera, target, b);
-  double sum = 0.0;
-  for (std::size_t i = 0; i < pa.pixels.size(); ++i) sum += (pa.pixels[i] - pb.pixels[i]).squaredNorm();
-  return std::sqrt(sum / static_cast<double>(pa.pixels.size()));
 }
 
 struct Motion {
@@ -126,7 +117,8 @@ TEST(PoseIntegrity, MixOfTwoViewsFailsOrSplitsNamingTheImages) {
     const auto images = mixedImages(renderer, pose, other, 10, moved, seed += 100);
     const PoseMeasurement failed = mire::metrology::measurePose(camera, target, images, names);
     std::printf("%-34s displacement %.3f px rms: ok=%d threshold %.1f | %s\n", motion.name,
-                displacementPx(camera, target, pose, other), failed.ok, failed.integrity.threshold, failed.error.c_str());
+                mire::test::displacementPx(camera, target, pose, other), failed.ok, failed.integrity.threshold,
+                failed.error.c_str());
     EXPECT_FALSE(failed.ok) << motion.name;
     EXPECT_TRUE(mentions(failed.error, names, moved)) << motion.name << ": " << failed.error;
     EXPECT_FALSE(mentions(failed.error.substr(0, failed.error.find("disagree")), names, {0})) << failed.error;

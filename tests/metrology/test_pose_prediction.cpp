@@ -7,6 +7,7 @@
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/pose_prediction.hpp"
 #include "mire/metrology/target.hpp"
+#include "mire/support/constants.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,7 @@ namespace {
 
 namespace metro = mire::metrology;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
-constexpr double kPi = 3.14159265358979323846;
+using mire::support::kPi;
 
 // The demo's board: 12 × 9 inner corners of 16 mm (datasets/specs/target_h4.yaml).
 metro::Target demoBoard() {

@@ -68,6 +68,10 @@ struct CalibrationOptions {
   // Working distance for the projection uncertainty; 0 = the median distance of the target
   // in the calibration views.
   double uncertainty_distance_m = 0.0;
+  // Ceres' threads. Above 1 the result is not bit-reproducible: each thread sums the cost and
+  // gradient of the residual blocks it happened to take, so the order of the additions (and the
+  // last digits of the result) changes from run to run. 1 (the default, `mire calibrate`'s
+  // choice) gives identical results on every run.
   int num_threads = 1;
 };
 

@@ -34,10 +34,11 @@
 
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/pose.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::datasets {
 
-constexpr double kH4Pi = 3.14159265358979323846;
+constexpr double kH4Pi = support::kPi;
 constexpr double kH4Degree = kH4Pi / 180.0;
 
 // X = (x, y, z, θ): position of the effector pivot in B (m) and rotation about z_B (rad).

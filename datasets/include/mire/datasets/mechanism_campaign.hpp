@@ -12,6 +12,7 @@
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 
 #include <Eigen/Geometry>
@@ -23,7 +24,7 @@ namespace mire::datasets {
 
 using namespace mire::mechanism;
 
-constexpr double kCampaignDeg = 3.14159265358979323846 / 180.0;
+constexpr double kCampaignDeg = support::kPi / 180.0;
 
 inline Eigen::Isometry3d makeTransform(const Eigen::Vector3d& rotation_vector, const Eigen::Vector3d& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -24,6 +24,7 @@
 
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/parameter_set.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -33,7 +34,7 @@ struct DeltaNominal {
   double r = 0.05;
   double L = 0.35;
   double l = 0.80;
-  std::array<double, 3> alpha{0.0, 2.0 * 3.14159265358979323846 / 3.0, 4.0 * 3.14159265358979323846 / 3.0};
+  std::array<double, 3> alpha{0.0, 2.0 * support::kPi / 3.0, 4.0 * support::kPi / 3.0};
   std::array<double, 3> q0{0.0, 0.0, 0.0};
 };
 

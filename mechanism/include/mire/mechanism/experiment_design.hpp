@@ -28,6 +28,7 @@
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -104,9 +105,9 @@ struct DesignOptions {
   DesignCriterion criterion = DesignCriterion::D;
   int count = 15;  // N poses to choose
   // Pose measurement noise (per component of cTm) used when a candidate has no covariance.
-  double sigma_translation = 0.2e-3;                              // [m]
-  double sigma_rotation = 0.03 * 3.14159265358979323846 / 180.0;  // [rad]
-  int random_designs = 50;                                        // random N-subsets drawn for the comparison
+  double sigma_translation = 0.2e-3;                    // [m]
+  double sigma_rotation = 0.03 * support::kPi / 180.0;  // [rad]
+  int random_designs = 50;                              // random N-subsets drawn for the comparison
   unsigned seed = 1;
   int max_exchanges = 500;
 };

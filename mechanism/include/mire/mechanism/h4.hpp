@@ -25,6 +25,7 @@
 
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/parameter_set.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -35,8 +36,7 @@ struct H4Nominal {
   double l = 0.70;
   double h = 0.075;
   double d = 0.10;
-  std::array<double, 4> alpha{0.25 * 3.14159265358979323846, 0.75 * 3.14159265358979323846,
-                              1.25 * 3.14159265358979323846, 1.75 * 3.14159265358979323846};
+  std::array<double, 4> alpha{0.25 * support::kPi, 0.75 * support::kPi, 1.25 * support::kPi, 1.75 * support::kPi};
   std::array<double, 4> q0{0.0, 0.0, 0.0, 0.0};
   double amplification = 1.0;  // effector rotation = amplification · θ
 };

@@ -18,11 +18,12 @@
 
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/pose.hpp"
+#include "mire/support/statistics.hpp"
 
 namespace mire::mechanism {
 
 // χ² quantile with k dof exceeded with probability p (lower tail with `lower`), Wilson–Hilferty.
-double chi2Quantile(int k, double p, bool lower = false);
+using support::chi2Quantile;
 
 // Scale² of the per-pose whitened χ² (J dof each) actually achieved, robust to a few outlier
 // poses: median(χ²_j) / median of χ²_J, never below 1 (the pose covariances are the floor).

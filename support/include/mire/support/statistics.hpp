@@ -1,5 +1,6 @@
 #pragma once
-// Order statistics shared by the modules (one home instead of a copy per file).
+// Order statistics and distribution quantiles shared by the modules (one home instead of a
+// copy per file).
 #include <vector>
 
 namespace mire::support {
@@ -17,5 +18,10 @@ constexpr double kMadToSigma = 1.4826;
 
 // Robust σ: kMadToSigma × the median absolute deviation from the median.
 double madSigma(const std::vector<double>& values);
+
+// The χ² quantile with k degrees of freedom exceeded with probability p (the quantile of the
+// lower tail with `lower`), by the Wilson–Hilferty approximation:
+// k·(1 − 2/(9k) + z_p·√(2/(9k)))³, z_p the standard normal upper quantile.
+double chi2Quantile(int k, double p, bool lower = false);
 
 }  // namespace mire::support

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mire/mechanism/detail/matrix3.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/parameter_set.hpp"
@@ -45,6 +46,31 @@ bool legAngleGeneralAxis(const T* W, const T& psi, const T& beta, const T& L, co
   return solveElbowOut(-wy, -wx, (norm2 + L * L - l * l) / (T(2) * L), phi);
 }
 
+// Where a general-axis model keeps leg i's ψ, β, L, l and q0 in its geometric vector:
+// at offset + stride·i.
+struct LegLayout {
+  int psi, beta, L, l, q0;
+  int stride = 1;
+};
+
+// The joints of N legs with a general pivot axis from their W_i = A_i − P_i (eq. 16–19):
+// q_i = φ_i − q0_i. Returns the mask of the unreachable legs (their q_i set to 0).
+template <int N, class T>
+int generalAxisJoints(const T (&W)[N][3], const T* g, const LegLayout& at, T* q) {
+  int unreachable = 0;
+  for (int i = 0; i < N; ++i) {
+    const int k = at.stride * i;
+    T phi;
+    if (!legAngleGeneralAxis(W[i], g[at.psi + k], g[at.beta + k], g[at.L + k], g[at.l + k], &phi)) {
+      unreachable |= 1 << i;
+      q[i] = T(0);
+      continue;
+    }
+    q[i] = phi - g[at.q0 + k];
+  }
+  return unreachable;
+}
+
 }  // namespace detail
 
 // Pose convention shared by the H4 models: X = (x, y, z, θ), bTe = [Rz(k·θ), (x, y, z)].
@@ -63,22 +89,21 @@ struct H4PoseConvention {
 
   template <class T>
   void poseToTransform(const T* pose, T* R, T* t) const {
-    using std::cos;
-    using std::sin;
-    const T angle = pose[3] * T(amplification);
-    const T c = cos(angle), s = sin(angle);
-    R[0] = c;
-    R[1] = s;
-    R[2] = T(0);
-    R[3] = -s;
-    R[4] = c;
-    R[5] = T(0);
-    R[6] = T(0);
-    R[7] = T(0);
-    R[8] = T(1);
+    detail::rotationZ(pose[3] * T(amplification), R);
     t[0] = pose[0];
     t[1] = pose[1];
     t[2] = pose[2];
+  }
+
+  // cos θ and sin θ of the effector rotation R = Rz(k·θ).
+  template <class T>
+  void heading(const T* R, T* ct, T* st) const {
+    using std::atan2;
+    using std::cos;
+    using std::sin;
+    const T theta = atan2(R[1], R[0]) / T(amplification);
+    *ct = cos(theta);
+    *st = sin(theta);
   }
 };
 
@@ -94,11 +119,10 @@ struct H4Model12Kinematics : H4PoseConvention {
 
   template <class T>
   int inverseKinematics(const T* g, const T* R, const T* t, T* q) const {
-    using std::atan2;
     using std::cos;
     using std::sin;
-    const T theta = atan2(R[1], R[0]) / T(amplification);
-    const T ct = cos(theta), st = sin(theta);
+    T ct, st;
+    heading(R, &ct, &st);
     const T& Rr = g[0];
     const T& L = g[1];
     const T& l = g[2];
@@ -139,14 +163,11 @@ struct H4Model31Kinematics : H4PoseConvention {
 
   template <class T>
   int inverseKinematics(const T* g, const T* R, const T* t, T* q) const {
-    using std::atan2;
-    using std::cos;
-    using std::sin;
-    const T theta = atan2(R[1], R[0]) / T(amplification);
-    const T ct = cos(theta), st = sin(theta);
+    T ct, st;
+    heading(R, &ct, &st);
     const T& h = g[29];
     const T& d = g[30];
-    int unreachable = 0;
+    T W[4][3];
     for (int i = 0; i < 4; ++i) {
       const T eps(static_cast<double>(kH4Epsilon[i]));
       const T sig(static_cast<double>(kH4Sigma[i]));
@@ -154,16 +175,11 @@ struct H4Model31Kinematics : H4PoseConvention {
       if (i > 0)
         for (int k = 0; k < 3; ++k) P[k] = g[3 * (i - 1) + k];
       // W = A_i − P_i, A_i = X + ε_i h (cosθ, sinθ, 0) + σ_i d y_B (eq. 18).
-      const T W[3] = {t[0] + eps * h * ct - P[0], t[1] + eps * h * st + sig * d - P[1], t[2] - P[2]};
-      T phi;
-      if (!detail::legAngleGeneralAxis(W, g[9 + i], g[13 + i], g[17 + i], g[21 + i], &phi)) {
-        unreachable |= 1 << i;
-        q[i] = T(0);
-        continue;
-      }
-      q[i] = phi - g[25 + i];
+      W[i][0] = t[0] + eps * h * ct - P[0];
+      W[i][1] = t[1] + eps * h * st + sig * d - P[1];
+      W[i][2] = t[2] - P[2];
     }
-    return unreachable;
+    return detail::generalAxisJoints(W, g, {9, 13, 17, 21, 25}, q);
   }
 };
 
@@ -182,21 +198,13 @@ struct H4Model31CameraKinematics : H4PoseConvention {
   template <class T>
   int inverseKinematics(const T* g, const T* R, const T* t, T* q) const {
     const T& h = g[32];
-    int unreachable = 0;
+    T W[4][3];
     for (int i = 0; i < 4; ++i) {
       const T eps(static_cast<double>(kH4Epsilon[i]));
       // W = X + ε_i h·(R e_x) − P''_i (eq. 26 with the ε d x_H term folded into P''_i).
-      const T W[3] = {t[0] + eps * h * R[0] - g[3 * i], t[1] + eps * h * R[1] - g[3 * i + 1],
-                      t[2] + eps * h * R[2] - g[3 * i + 2]};
-      T phi;
-      if (!detail::legAngleGeneralAxis(W, g[12 + i], g[16 + i], g[28 + i], g[24 + i], &phi)) {
-        unreachable |= 1 << i;
-        q[i] = T(0);
-        continue;
-      }
-      q[i] = phi - g[20 + i];
+      for (int k = 0; k < 3; ++k) W[i][k] = t[k] + eps * h * R[k] - g[3 * i + k];
     }
-    return unreachable;
+    return detail::generalAxisJoints(W, g, {12, 16, 28, 24, 20}, q);
   }
 };
 

@@ -69,19 +69,10 @@ struct DeltaLegsKinematics : TranslationPoseConvention {
 
   template <class T>
   int inverseKinematics(const T* g, const T* /*R*/, const T* t, T* joints) const {
-    int mask = 0;
-    for (int i = 0; i < 3; ++i) {
-      const T* leg = g + 8 * i;
-      const T W[3] = {t[0] - leg[0], t[1] - leg[1], t[2] - leg[2]};
-      T phi;
-      if (!detail::legAngleGeneralAxis(W, leg[3], leg[4], leg[5], leg[6], &phi)) {
-        mask |= 1 << i;
-        joints[i] = T(0);
-        continue;
-      }
-      joints[i] = phi - leg[7];
-    }
-    return mask;
+    T W[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) W[i][k] = t[k] - g[8 * i + k];
+    return detail::generalAxisJoints(W, g, {3, 4, 5, 6, 7, /*stride=*/8}, joints);
   }
 };
 
