@@ -31,6 +31,8 @@ std::string percent(double after, double before) {
 }
 
 std::string title(const std::string& mechanism) { return mechanism == "delta" ? "Delta" : "Gough–Stewart hexapod"; }
+// The charts' Hershey fonts are ASCII only.
+std::string plotTitle(const std::string& mechanism) { return mechanism == "delta" ? "Delta" : "Gough-Stewart hexapod"; }
 
 std::string robotDescription(const std::string& mechanism) {
   if (mechanism == "delta")
@@ -160,7 +162,7 @@ void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& 
   }
   // Before and after differ by one to two decades: a log axis keeps both readable.
   writePng(out / "criteria_before_after.png",
-           barChart(title(r.mechanism) + ": V3 and positioning test (square side RMS)", "mm", categories,
+           barChart(plotTitle(r.mechanism) + ": V3 and positioning test (square side RMS)", "mm", categories,
                     {before, after}, 960, 540, YScale::log10));
   std::vector<Series> sides;
   int colour = 0;
@@ -171,7 +173,7 @@ void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& 
       sides.push_back(series);
     }
   writePng(out / "positioning_test.png",
-           barChart(title(r.mechanism) + ": |side error| of a 100 mm square", "|error| (mm)",
+           barChart(plotTitle(r.mechanism) + ": |side error| of a 100 mm square", "|error| (mm)",
                     {"side 1", "side 2", "side 3", "side 4"}, sides, 960, 540, YScale::log10));
   if (!with_parameters) return;
   for (const auto& s : r.models) {
