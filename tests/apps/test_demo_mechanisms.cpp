@@ -50,9 +50,10 @@ TEST(DemoMechanisms, DeltaFromImagesPerLegModelBeatsTheSimpleOne) {
   // The legs differ: the per-leg model beats the simple one.
   EXPECT_LT(legs.square_rms_after_mm, simple.square_rms_after_mm);
   EXPECT_LT(legs.v3_after_m, 0.5 * simple.v3_after_m);
-  // Parameters against the truth in the gauge: within a few σ (the plate tilt biases some).
+  // Parameters against the truth in the gauge: within a few σ (the plate tilt biases some;
+  // measured 1.48; against the truth not brought into the gauge: 3.3).
   ASSERT_EQ(legs.identified.size(), 24u);
-  EXPECT_LT(legs.error_over_sigma_rms, 3.0);
+  EXPECT_LT(legs.error_over_sigma_rms, 2.5);
   for (const auto& file : r.files) EXPECT_TRUE(std::filesystem::exists(dir.path() / file)) << file;
 }
 
@@ -67,6 +68,8 @@ TEST(DemoMechanisms, HexapodFromImages) {
   // The positioning test improves (measured −72 %); V3 is near the true robot's own (measured −37 %).
   EXPECT_LT(hexapod.square_rms_after_mm, 0.4 * hexapod.square_rms_before_mm);
   EXPECT_LT(hexapod.v3_after_m, hexapod.v3_before_m);
+  // Measured 1.99 (the gains and eccentricities bias the joint centres); against the truth not
+  // brought into the gauge: 7.5.
   EXPECT_LT(hexapod.error_over_sigma_rms, 3.0);
   for (const auto& file : r.files) EXPECT_TRUE(std::filesystem::exists(dir.path() / file)) << file;
 }
