@@ -3,15 +3,19 @@
 // only what a user would have (images, encoder readings, the nominal geometry); the
 // simulator's truth is used only to score the results.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "mire/calibration/camera_model.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification.hpp"
+#include "mire/metrology/target.hpp"
 
 namespace mire::app {
 
@@ -19,6 +23,7 @@ struct DemoOptions {
   std::filesystem::path output = "demo-output";
   bool quick = false;  // fewer images and repeats (the end-to-end test uses it)
   std::uint64_t seed = 2004;
+  std::string mechanism = "h4";           // h4, delta or gough-stewart (demo_mechanism.hpp)
   std::vector<std::string> command_line;  // as parsed (report.json); empty when run in-process
 };
 
@@ -113,5 +118,18 @@ DemoExperimentDesign experimentDesignStage(const DemoOptions& options, const mec
 
 // Writes report.md, report.json and the figures; returns the files written (relative names).
 std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& results);
+
+// The stages every demo shares (demo_pipeline.cpp; doc/demo-mechanisms.md reuses them).
+// Calibration from the images of `calibration_images` (camera.yaml into `output`), scored
+// against `true_camera`.
+calibration::Camera calibrateStage(const std::filesystem::path& calibration_images,
+                                   const calibration::Camera& true_camera, const metrology::Target& target,
+                                   const std::filesystem::path& output, DemoCalibration& summary);
+// One pose per subfolder of `pose_images` into poses_csv (+ covariance and shared-term side
+// files), scored against the simulator's true cTm of each pose id.
+using TrueCameraTMarker = std::function<Eigen::Isometry3d(const std::string& pose_id)>;
+void measureStage(const std::filesystem::path& pose_images, const TrueCameraTMarker& true_pose,
+                  const calibration::Camera& camera, const metrology::Target& target,
+                  const std::filesystem::path& poses_csv, DemoMeasurement& summary);
 
 }  // namespace mire::app

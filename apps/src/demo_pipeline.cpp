@@ -47,10 +47,12 @@ class Stopwatch {
 
 using support::upperMedian;
 
+}  // namespace
+
 // Stage 2: detection on every image (parallel), then the bundle adjustment.
-calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const metrology::Target& target,
-                                   const fs::path& output, DemoCalibration& summary) {
-  const CalibrationFolder folder = detectCalibrationFolder(target, campaign.calibration_images(), 0);
+calibration::Camera calibrateStage(const fs::path& calibration_images, const calibration::Camera& true_camera,
+                                   const metrology::Target& target, const fs::path& output, DemoCalibration& summary) {
+  const CalibrationFolder folder = detectCalibrationFolder(target, calibration_images, 0);
   calibration::CalibrationOptions options;
   options.model = calibration::DistortionModel::OpenCV5;
   const calibration::CalibrationResult result =
@@ -60,7 +62,7 @@ calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const m
   summary.names = result.camera.parameterNames();
   summary.estimate = result.camera.params;
   summary.sigma = result.camera.sigmas();
-  summary.truth = campaign.camera.params;
+  summary.truth = true_camera.params;
   summary.rms_px = result.camera.rms_px;
   summary.views_used = result.used_views;
   summary.views_total = static_cast<int>(folder.images);
@@ -72,14 +74,14 @@ calibration::Camera calibrateStage(const datasets::H4Campaign& campaign, const m
 }
 
 // Stage 3: one pose per folder (parallel), written as poses.csv + covariance side file.
-void measureStage(const datasets::H4Campaign& campaign, const calibration::Camera& camera,
+void measureStage(const fs::path& pose_images, const TrueCameraTMarker& true_pose, const calibration::Camera& camera,
                   const metrology::Target& target, const fs::path& poses_csv, DemoMeasurement& summary) {
   // The simulated robot is static by construction: a static-pose test alarm (false-alarm rate
   // 1e-3 per pose, doc/measure-integrity.md) keeps the largest consistent group, as
   // `mire measure --split-moving keep-largest` would, instead of dropping the pose.
   metrology::MeasurementOptions options;
   options.integrity.split = metrology::SplitPolicy::KeepLargest;
-  const auto measurements = measurePoseFolders(camera, target, campaign.pose_images(), options, 0);
+  const auto measurements = measurePoseFolders(camera, target, pose_images, options, 0);
   std::vector<metrology::MeasuredPose> measured;
   std::vector<double> sigma[6];
   Eigen::Matrix<double, 6, 1> squared_error = Eigen::Matrix<double, 6, 1>::Zero();
@@ -92,7 +94,7 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
     }
     measured.emplace_back(pose.pose_id, m.features.images_used, pose.images_total, m.estimate);
     // Scoring against the simulator's truth.
-    const Eigen::Isometry3d truth = campaign.trueCameraTMarker(pose.pose_id);
+    const Eigen::Isometry3d truth = true_pose(pose.pose_id);
     PoseErrorSample sample;
     sample.error << m.estimate.translation - truth.translation(),
         m.estimate.rotation_vector - metrology::rotationVector(truth.linear());
@@ -125,6 +127,8 @@ void measureStage(const datasets::H4Campaign& campaign, const calibration::Camer
   summary.whitened_error_rms = scores.rms_whitened;
   summary.whitened_error_rms_all = scores.rms_whitened_all;
 }
+
+namespace {
 
 std::vector<std::vector<Eigen::VectorXd>> lineJoints(const fs::path& lines_csv) {
   std::vector<std::vector<Eigen::VectorXd>> lines;
@@ -357,10 +361,14 @@ DemoResults runDemo(const DemoOptions& options) {
   });
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;
-  stage("calibrate the camera from images",
-        [&] { camera = calibrateStage(*campaign, target, output, results.calibration); });
-  stage("measure 81 target poses from images",
-        [&] { measureStage(*campaign, camera, target, output / "poses.csv", results.measurement); });
+  stage("calibrate the camera from images", [&] {
+    camera = calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
+  });
+  stage("measure 81 target poses from images", [&] {
+    measureStage(
+        campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
+        output / "poses.csv", results.measurement);
+  });
   stage("identify (variants A-H, pose-count study, plan and select, V1-V3, square test)",
         [&] { identifyStage(options, *campaign, output, results); });
   results.files = writeDemoReport(options, results);

@@ -1,6 +1,7 @@
 // The demo's report: Markdown with mire's numbers beside the paper's (Tables 1, 3, 4, the
 // pose-count study of §6.2, Fig. 11) and the figures as PNG.
 #include "demo.hpp"
+#include "demo_report_parts.hpp"
 #include "plot.hpp"
 #include "report_json.hpp"
 
@@ -25,20 +26,10 @@ constexpr int kPaperParameters[8] = {17, 18, 18, 19, 28, 31, 32, 36};
 constexpr double kPaperSquareBefore[4] = {6.8, 3.6, 3.8, 6.9};
 constexpr double kPaperSquareAfter[4] = {0.6, -0.2, 0.4, -0.4};
 
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
+using demo_report::fixed;
+using demo_report::format;
+using demo_report::percent;
 std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
-std::string fixed(double value, int digits) {
-  char pattern[16];
-  std::snprintf(pattern, sizeof pattern, "%%.%df", digits);
-  return std::isfinite(value) ? format(pattern, value) : "n/a";
-}
-std::string percent(double after, double before) {
-  return before > 0.0 ? format("%+.0f %%", 100.0 * (after - before) / before) : "n/a";
-}
 
 // The figures' data, gathered while the tables are written.
 struct DemoCharts {
@@ -51,12 +42,9 @@ struct DemoCharts {
 };
 
 void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::ostream& md) {
-  double total_seconds = 0.0;
   const StageTiming* slowest = nullptr;
-  for (const auto& t : r.timings) {
-    total_seconds += t.seconds;
+  for (const auto& t : r.timings)
     if (slowest == nullptr || t.seconds > slowest->seconds) slowest = &t;
-  }
   md << "# mire demo: the H4 experiment of Renaud et al. (2004), in simulation\n\n"
      << "A simulated H4 (mire's reference nominal geometry, doc/mechanism-models.md, with manufacturing errors of "
         "the paper's magnitude, 1σ 5 mm on "
@@ -66,25 +54,9 @@ void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::os
         "the camera from images, measured the 81 poses from images, and identified the robot from `poses.csv` + "
         "`joints.csv`. The simulator's truth is used only to score.\n\n"
      << "Run: " << (options.quick ? "`--quick` (fewer images and repeats)" : "full") << ", seed " << options.seed
-     << ".\n\n## Run time\n\n| stage | seconds |\n| --- | ---: |\n";
-  for (const auto& t : r.timings) md << "| " << t.name << " | " << fixed(t.seconds, 1) << " |\n";
-  md << "| **total** | **" << fixed(total_seconds, 1) << "** |\n\n";
+     << ".\n\n";
+  demo_report::writeRunTimeTable(r.timings, md);
   if (slowest != nullptr) md << "Dominated by: " << slowest->name << ".\n\n";
-}
-
-// 1. Calibration.
-void writeCalibrationSection(const DemoResults& r, std::ostream& md) {
-  const auto& c = r.calibration;
-  md << "## 1. Camera calibration (`camera.yaml`)\n\n"
-     << c.views_used << " of " << c.views_total << " views used, RMS " << fixed(c.rms_px, 3)
-     << " px; projection uncertainty " << fixed(c.uncertainty_centre_px, 3) << " px at the centre, "
-     << fixed(c.uncertainty_corner_px, 3)
-     << " px at the corner.\n\n| parameter | estimate | σ | truth | error / σ |\n| --- | ---: | ---: | ---: | ---: |\n";
-  for (std::size_t i = 0; i < c.names.size() && i < c.truth.size(); ++i) {
-    const double sigma = i < c.sigma.size() ? c.sigma[i] : NAN;
-    md << "| " << c.names[i] << " | " << format("%.6g", c.estimate[i]) << " | " << format("%.2g", sigma) << " | "
-       << format("%.6g", c.truth[i]) << " | " << fixed((c.estimate[i] - c.truth[i]) / sigma, 2) << " |\n";
-  }
 }
 
 // 2. Measurement.
@@ -92,24 +64,8 @@ void writeMeasurementSection(const DemoResults& r, std::ostream& md) {
   const auto& m = r.measurement;
   md << "\n## 2. Pose measurement (`poses.csv`), paper §5: about 0.2 mm and 0.03° per component\n\n"
      << m.measured << " of " << m.total << " poses measured. Predicted σ (median over poses, pixel noise and "
-     << "intrinsics uncertainty combined) against the actual error to truth:\n\n"
-     << "| component | tx | ty | tz | rx | ry | rz |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n"
-     << "| mire predicted σ (mm, °) |";
-  for (int k = 0; k < 3; ++k) md << " " << fixed(m.median_sigma_mm[k], 3) << " |";
-  for (int k = 0; k < 3; ++k) md << " " << fixed(m.median_sigma_deg[k], 4) << " |";
-  md << "\n| mire RMS error to truth |";
-  for (int k = 0; k < 3; ++k) md << " " << fixed(m.rms_error_mm[k], 3) << " |";
-  for (int k = 0; k < 3; ++k) md << " " << fixed(m.rms_error_deg[k], 4) << " |";
-  md << "\n| paper | 0.2 | 0.2 | 0.2 | 0.03 | 0.03 | 0.03 |\n| RMS error/σ, pose by pose |";
-  for (int k = 0; k < 6; ++k) md << " " << fixed(m.normalized_error_rms[k], 2) << " |";
-  md << "\n| RMS error/σ, whitened across poses |";
-  for (int k = 0; k < 6; ++k) md << " " << fixed(m.whitened_error_rms[k], 2) << " |";
-  md << "\n\nRMS of error/σ over all components: " << fixed(m.normalized_error_std, 2) << " pose by pose; "
-     << fixed(m.whitened_error_rms_all, 2)
-     << " with the errors whitened by their whole covariance (1 means the σ are honest). Every pose carries "
-     << "the same calibration error (section 1), so error/σ pose by pose is correlated across the campaign: "
-     << "its RMS is one draw of that shared error, not an average. The whitened row uses each pose's own "
-     << "noise covariance plus the shared term D Σ_k Dᵀ across poses (doc/uncertainty.md).\n";
+     << "intrinsics uncertainty combined) against the actual error to truth:\n\n";
+  demo_report::writePoseMeasurementTable(m, md, "| paper | 0.2 | 0.2 | 0.2 | 0.03 | 0.03 | 0.03 |");
 }
 
 // 3. Identification: criteria before, then Tables 1 and 3 per variant (and Fig. 11's data).
@@ -240,7 +196,7 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   std::ostringstream md;
   DemoCharts charts;
   writeIntroduction(options, r, md);
-  writeCalibrationSection(r, md);
+  demo_report::writeCalibrationSection(r.calibration, md);
   writeMeasurementSection(r, md);
   writeVariantSection(r, md, &charts);
   writePoseCountSection(r, md, &charts);

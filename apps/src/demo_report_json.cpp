@@ -2,46 +2,13 @@
 // camera's covariance, the pose measurement's precision, the criteria per variant (Tables 1
 // and 3, Fig. 11), the pose-count study, the variant-D parameters against truth with their full
 // covariance, and the square test. Units in the key names where they are not SI; no run times.
+#include "demo_report_parts.hpp"
 #include "report_json.hpp"
 
 namespace mire::app {
 namespace {
 
 const char* kFailed = "the identification failed (see error)";
-
-Json calibrationJson(const DemoCalibration& c) {
-  std::vector<std::string> units(c.names.size(), "1");
-  for (std::size_t i = 0; i < units.size() && i < 4; ++i) units[i] = "px";
-  Json parameters = Json::array();
-  for (std::size_t i = 0; i < c.names.size(); ++i) {
-    Json item{{"name", c.names[i]}, {"unit", units[i]}};
-    setNumber(item, "value", c.estimate.at(i), "not computed");
-    setNumber(item, "sigma", i < c.sigma.size() ? c.sigma[i] : NAN, "no covariance");
-    setNumber(item, "truth", i < c.truth.size() ? c.truth[i] : NAN, "no truth for this parameter");
-    parameters.push_back(item);
-  }
-  Json out{{"views_used", c.views_used}, {"views_total", c.views_total}};
-  setNumber(out, "rms_px", c.rms_px, "not computed");
-  setNumber(out, "projection_uncertainty_centre_px", c.uncertainty_centre_px, "outside the lens model's field");
-  setNumber(out, "projection_uncertainty_corner_px", c.uncertainty_corner_px, "outside the lens model's field");
-  out["parameters"] = parameters;
-  out["covariance"] = covarianceJson(c.names, units, c.covariance);
-  return out;
-}
-
-Json measurementJson(const DemoMeasurement& m) {
-  Json out{{"measured", m.measured}, {"total", m.total}};
-  out["median_sigma_translation_mm"] = numberArray(Eigen::VectorXd(m.median_sigma_mm));
-  out["median_sigma_rotation_deg"] = numberArray(Eigen::VectorXd(m.median_sigma_deg));
-  out["rms_error_translation_mm"] = numberArray(Eigen::VectorXd(m.rms_error_mm));
-  out["rms_error_rotation_deg"] = numberArray(Eigen::VectorXd(m.rms_error_deg));
-  setNumber(out, "normalized_error_rms", m.normalized_error_std, "no pose measured");
-  out["normalized_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.normalized_error_rms));
-  out["whitened_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.whitened_error_rms));
-  setNumber(out, "whitened_error_rms", m.whitened_error_rms_all, "no pose measured");
-  out["pose_covariances_file"] = "poses_covariance.csv";
-  return out;
-}
 
 Json variantsJson(const DemoResults& r) {
   Json list = Json::array();
@@ -101,8 +68,8 @@ void writeDemoReportJson(const std::filesystem::path& path, const ReportProvenan
                          const DemoOptions& options, const DemoResults& r) {
   Json doc = reportHeader("demo", provenance);
   doc["run"] = {{"quick", options.quick}, {"seed", options.seed}};
-  doc["calibration"] = calibrationJson(r.calibration);
-  doc["measurement"] = measurementJson(r.measurement);
+  doc["calibration"] = demo_report::calibrationJson(r.calibration);
+  doc["measurement"] = demo_report::measurementJson(r.measurement);
   Json before;
   setNumber(before, "v1_rad", r.nominal_v1_rad, "not computed");
   setNumber(before, "v2_rad", r.nominal_v2_rad, "not computed");

@@ -1,0 +1,286 @@
+// The mechanism demo's stages (doc/demo-mechanisms.md): simulate the campaign of a true Delta or
+// hexapod with unmodelled defects, then run the H4 demo's calibration and measurement stages on
+// its images and identify each model from poses.csv + joints.csv through the library calls
+// `mire identify --model NAME` makes; the truth scores only at the end.
+#include "demo_mechanism.hpp"
+
+#include "mire/datasets/mechanism_image_campaign.hpp"
+#include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/gauge.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/prediction.hpp"
+#include "mire/mechanism/registry.hpp"
+#include "mire/mechanism/translating_target.hpp"
+#include "mire/metrology/poses_csv.hpp"
+#include "mire/support/progress.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+
+namespace mire::app {
+namespace fs = std::filesystem;
+namespace mech = mire::mechanism;
+
+namespace {
+
+class Stopwatch {
+ public:
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// What every model's identification reads, as `mire identify` reads it.
+struct MeasuredData {
+  std::vector<mech::PoseObservation> poses;
+  std::vector<std::vector<Eigen::VectorXd>> lines;
+  std::optional<mech::SharedPoseTerm> shared;
+};
+
+MeasuredData readMeasuredData(const datasets::MechanismImageCampaign& campaign, const fs::path& poses_csv) {
+  const std::vector<std::string> columns = campaign.robot.mechanism().jointColumnNames();
+  MeasuredData data;
+  data.poses =
+      mech::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv), columns).poses;
+  for (auto& line : mech::readLinesCsv(campaign.lines_file(), columns)) data.lines.push_back(std::move(line.joints));
+  const fs::path shared_path = mech::sharedTermPath(poses_csv);
+  if (fs::exists(shared_path)) data.shared = mech::readSharedTermCsv(shared_path);
+  return data;
+}
+
+// The initial model as `mire identify` builds it: the mounting from the data (motion type),
+// then the gauge by pivoted QR.
+struct GaugedModel {
+  mech::IdentificationModel model;
+  mech::GaugeAnalysis gauge;
+};
+
+GaugedModel initialModel(const mech::RegisteredModel& registered, const std::vector<mech::PoseObservation>& poses) {
+  GaugedModel initial;
+  initial.model = mech::makeInitialModel(registered.mechanism, registered.nominal, poses, registered.external_form);
+  initial.gauge = mech::fixGauge(initial.model, poses);
+  return initial;
+}
+
+// The fit with the calibration term shared by every pose (doc/uncertainty.md): refits on
+// shifted poses, initialised as the main fit, with its gauge (apps/src/cmd_identify.cpp).
+mech::IdentificationResult identifyLikeTheCommand(const mech::RegisteredModel& registered, const GaugedModel& initial,
+                                                  const MeasuredData& data) {
+  mech::IdentificationResult result = mech::identify(initial.model, data.poses);
+  if (data.shared) {
+    mech::IdentificationOptions quiet;
+    quiet.compute_identifiability = false;
+    mech::addSharedTermCovariance(
+        result, data.poses, *data.shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+          mech::IdentificationModel start =
+              mech::makeInitialModel(registered.mechanism, registered.nominal, shifted, registered.external_form);
+          start.parameters.fix(initial.gauge.gauge);
+          mech::IdentificationResult refit = mech::identify(start, shifted, quiet);
+          mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
+          return refit;
+        });
+  }
+  return result;
+}
+
+// The truth in the identification's gauge (scoring only): the true geometry's exact-model
+// observations at the commanded poses (no defect, no noise), identified from the same initial
+// model with the same parameters held; the fit is exact, and lands where the gauge puts it.
+mech::ParameterSet truthInGauge(const datasets::MechanismImageCampaign& campaign, const GaugedModel& initial,
+                                const std::vector<mech::PoseObservation>& measured) {
+  const mech::Mechanism& mechanism = campaign.robot.mechanism();
+  std::vector<mech::PoseObservation> exact;
+  for (std::size_t i = 0; i < campaign.commanded.size(); ++i) {
+    const Eigen::Isometry3d bTe = mechanism.poseToTransform(campaign.commanded[i]);
+    mech::PoseObservation pose;
+    pose.id = campaign.pose_ids[i];
+    pose.joints = mechanism.inverseKinematics(campaign.robot.geometry.values(), bTe).joints;
+    pose.cTm = mech::toPoseVector(campaign.bTc.inverse() * bTe * campaign.mTe.inverse());
+    const auto same = std::find_if(measured.begin(), measured.end(), [&](const auto& p) { return p.id == pose.id; });
+    if (same != measured.end()) pose.covariance = same->covariance;
+    exact.push_back(pose);
+  }
+  mech::IdentificationOptions options;
+  options.compute_identifiability = false;
+  mech::IdentificationResult truth = mech::identify(initial.model, exact, options);
+  mech::alignTranslatingTarget(truth, exact);
+  return truth.model.parameters;
+}
+
+// Every free parameter with its σ and (when the truth has the model's parameters) error/σ
+// against the truth in the gauge (display and SI units; truth NaN without).
+void scoreParameters(const mech::IdentificationResult& result, const std::optional<mech::ParameterSet>& truth,
+                     MechanismModelScore& score) {
+  const mech::ParameterSet& p = result.model.parameters;
+  score.covariance = result.covariance;
+  double sum = 0.0;
+  for (const auto& name : result.free_names) {
+    const std::size_t i = p.index(name);
+    const auto unit = p[i].unit;
+    const double sigma = result.sigma[static_cast<Eigen::Index>(i)];
+    const double true_value = truth ? truth->value(name) : std::nan("");
+    score.identified.push_back({name, mech::displayUnitName(unit), mech::toDisplay(unit, p[i].value),
+                                mech::toDisplay(unit, sigma), mech::toDisplay(unit, true_value), mech::unitName(unit),
+                                p[i].value, sigma, true_value});
+    if (!truth) continue;
+    const double z = (p[i].value - true_value) / sigma;
+    sum += z * z;
+    score.error_over_sigma_max = std::max(score.error_over_sigma_max, std::abs(z));
+  }
+  score.error_over_sigma_rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, result.free_names.size())));
+}
+
+// The positioning test (benchmarks/bench_mechanism_defects.cpp): a 100 mm square at the
+// workspace centre commanded through the model's IKM at `geometric`, reached by the true
+// robot; the 3-D side-length errors (frame-invariant: the model's base frame is a gauge).
+std::array<double, 4> squareSides(const datasets::DefectiveRobot& robot, const mech::Mechanism& model,
+                                  const Eigen::VectorXd& geometric) {
+  constexpr double kSide = 0.1;
+  const double corners[5][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {-1, -1}};
+  const Eigen::VectorXd centre = model.referencePose(geometric);
+  std::vector<Eigen::Vector3d> reached;
+  for (const auto& corner : corners) {
+    Eigen::VectorXd X = centre;
+    X[0] += 0.5 * kSide * corner[0];
+    X[1] += 0.5 * kSide * corner[1];
+    const mech::IkmResult ikm = model.inverseKinematics(geometric, model.poseToTransform(X));
+    if (!ikm.reachable()) throw std::runtime_error("positioning test: a corner is unreachable for " + model.name());
+    reached.push_back(robot.fkm(ikm.joints).head<3>());
+  }
+  std::array<double, 4> sides_mm{};
+  for (int k = 0; k < 4; ++k)
+    sides_mm[static_cast<std::size_t>(k)] = 1e3 * ((reached[k + 1] - reached[k]).norm() - kSide);
+  return sides_mm;
+}
+
+double rms(const std::array<double, 4>& values) {
+  double sum = 0.0;
+  for (const double v : values) sum += v * v;
+  return std::sqrt(sum / 4.0);
+}
+
+double straightnessOf(const mech::Mechanism& model, const Eigen::VectorXd& geometric,
+                      const std::vector<std::vector<Eigen::VectorXd>>& lines) {
+  const mech::StraightnessResult v3 = mech::straightnessCriterion(model, geometric, lines);
+  return v3.ok ? v3.v3_m : std::nan("");
+}
+
+// The true robot's own straightness along the recorded (noisy) readings: its FKM.
+double trueStraightness(const datasets::DefectiveRobot& robot, const std::vector<std::vector<Eigen::VectorXd>>& lines) {
+  double total = 0.0;
+  for (const auto& line : lines) {
+    std::vector<Eigen::Vector3d> points;
+    for (const auto& q : line) points.emplace_back(robot.fkm(q).head<3>());
+    total += mech::straightness(points);
+  }
+  return total / static_cast<double>(lines.size());
+}
+
+// One model: identified and written as identified_<model>.yaml (+ its covariance side file,
+// for `mire fkm` / `mire ikm`), then scored.
+MechanismModelScore identifyModel(const std::string& name, const datasets::MechanismImageCampaign& campaign,
+                                  const MeasuredData& data, const fs::path& output) {
+  const Stopwatch watch;
+  const mech::RegisteredModel registered = mech::makeRegisteredModel(name);
+  const GaugedModel initial = initialModel(registered, data.poses);
+  mech::IdentificationResult result = identifyLikeTheCommand(registered, initial, data);
+  const auto orientation_covariance = mech::alignTranslatingTarget(result, data.poses);
+  MechanismModelScore score;
+  score.model = name;
+  score.seconds = watch.seconds();
+  score.file = "identified_" + name + ".yaml";
+  mech::writePredictionCovarianceCsv(mech::defaultParameterCovariancePath(output / score.file),
+                                     mech::predictionModelFrom(name, result, orientation_covariance));
+  mech::writeParameterFile(
+      output / score.file, result.model.parameters, result.sigma,
+      {{"model", name}, {"created_by", "mire demo --mechanism " + campaign.robot.geometry_model.name}},
+      "Identified by mire demo (" + name + ") from poses.csv and the campaign's joints.csv");
+
+  const mech::Mechanism& model = *registered.mechanism;
+  score.joint_unit = model.jointUnits().front() == mech::Unit::Radian ? "rad" : "m";
+  score.free_parameters = static_cast<int>(result.free_names.size());
+  score.rank = initial.gauge.report.rank;
+  score.gauge = initial.gauge.gauge;
+  score.rms_joint_before = mech::jointResidualCriteria(initial.model, data.poses).v2_rad;
+  score.rms_joint_after = result.rms_joint_residual;
+  score.chi2_per_dof = result.chi2 / std::max(1, result.dof);
+  score.sigma_method = result.covariance_method;
+  score.has_truth = name == campaign.robot.geometry_model.name;
+  scoreParameters(result, score.has_truth ? std::optional(truthInGauge(campaign, initial, data.poses)) : std::nullopt,
+                  score);
+  const Eigen::VectorXd nominal = registered.nominal.values(), identified = result.model.geometricValues();
+  score.v3_before_m = straightnessOf(model, nominal, data.lines);
+  score.v3_after_m = straightnessOf(model, identified, data.lines);
+  score.square_before_mm = squareSides(campaign.robot, model, nominal);
+  score.square_after_mm = squareSides(campaign.robot, model, identified);
+  score.square_rms_before_mm = rms(score.square_before_mm);
+  score.square_rms_after_mm = rms(score.square_after_mm);
+  return score;
+}
+
+datasets::MechanismImageCampaignSpec campaignSpec(const DemoOptions& options) {
+  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
+  spec.seed = options.seed;
+  if (options.quick) {  // as the H4 demo's --quick
+    spec.calibration_views = 15;
+    spec.images_per_pose = 3;
+    spec.line_points = 10;
+  }
+  return spec;
+}
+
+}  // namespace
+
+// Stages: simulate, calibrate, measure, identify each model (Delta: the simple and the per-leg
+// model; hexapod: its 42-parameter model), then the report.
+MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
+  MechanismDemoResults results;
+  results.mechanism = options.mechanism;
+  const fs::path& output = options.output;
+  fs::create_directories(output);
+  const auto stage = [&](const std::string& name, const auto& work) {
+    const Stopwatch watch;
+    work();
+    results.timings.push_back({name, watch.seconds()});
+    std::cerr << "mire demo: " << name << " done in " << results.timings.back().seconds << " s\n";
+  };
+  std::optional<datasets::MechanismImageCampaign> campaign;
+  stage("simulate the campaign (render images, record joints)", [&] {
+    std::optional<support::Progress> progress;
+    campaign = datasets::generateMechanismImageCampaign(campaignSpec(options), output / "campaign",
+                                                        [&](std::size_t done, std::size_t total) {
+                                                          if (!progress)
+                                                            progress.emplace("simulation: rendering", total);
+                                                          progress->advance(done > 0 ? 1 : 0);
+                                                        });
+  });
+  results.truth_model = campaign->robot.geometry_model.name;
+  const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
+  calibration::Camera camera;
+  stage("calibrate the camera from images", [&] {
+    camera = calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
+  });
+  stage("measure " + std::to_string(campaign->pose_ids.size()) + " target poses from images", [&] {
+    measureStage(
+        campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
+        output / "poses.csv", results.measurement);
+  });
+  const MeasuredData data = readMeasuredData(*campaign, output / "poses.csv");
+  results.true_v3_m = trueStraightness(campaign->robot, data.lines);
+  const std::vector<std::string> models = options.mechanism == "delta"
+                                              ? std::vector<std::string>{"delta", "delta-legs"}
+                                              : std::vector<std::string>{"gough-stewart", "gough-stewart-gains"};
+  for (const auto& name : models)
+    stage("identify " + name + " (shared term, V3, positioning test)",
+          [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
+  results.files = writeMechanismDemoReport(options, results);
+  return results;
+}
+
+}  // namespace mire::app

@@ -1,0 +1,102 @@
+#include "demo_report_parts.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace mire::app::demo_report {
+
+std::string format(const char* pattern, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, pattern, value);
+  return buffer;
+}
+
+std::string fixed(double value, int digits) {
+  char pattern[16];
+  std::snprintf(pattern, sizeof pattern, "%%.%df", digits);
+  return std::isfinite(value) ? format(pattern, value) : "n/a";
+}
+
+std::string percent(double after, double before) {
+  return before > 0.0 && std::isfinite(after) ? format("%+.0f %%", 100.0 * (after - before) / before) : "n/a";
+}
+
+void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md) {
+  double total = 0.0;
+  md << "## Run time\n\n| stage | seconds |\n| --- | ---: |\n";
+  for (const auto& t : timings) {
+    md << "| " << t.name << " | " << fixed(t.seconds, 1) << " |\n";
+    total += t.seconds;
+  }
+  md << "| **total** | **" << fixed(total, 1) << "** |\n\n";
+}
+
+void writeCalibrationSection(const DemoCalibration& c, std::ostream& md) {
+  md << "## 1. Camera calibration (`camera.yaml`)\n\n"
+     << c.views_used << " of " << c.views_total << " views used, RMS " << fixed(c.rms_px, 3)
+     << " px; projection uncertainty " << fixed(c.uncertainty_centre_px, 3) << " px at the centre, "
+     << fixed(c.uncertainty_corner_px, 3)
+     << " px at the corner.\n\n| parameter | estimate | σ | truth | error / σ |\n| --- | ---: | ---: | ---: | ---: |\n";
+  for (std::size_t i = 0; i < c.names.size() && i < c.truth.size(); ++i) {
+    const double sigma = i < c.sigma.size() ? c.sigma[i] : NAN;
+    md << "| " << c.names[i] << " | " << format("%.6g", c.estimate[i]) << " | " << format("%.2g", sigma) << " | "
+       << format("%.6g", c.truth[i]) << " | " << fixed((c.estimate[i] - c.truth[i]) / sigma, 2) << " |\n";
+  }
+}
+
+void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const std::string& extra_row) {
+  md << "| component | tx | ty | tz | rx | ry | rz |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+     << "| predicted σ (mm, °) |";
+  for (int k = 0; k < 3; ++k) md << " " << fixed(m.median_sigma_mm[k], 3) << " |";
+  for (int k = 0; k < 3; ++k) md << " " << fixed(m.median_sigma_deg[k], 4) << " |";
+  md << "\n| RMS error to truth |";
+  for (int k = 0; k < 3; ++k) md << " " << fixed(m.rms_error_mm[k], 3) << " |";
+  for (int k = 0; k < 3; ++k) md << " " << fixed(m.rms_error_deg[k], 4) << " |";
+  if (!extra_row.empty()) md << "\n" << extra_row;
+  md << "\n| RMS error/σ, pose by pose |";
+  for (int k = 0; k < 6; ++k) md << " " << fixed(m.normalized_error_rms[k], 2) << " |";
+  md << "\n| RMS error/σ, whitened across poses |";
+  for (int k = 0; k < 6; ++k) md << " " << fixed(m.whitened_error_rms[k], 2) << " |";
+  md << "\n\nRMS of error/σ over all components: " << fixed(m.normalized_error_std, 2) << " pose by pose; "
+     << fixed(m.whitened_error_rms_all, 2)
+     << " with the errors whitened by their whole covariance (1 means the σ are honest). Every pose carries "
+     << "the same calibration error (section 1), so error/σ pose by pose is correlated across the campaign: "
+     << "its RMS is one draw of that shared error, not an average. The whitened row uses each pose's own "
+     << "noise covariance plus the shared term D Σ_k Dᵀ across poses (doc/uncertainty.md).\n";
+}
+
+Json calibrationJson(const DemoCalibration& c) {
+  std::vector<std::string> units(c.names.size(), "1");
+  for (std::size_t i = 0; i < units.size() && i < 4; ++i) units[i] = "px";
+  Json parameters = Json::array();
+  for (std::size_t i = 0; i < c.names.size(); ++i) {
+    Json item{{"name", c.names[i]}, {"unit", units[i]}};
+    setNumber(item, "value", c.estimate.at(i), "not computed");
+    setNumber(item, "sigma", i < c.sigma.size() ? c.sigma[i] : NAN, "no covariance");
+    setNumber(item, "truth", i < c.truth.size() ? c.truth[i] : NAN, "no truth for this parameter");
+    parameters.push_back(item);
+  }
+  Json out{{"views_used", c.views_used}, {"views_total", c.views_total}};
+  setNumber(out, "rms_px", c.rms_px, "not computed");
+  setNumber(out, "projection_uncertainty_centre_px", c.uncertainty_centre_px, "outside the lens model's field");
+  setNumber(out, "projection_uncertainty_corner_px", c.uncertainty_corner_px, "outside the lens model's field");
+  out["parameters"] = parameters;
+  out["covariance"] = covarianceJson(c.names, units, c.covariance);
+  return out;
+}
+
+Json measurementJson(const DemoMeasurement& m) {
+  Json out{{"measured", m.measured}, {"total", m.total}};
+  out["median_sigma_translation_mm"] = numberArray(Eigen::VectorXd(m.median_sigma_mm));
+  out["median_sigma_rotation_deg"] = numberArray(Eigen::VectorXd(m.median_sigma_deg));
+  out["rms_error_translation_mm"] = numberArray(Eigen::VectorXd(m.rms_error_mm));
+  out["rms_error_rotation_deg"] = numberArray(Eigen::VectorXd(m.rms_error_deg));
+  setNumber(out, "normalized_error_rms", m.normalized_error_std, "no pose measured");
+  out["normalized_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.normalized_error_rms));
+  out["whitened_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.whitened_error_rms));
+  setNumber(out, "whitened_error_rms", m.whitened_error_rms_all, "no pose measured");
+  out["pose_covariances_file"] = "poses_covariance.csv";
+  return out;
+}
+
+}  // namespace mire::app::demo_report

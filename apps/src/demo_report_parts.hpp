@@ -1,0 +1,28 @@
+#pragma once
+// Report pieces shared by `mire demo` (the H4) and `mire demo --mechanism` (Delta, hexapod):
+// number formatting for Markdown, the run-time table, the calibration and pose-measurement
+// sections and their report.json objects.
+#include "demo.hpp"
+#include "report_json.hpp"
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace mire::app::demo_report {
+
+std::string format(const char* pattern, double value);  // printf-style, one number
+std::string fixed(double value, int digits);            // "n/a" when not finite
+std::string percent(double after, double before);       // signed change, "n/a" when undefined
+
+void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md);
+// "## 1. Camera calibration": views, RMS, projection uncertainty, estimate / σ / truth / error/σ.
+void writeCalibrationSection(const DemoCalibration& c, std::ostream& md);
+// The pose-measurement table (predicted σ, RMS error, `extra_row` if not empty, error/σ pose by pose and
+// whitened across poses) and the paragraph that reads it (doc/uncertainty.md).
+void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const std::string& extra_row = "");
+
+Json calibrationJson(const DemoCalibration& c);
+Json measurementJson(const DemoMeasurement& m);
+
+}  // namespace mire::app::demo_report

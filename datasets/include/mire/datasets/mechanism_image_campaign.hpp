@@ -1,0 +1,77 @@
+#pragma once
+// The H4 demo's campaign (h4_campaign.hpp) for the other parallel mechanisms (doc/demo-mechanisms.md): a
+// simulated true Delta or Gough–Stewart with unmodelled defects (mechanism_true_robots.hpp) carries the
+// H4 demo's chessboard through the protocol poses of doc/mechanisms.md, seen by the same reference camera
+// and rendered by the same renderer. Generates, deterministically for a seed, what a user would record:
+//   <dir>/target.yaml                      the target
+//   <dir>/calibration/images/view_XXX.png  calibration images
+//   <dir>/poses/<pose_id>/img_XX.png       81 (hexapod) or 27 (Delta) poses × N images
+//   <dir>/joints.csv                       encoder readings (q<i>_rad or q<i>_m) at the poses
+//   <dir>/lines.csv                        encoder readings along two straight lines (V3)
+// and, for scoring only: <dir>/truth/ (true camera, true geometry and mountings, true poses).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mire/calibration/camera_model.hpp"
+#include "mire/datasets/mechanism_true_robots.hpp"
+#include "mire/datasets/png.hpp"
+#include "mire/datasets/render.hpp"
+#include "mire/datasets/simulation.hpp"
+
+namespace mire::datasets {
+
+struct MechanismImageCampaignSpec {
+  std::string mechanism = "delta";    // "delta" (legs differ, plate tilts) or "gough-stewart"
+  std::filesystem::path camera_file;  // true camera; default: the reference camera
+  std::filesystem::path target_file;  // default: datasets/specs/target_h4.yaml
+  int calibration_views = 25;
+  int images_per_pose = 10;
+  int line_points = 21;             // per straight line (V3)
+  double encoder_noise_rad = 2e-5;  // rotary joints (Delta), as the H4 demo
+  double encoder_noise_m = 1e-6;    // prismatic joints (hexapod): a 1 µm linear scale
+  RenderOptions render;
+  NoiseOptions noise;
+  std::uint64_t seed = 2004;
+  PngEncoding png = PngEncoding::Stored;
+
+  // The H4 demo's optics (slight defocus, sensor noise) for `mechanism`; throws
+  // std::invalid_argument naming an unknown mechanism.
+  static MechanismImageCampaignSpec reference(const std::string& mechanism);
+};
+
+struct MechanismImageCampaign {
+  DefectiveRobot robot;                    // true geometry and defects (scoring only)
+  calibration::Camera camera;              // true camera (scoring only)
+  Eigen::Isometry3d bTc, mTe;              // true mountings (scoring only)
+  std::vector<Eigen::VectorXd> commanded;  // protocol poses X (the true robot's pose coordinates)
+  std::vector<Eigen::Isometry3d> bTe;      // true effector transforms (the Delta's tilt included)
+  std::vector<std::string> pose_ids;
+  std::array<std::vector<Eigen::VectorXd>, 2> lines;  // commanded straight-line poses (V3)
+
+  std::filesystem::path directory;
+  std::filesystem::path target_file() const { return directory / "target.yaml"; }
+  std::filesystem::path calibration_images() const { return directory / "calibration" / "images"; }
+  std::filesystem::path pose_images() const { return directory / "poses"; }
+  std::filesystem::path joints_file() const { return directory / "joints.csv"; }
+  std::filesystem::path lines_file() const { return directory / "lines.csv"; }
+  // The true cTm at `pose_id` (scoring); std::out_of_range for an unknown id.
+  Eigen::Isometry3d trueCameraTMarker(const std::string& pose_id) const;
+};
+
+// The camera and target placement of the demo: the camera below a Delta looking up (as the
+// H4's), above a hexapod looking down; the target centred on the effector facing the camera.
+Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism);
+Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target);
+
+// Generates the campaign under `directory`. Throws std::runtime_error naming the pose when a
+// target feature would leave the image (less than 10 px inside) at a protocol pose.
+MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampaignSpec& spec,
+                                                      const std::filesystem::path& directory,
+                                                      const ProgressCallback& progress = {});
+
+}  // namespace mire::datasets

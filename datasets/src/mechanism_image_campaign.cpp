@@ -1,0 +1,279 @@
+#include "mire/datasets/mechanism_image_campaign.hpp"
+
+#include "mire/calibration/camera_formats.hpp"
+#include "mire/datasets/data_dir.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/support/atomic_file.hpp"
+#include "mire/support/yaml.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace mire::datasets {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool isDelta(const std::string& mechanism) { return mechanism == "delta"; }
+
+void checkMechanism(const std::string& mechanism) {
+  if (mechanism != "delta" && mechanism != "gough-stewart")
+    throw std::invalid_argument("unknown demo mechanism '" + mechanism + "' (known: h4, delta, gough-stewart)");
+}
+
+std::string poseId(std::size_t index) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "p%03zu", index + 1);
+  return buffer;
+}
+
+Eigen::Isometry3d isometry(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  transform.linear() = rotation;
+  transform.translation() = translation;
+  return transform;
+}
+
+// The two straight lines of criterion V3 (paper §6.1) through the workspace centre, as
+// benchmarks/bench_mechanism_defects.cpp records them: diagonals rising in z.
+std::array<std::vector<Eigen::VectorXd>, 2> straightLines(const DefectiveRobot& robot, int points) {
+  const bool delta = robot.mechanism().motionType() == MotionType::Translation;
+  const Eigen::VectorXd ref = robot.mechanism().referencePose(robot.geometry.values());
+  const double a = delta ? 0.12 : 0.04, dz = delta ? 0.05 : 0.025;
+  std::array<std::vector<Eigen::VectorXd>, 2> lines;
+  for (int line = 0; line < 2; ++line) {
+    const double sign = line == 0 ? 1.0 : -1.0;
+    for (int k = 0; k < points; ++k) {
+      const double s = -1.0 + 2.0 * k / (points - 1);
+      Eigen::VectorXd X = ref;
+      X[0] += a * s;
+      X[1] += sign * a * s;
+      X[2] += dz * s;
+      lines[static_cast<std::size_t>(line)].push_back(X);
+    }
+  }
+  return lines;
+}
+
+// Every target feature at least `margin` px inside the image at every pose (the measurement
+// needs the whole board).
+void checkTargetInView(const MechanismImageCampaign& campaign, const metrology::Target& target) {
+  constexpr double kMargin = 10.0;
+  for (std::size_t i = 0; i < campaign.bTe.size(); ++i) {
+    const Eigen::Isometry3d cTm = campaign.trueCameraTMarker(campaign.pose_ids[i]);
+    for (const Eigen::Vector3d& point : target.points()) {
+      Eigen::Vector2d pixel;
+      const Eigen::Vector3d in_camera = cTm * point;
+      const bool inside = in_camera.z() > 0.0 && campaign.camera.project(in_camera, &pixel) && pixel.x() >= kMargin &&
+                          pixel.y() >= kMargin && pixel.x() <= campaign.camera.width - 1 - kMargin &&
+                          pixel.y() <= campaign.camera.height - 1 - kMargin;
+      if (!inside)
+        throw std::runtime_error("simulated " + campaign.robot.geometry_model.name +
+                                 ": the target leaves the image at pose " + campaign.pose_ids[i]);
+    }
+  }
+}
+
+SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const calibration::Camera& camera,
+                                  const metrology::Target& target, const MechanismImageCampaign& campaign) {
+  SimulationSpec simulation;
+  simulation.camera = camera;
+  simulation.target = target;
+  simulation.render = spec.render;
+  simulation.noise = spec.noise;
+  simulation.seed = spec.seed;
+  simulation.png = spec.png;
+  simulation.calibration.views = spec.calibration_views;
+  simulation.images_per_pose = spec.images_per_pose;
+  simulation.poses_from_grid = false;
+  for (std::size_t i = 0; i < campaign.bTe.size(); ++i) {
+    SimulatedPose pose;
+    pose.id = campaign.pose_ids[i];
+    pose.camera_T_target = campaign.trueCameraTMarker(pose.id);
+    simulation.poses.push_back(pose);
+  }
+  return simulation;
+}
+
+void moveToTruth(const fs::path& from, const fs::path& truth_dir, const std::string& name) {
+  if (!fs::exists(from)) return;
+  fs::create_directories(truth_dir);
+  fs::rename(from, truth_dir / name);
+}
+
+// Calibration views, then the poses (as the H4 campaign); the simulator's truth to truth_dir.
+void renderImages(const MechanismImageCampaignSpec& spec, const SimulationSpec& simulation,
+                  const MechanismImageCampaign& campaign, const fs::path& truth_dir, const ProgressCallback& progress) {
+  const fs::path& directory = campaign.directory;
+  const std::size_t calibration_images =
+      static_cast<std::size_t>(spec.calibration_views) * static_cast<std::size_t>(simulation.images_per_view);
+  const std::size_t total = calibration_images + campaign.bTe.size() * static_cast<std::size_t>(spec.images_per_pose);
+  const auto offset_progress = [&](std::size_t offset) -> ProgressCallback {
+    if (!progress) return {};
+    return [&progress, offset, total](std::size_t done, std::size_t) { progress(offset + done, total); };
+  };
+  const fs::path calibration_dir = directory / "calibration";
+  fs::remove_all(campaign.calibration_images());
+  fs::remove_all(campaign.pose_images());
+  simulateCalibration(simulation, calibration_dir, offset_progress(0));
+  moveToTruth(calibration_dir / "camera.yaml", truth_dir, "camera.yaml");
+  moveToTruth(calibration_dir / "truth.yaml", truth_dir, "calibration_truth.yaml");
+  fs::remove(calibration_dir / "target.yaml");
+
+  const fs::path measurement_dir = directory / "measurement";
+  fs::remove_all(measurement_dir);
+  simulatePoses(simulation, measurement_dir, offset_progress(calibration_images));
+  fs::rename(measurement_dir / "poses", campaign.pose_images());
+  moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
+  moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
+  fs::remove_all(measurement_dir);
+}
+
+// Encoder readings of the true robot (its defects included) plus encoder noise: at the poses,
+// then along the lines (one random stream).
+void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const MechanismImageCampaign& campaign) {
+  const Mechanism& mechanism = campaign.robot.mechanism();
+  const double noise = isDelta(spec.mechanism) ? spec.encoder_noise_rad : spec.encoder_noise_m;
+  std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
+  std::normal_distribution<double> normal(0.0, noise);
+  const auto read = [&](const Eigen::VectorXd& X, const std::string& where) {
+    Eigen::VectorXd q = campaign.robot.joints(X);
+    if (q.size() == 0) throw std::runtime_error("simulated " + spec.mechanism + ": " + where + " is unreachable");
+    for (Eigen::Index k = 0; k < q.size(); ++k) q[k] += normal(rng);
+    return q;
+  };
+  std::vector<Eigen::VectorXd> joints;
+  for (std::size_t i = 0; i < campaign.commanded.size(); ++i)
+    joints.push_back(read(campaign.commanded[i], "pose " + campaign.pose_ids[i]));
+  const std::vector<std::string> columns = mechanism.jointColumnNames();
+  mechanism::writeJointsCsv(campaign.joints_file(), campaign.pose_ids, joints, columns);
+
+  std::vector<mechanism::LineRecord> lines;
+  for (std::size_t line = 0; line < campaign.lines.size(); ++line) {
+    mechanism::LineRecord record{"line" + std::to_string(line + 1), {}};
+    for (const Eigen::VectorXd& X : campaign.lines[line]) record.joints.push_back(read(X, record.line_id));
+    lines.push_back(std::move(record));
+  }
+  mechanism::writeLinesCsv(campaign.lines_file(), lines, columns);
+}
+
+std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform) {
+  std::ostringstream out;
+  out << key << ": [";
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      out << support::formatYamlNumber(transform.matrix()(r, c)) << (r == 3 && c == 3 ? "" : ", ");
+  out << "]\n";
+  return out.str();
+}
+
+// The true robot: its geometry in the `delta-legs` / `gough-stewart` parameters, its defects
+// and the mountings.
+std::string truthYaml(const MechanismImageCampaign& campaign) {
+  const DefectiveRobot& robot = campaign.robot;
+  std::ostringstream out;
+  out << "model: " << robot.geometry_model.name << "\ngeometry:\n";
+  for (std::size_t i = 0; i < robot.geometry.size(); ++i)
+    out << "  " << robot.geometry[i].name << ": " << support::formatYamlNumber(robot.geometry[i].value) << "\n";
+  out << "plate_tilt_rad_per_m: " << support::formatYamlNumber(robot.tilt_per_m) << "\n";
+  out << "eccentricity_m: " << support::formatYamlNumber(robot.eccentricity) << "\nencoder_gain: [";
+  for (std::size_t i = 0; i < robot.encoder_gain.size(); ++i)
+    out << (i ? ", " : "") << support::formatYamlNumber(robot.encoder_gain[i]);
+  out << "]\n" << isometryYaml("bTc", campaign.bTc) << isometryYaml("mTe", campaign.mTe);
+  return out.str();
+}
+
+}  // namespace
+
+MechanismImageCampaignSpec MechanismImageCampaignSpec::reference(const std::string& mechanism) {
+  checkMechanism(mechanism);
+  MechanismImageCampaignSpec spec;
+  spec.mechanism = mechanism;
+  spec.camera_file = specPath("reference_camera.yaml");
+  spec.target_file = specPath("target_h4.yaml");
+  // The H4 demo's optics (h4_campaign.cpp): a slightly soft lens, a noisy 8-bit sensor.
+  spec.render.blur_sigma_px = 0.6;
+  spec.noise.gaussian_sigma = 1.5;
+  spec.noise.shot_noise_gain = 20.0;
+  return spec;
+}
+
+// Delta: the camera 0.68 m below the workspace centre (z = −0.65 m) looking up, turned so that
+// the board's edges run nearly along the image's (2°): the 300 × 300 × 150 mm protocol then
+// keeps the whole board in view with 18–23 px squares (a board turned by 35° at 0.9 m was
+// not found by the chessboard detector). Hexapod: 0.45 m above the platform's home looking
+// down (its protocol spans ±40 mm). Both slightly tilted.
+Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism) {
+  checkMechanism(mechanism);
+  const double degree = kCampaignDeg;
+  const double yaw = isDelta(mechanism) ? -12.0 : 25.0;
+  const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(yaw * degree, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(1.5 * degree, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(-1.0 * degree, Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
+  if (isDelta(mechanism)) return isometry(tilt, Eigen::Vector3d(0.03, -0.02, -1.33));
+  const Eigen::Matrix3d down = tilt * Eigen::AngleAxisd(180.0 * degree, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return isometry(down, Eigen::Vector3d(0.02, -0.01, 0.85));
+}
+
+// The board centred on the effector, 40 mm from it along the board's normal, facing the camera
+// (the board's z axis points away from the camera, OpenCV's convention).
+Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target) {
+  checkMechanism(mechanism);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& point : target.points()) centroid += point;
+  centroid /= static_cast<double>(target.points().size());
+  Eigen::Matrix3d rotation = Eigen::AngleAxisd(10.0 * kCampaignDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  if (!isDelta(mechanism)) rotation = Eigen::AngleAxisd(kCampaignDeg * 180.0, Eigen::Vector3d::UnitX()) * rotation;
+  return isometry(rotation, Eigen::Vector3d(centroid.x(), centroid.y(), 0.04));
+}
+
+Eigen::Isometry3d MechanismImageCampaign::trueCameraTMarker(const std::string& pose_id) const {
+  const auto index = std::find(pose_ids.begin(), pose_ids.end(), pose_id) - pose_ids.begin();
+  return bTc.inverse() * bTe.at(static_cast<std::size_t>(index)) * mTe.inverse();
+}
+
+// Stages: the true robot and its protocol, the view check, the images, the encoder readings,
+// the truth.
+MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampaignSpec& spec, const fs::path& directory,
+                                                      const ProgressCallback& progress) {
+  checkMechanism(spec.mechanism);
+  const MechanismImageCampaignSpec defaults = MechanismImageCampaignSpec::reference(spec.mechanism);
+  const calibration::Camera camera =
+      calibration::readCamera(spec.camera_file.empty() ? defaults.camera_file : spec.camera_file);
+  const metrology::Target target =
+      metrology::Target::fromFile(spec.target_file.empty() ? defaults.target_file : spec.target_file);
+  const auto robot_seed = static_cast<unsigned>(spec.seed);
+  MechanismImageCampaign campaign{
+      isDelta(spec.mechanism) ? makeDefectiveDelta(robot_seed, true) : makeDefectiveHexapod(robot_seed),
+      camera,
+      mechanismBaseTCamera(spec.mechanism),
+      mechanismMarkerTEffector(spec.mechanism, target),
+      {},
+      {},
+      {},
+      {},
+      directory};
+  const Mechanism& mechanism = campaign.robot.mechanism();
+  for (const Eigen::Isometry3d& pose : protocolPoses(mechanism, campaign.robot.geometry.values())) {
+    const Eigen::VectorXd X = mechanism.transformToPose(pose);
+    campaign.commanded.push_back(X);
+    campaign.bTe.push_back(campaign.robot.effector(X));
+    campaign.pose_ids.push_back(poseId(campaign.pose_ids.size()));
+  }
+  campaign.lines = straightLines(campaign.robot, spec.line_points);
+  checkTargetInView(campaign, target);
+
+  fs::create_directories(directory);
+  const fs::path truth_dir = directory / "truth";
+  support::writeFileAtomically(campaign.target_file(), target.yamlString());
+  renderImages(spec, campaignSimulation(spec, camera, target, campaign), campaign, truth_dir, progress);
+  writeEncoderReadings(spec, campaign);
+  support::writeFileAtomically(truth_dir / "robot.yaml", truthYaml(campaign));
+  return campaign;
+}
+
+}  // namespace mire::datasets
