@@ -6,9 +6,11 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -108,6 +110,24 @@ struct DemoResults {
   std::size_t outlier_count = 0;
   std::vector<std::string> files;  // written, relative to the output folder
 };
+
+// Wall time since construction.
+class Stopwatch {
+ public:
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Runs one named stage of a demo, records its wall time and says so on the terminal.
+template <class Work>
+void timedStage(std::vector<StageTiming>& timings, const std::string& name, const Work& work) {
+  const Stopwatch watch;
+  work();
+  timings.push_back({name, watch.seconds()});
+  std::cerr << "mire demo: " << name << " done in " << timings.back().seconds << " s\n";
+}
 
 // Runs the whole demo into options.output; returns the results (also written as report.md).
 DemoResults runDemo(const DemoOptions& options);

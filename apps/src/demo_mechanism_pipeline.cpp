@@ -28,14 +28,6 @@ namespace mech = mire::mechanism;
 
 namespace {
 
-class Stopwatch {
- public:
-  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-
- private:
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
 // What every model's identification reads, as `mire identify` reads it.
 struct MeasuredData {
   std::vector<mech::PoseObservation> poses;
@@ -244,12 +236,7 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   results.mechanism = options.mechanism;
   const fs::path& output = options.output;
   fs::create_directories(output);
-  const auto stage = [&](const std::string& name, const auto& work) {
-    const Stopwatch watch;
-    work();
-    results.timings.push_back({name, watch.seconds()});
-    std::cerr << "mire demo: " << name << " done in " << results.timings.back().seconds << " s\n";
-  };
+  const auto stage = [&](const std::string& name, const auto& work) { timedStage(results.timings, name, work); };
   std::optional<datasets::MechanismImageCampaign> campaign;
   stage("simulate the campaign (render images, record joints)", [&] {
     std::optional<support::Progress> progress;

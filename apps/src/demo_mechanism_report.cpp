@@ -128,17 +128,23 @@ void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& 
     after.values.push_back(s.square_rms_after_mm);
   }
   // Before and after differ by one to two decades: a log axis keeps both readable.
+  const int width = std::max(960, 300 * static_cast<int>(categories.size()));
   writePng(out / "criteria_before_after.png",
            barChart(plotTitle(r.mechanism) + ": V3 and positioning test (square side RMS)", "mm", categories,
-                    {before, after}, 960, 540, YScale::log10));
+                    {before, after}, width, 540, YScale::log10));
+  // The nominal geometry is the same for every model of the mechanism: one nominal series.
   std::vector<Series> sides;
-  int colour = 0;
-  for (const auto& s : r.models)
-    for (const bool identified : {false, true}) {
-      Series series{s.model + (identified ? ", identified" : ", nominal"), {}, seriesColour(colour++)};
-      for (const double e : identified ? s.square_after_mm : s.square_before_mm) series.values.push_back(std::abs(e));
-      sides.push_back(series);
-    }
+  if (!r.models.empty()) {
+    Series nominal{"nominal parameters", {}, seriesColour(0)};
+    for (const double e : r.models.front().square_before_mm) nominal.values.push_back(std::abs(e));
+    sides.push_back(nominal);
+  }
+  int colour = 1;
+  for (const auto& s : r.models) {
+    Series identified{s.model + ", identified", {}, seriesColour(colour++)};
+    for (const double e : s.square_after_mm) identified.values.push_back(std::abs(e));
+    sides.push_back(identified);
+  }
   writePng(out / "positioning_test.png",
            barChart(plotTitle(r.mechanism) + ": |side error| of a 100 mm square", "|error| (mm)",
                     {"side 1", "side 2", "side 3", "side 4"}, sides, 960, 540, YScale::log10));

@@ -37,14 +37,6 @@ namespace {
 
 using support::kPi;
 
-class Stopwatch {
- public:
-  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-
- private:
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
 using support::upperMedian;
 
 }  // namespace
@@ -337,12 +329,7 @@ DemoResults runDemo(const DemoOptions& options) {
   DemoResults results;
   const fs::path& output = options.output;
   fs::create_directories(output);
-  const auto stage = [&](const std::string& name, const auto& work) {
-    const Stopwatch watch;
-    work();
-    results.timings.push_back({name, watch.seconds()});
-    std::cerr << "mire demo: " << name << " done in " << results.timings.back().seconds << " s\n";
-  };
+  const auto stage = [&](const std::string& name, const auto& work) { timedStage(results.timings, name, work); };
 
   datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
   spec.seed = options.seed;

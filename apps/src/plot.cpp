@@ -87,6 +87,19 @@ void putFitted(cv::Mat& image, const std::string& text, cv::Point origin, double
   cv::putText(image, text, origin, cv::FONT_HERSHEY_SIMPLEX, scale, kInk, 1, cv::LINE_AA);
 }
 
+// A category label centred under its group, scaled down when wider than the group.
+void putCentred(cv::Mat& image, const std::string& text, double centre_x, double room, int y) {
+  double scale = 0.5;
+  int baseline = 0;
+  int width = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline).width;
+  if (width > room - 4 && room > 8) {
+    scale *= (room - 4) / width;
+    width = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline).width;
+  }
+  cv::putText(image, text, {static_cast<int>(centre_x - width / 2.0), y}, cv::FONT_HERSHEY_SIMPLEX, scale, kInk, 1,
+              cv::LINE_AA);
+}
+
 void gridLine(cv::Mat& image, int y, const cv::Scalar& colour) {
   cv::line(image, {kLeft, y}, {image.cols - kRight, y}, colour, 1);
 }
@@ -171,8 +184,8 @@ cv::Mat barChart(const std::string& title, const std::string& y_label, const std
       errorBar(image, axis, (x0 + x1) / 2, series[s].values[i], sigmaAt(series[s], i), kInk);
     }
     if (static_cast<std::size_t>(g) < categories.size())
-      cv::putText(image, categories[g], {static_cast<int>(group_left + 0.3 * group_width), height - kBottom + 22},
-                  cv::FONT_HERSHEY_SIMPLEX, 0.5, kInk, 1, cv::LINE_AA);
+      putCentred(image, categories[static_cast<std::size_t>(g)], group_left + 0.4 * group_width, group_width,
+                 height - kBottom + 22);
   }
   legend(image, series);
   return image;

@@ -1,4 +1,5 @@
 #include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/campaign_images.hpp"
 #include "mire/datasets/data_dir.hpp"
 
 #include "mire/calibration/camera_formats.hpp"
@@ -79,27 +80,11 @@ std::string geometryYaml(const H4TrueGeometry& geometry) {
   return out.str();
 }
 
-// Moves a file the simulator wrote beside the images into the truth folder.
-void moveToTruth(const fs::path& from, const fs::path& truth_dir, const std::string& name) {
-  if (!fs::exists(from)) return;
-  fs::create_directories(truth_dir);
-  fs::rename(from, truth_dir / name);
-}
-
 // The simulator's input: the campaign's camera, target and rendering, its calibration views,
 // and one pose per protocol pose (camera_T_target from the true robot).
 SimulationSpec campaignSimulation(const H4CampaignSpec& spec, const calibration::Camera& camera,
                                   const metrology::Target& target, const H4Campaign& campaign) {
-  SimulationSpec simulation;
-  simulation.camera = camera;
-  simulation.target = target;
-  simulation.render = spec.render;
-  simulation.noise = spec.noise;
-  simulation.seed = spec.seed;
-  simulation.png = spec.png;
-  simulation.calibration.views = spec.calibration_views;
-  simulation.images_per_pose = spec.images_per_pose;
-  simulation.poses_from_grid = false;
+  SimulationSpec simulation = campaignSimulationBase(spec, camera, target);
   for (std::size_t i = 0; i < campaign.poses.size(); ++i) {
     SimulatedPose pose;
     pose.id = campaign.pose_ids[i];
@@ -109,38 +94,6 @@ SimulationSpec campaignSimulation(const H4CampaignSpec& spec, const calibration:
     simulation.poses.push_back(pose);
   }
   return simulation;
-}
-
-// Images: calibration views, then the poses, one progress count over both; the simulator's
-// truth files go to truth_dir.
-void renderCampaignImages(const H4CampaignSpec& spec, const SimulationSpec& simulation, const H4Campaign& campaign,
-                          const fs::path& truth_dir, const ProgressCallback& progress) {
-  const fs::path& directory = campaign.directory;
-  const std::size_t calibration_images =
-      static_cast<std::size_t>(spec.calibration_views) * static_cast<std::size_t>(simulation.images_per_view);
-  const std::size_t total = calibration_images + campaign.poses.size() * static_cast<std::size_t>(spec.images_per_pose);
-  const auto offset_progress = [&](std::size_t offset) -> ProgressCallback {
-    if (!progress) return {};
-    return [&progress, offset, total](std::size_t done, std::size_t) { progress(offset + done, total); };
-  };
-
-  // A previous campaign in the same folder: its images go (a smaller run would leave stale
-  // views behind, and renaming onto a non-empty poses/ folder fails).
-  const fs::path calibration_dir = directory / "calibration";
-  fs::remove_all(campaign.calibration_images());
-  fs::remove_all(campaign.pose_images());
-  simulateCalibration(simulation, calibration_dir, offset_progress(0));
-  moveToTruth(calibration_dir / "camera.yaml", truth_dir, "camera.yaml");
-  moveToTruth(calibration_dir / "truth.yaml", truth_dir, "calibration_truth.yaml");
-  fs::remove(calibration_dir / "target.yaml");
-
-  const fs::path measurement_dir = directory / "measurement";
-  fs::remove_all(measurement_dir);  // left by an interrupted run
-  simulatePoses(simulation, measurement_dir, offset_progress(calibration_images));
-  fs::rename(measurement_dir / "poses", campaign.pose_images());
-  moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
-  moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
-  fs::remove_all(measurement_dir);
 }
 
 // Encoder readings: at the poses, and along the two straight lines of criterion V3 (one
@@ -187,7 +140,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   fs::create_directories(directory);
   const fs::path truth_dir = directory / "truth";
   support::writeFileAtomically(campaign.target_file(), target.yamlString());
-  renderCampaignImages(spec, campaignSimulation(spec, camera, target, campaign), campaign, truth_dir, progress);
+  renderCampaignImages(campaignSimulation(spec, camera, target, campaign), campaign.directory, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
   support::writeFileAtomically(truth_dir / "robot.yaml", geometryYaml(geometry) +
                                                              isometryYaml("bTc", campaign.robot.baseTCamera()) +

@@ -1,6 +1,7 @@
 #include "mire/datasets/mechanism_image_campaign.hpp"
 
 #include "mire/calibration/camera_formats.hpp"
+#include "mire/datasets/campaign_images.hpp"
 #include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/support/atomic_file.hpp"
@@ -79,16 +80,7 @@ void checkTargetInView(const MechanismImageCampaign& campaign, const metrology::
 
 SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const calibration::Camera& camera,
                                   const metrology::Target& target, const MechanismImageCampaign& campaign) {
-  SimulationSpec simulation;
-  simulation.camera = camera;
-  simulation.target = target;
-  simulation.render = spec.render;
-  simulation.noise = spec.noise;
-  simulation.seed = spec.seed;
-  simulation.png = spec.png;
-  simulation.calibration.views = spec.calibration_views;
-  simulation.images_per_pose = spec.images_per_pose;
-  simulation.poses_from_grid = false;
+  SimulationSpec simulation = campaignSimulationBase(spec, camera, target);
   for (std::size_t i = 0; i < campaign.bTe.size(); ++i) {
     SimulatedPose pose;
     pose.id = campaign.pose_ids[i];
@@ -96,40 +88,6 @@ SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const 
     simulation.poses.push_back(pose);
   }
   return simulation;
-}
-
-void moveToTruth(const fs::path& from, const fs::path& truth_dir, const std::string& name) {
-  if (!fs::exists(from)) return;
-  fs::create_directories(truth_dir);
-  fs::rename(from, truth_dir / name);
-}
-
-// Calibration views, then the poses (as the H4 campaign); the simulator's truth to truth_dir.
-void renderImages(const MechanismImageCampaignSpec& spec, const SimulationSpec& simulation,
-                  const MechanismImageCampaign& campaign, const fs::path& truth_dir, const ProgressCallback& progress) {
-  const fs::path& directory = campaign.directory;
-  const std::size_t calibration_images =
-      static_cast<std::size_t>(spec.calibration_views) * static_cast<std::size_t>(simulation.images_per_view);
-  const std::size_t total = calibration_images + campaign.bTe.size() * static_cast<std::size_t>(spec.images_per_pose);
-  const auto offset_progress = [&](std::size_t offset) -> ProgressCallback {
-    if (!progress) return {};
-    return [&progress, offset, total](std::size_t done, std::size_t) { progress(offset + done, total); };
-  };
-  const fs::path calibration_dir = directory / "calibration";
-  fs::remove_all(campaign.calibration_images());
-  fs::remove_all(campaign.pose_images());
-  simulateCalibration(simulation, calibration_dir, offset_progress(0));
-  moveToTruth(calibration_dir / "camera.yaml", truth_dir, "camera.yaml");
-  moveToTruth(calibration_dir / "truth.yaml", truth_dir, "calibration_truth.yaml");
-  fs::remove(calibration_dir / "target.yaml");
-
-  const fs::path measurement_dir = directory / "measurement";
-  fs::remove_all(measurement_dir);
-  simulatePoses(simulation, measurement_dir, offset_progress(calibration_images));
-  fs::rename(measurement_dir / "poses", campaign.pose_images());
-  moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
-  moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
-  fs::remove_all(measurement_dir);
 }
 
 // Encoder readings of the true robot (its defects included) plus encoder noise: at the poses,
@@ -270,7 +228,7 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
   fs::create_directories(directory);
   const fs::path truth_dir = directory / "truth";
   support::writeFileAtomically(campaign.target_file(), target.yamlString());
-  renderImages(spec, campaignSimulation(spec, camera, target, campaign), campaign, truth_dir, progress);
+  renderCampaignImages(campaignSimulation(spec, camera, target, campaign), campaign.directory, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
   support::writeFileAtomically(truth_dir / "robot.yaml", truthYaml(campaign));
   return campaign;

@@ -1,0 +1,37 @@
+#pragma once
+// The image folders of a simulated campaign (the H4 demo's and the mechanism demos'):
+// DIR/calibration/images/ (calibration views) and DIR/poses/<pose_id>/ (images per pose),
+// rendered from one SimulationSpec, with the simulator's truth files moved to a truth folder.
+#include <filesystem>
+
+#include "mire/datasets/simulation.hpp"
+
+namespace mire::datasets {
+
+// The simulator's input common to the campaigns: their camera, target, rendering, noise, seed,
+// calibration views and images per pose (`CampaignSpec` has those fields: H4CampaignSpec,
+// MechanismImageCampaignSpec); the caller adds one SimulatedPose per protocol pose.
+template <class CampaignSpec>
+SimulationSpec campaignSimulationBase(const CampaignSpec& spec, const calibration::Camera& camera,
+                                      const metrology::Target& target) {
+  SimulationSpec simulation;
+  simulation.camera = camera;
+  simulation.target = target;
+  simulation.render = spec.render;
+  simulation.noise = spec.noise;
+  simulation.seed = spec.seed;
+  simulation.png = spec.png;
+  simulation.calibration.views = spec.calibration_views;
+  simulation.images_per_pose = spec.images_per_pose;
+  simulation.poses_from_grid = false;
+  return simulation;
+}
+
+// Renders the calibration views, then the poses (one progress count over both), into
+// `directory`'s calibration/images and poses folders (a previous campaign's images there are
+// removed first), and moves the simulator's camera.yaml, truth.yaml and truth_poses.csv to
+// `truth_dir` as camera.yaml, calibration_truth.yaml, poses_truth.yaml and poses_truth.csv.
+void renderCampaignImages(const SimulationSpec& simulation, const std::filesystem::path& directory,
+                          const std::filesystem::path& truth_dir, const ProgressCallback& progress);
+
+}  // namespace mire::datasets

@@ -1,0 +1,49 @@
+#include "mire/datasets/campaign_images.hpp"
+
+#include <string>
+
+namespace mire::datasets {
+namespace fs = std::filesystem;
+namespace {
+
+// Moves a file the simulator wrote beside the images into the truth folder.
+void moveToTruth(const fs::path& from, const fs::path& truth_dir, const std::string& name) {
+  if (!fs::exists(from)) return;
+  fs::create_directories(truth_dir);
+  fs::rename(from, truth_dir / name);
+}
+
+}  // namespace
+
+void renderCampaignImages(const SimulationSpec& simulation, const fs::path& directory, const fs::path& truth_dir,
+                          const ProgressCallback& progress) {
+  const std::size_t calibration_images =
+      static_cast<std::size_t>(simulation.calibration.views) * static_cast<std::size_t>(simulation.images_per_view);
+  const std::size_t total =
+      calibration_images + simulation.poses.size() * static_cast<std::size_t>(simulation.images_per_pose);
+  const auto offset_progress = [&](std::size_t offset) -> ProgressCallback {
+    if (!progress) return {};
+    return [&progress, offset, total](std::size_t done, std::size_t) { progress(offset + done, total); };
+  };
+
+  // A previous campaign in the same folder: its images go (a smaller run would leave stale
+  // views behind, and renaming onto a non-empty poses/ folder fails).
+  const fs::path calibration_dir = directory / "calibration";
+  const fs::path pose_images = directory / "poses";
+  fs::remove_all(calibration_dir / "images");
+  fs::remove_all(pose_images);
+  simulateCalibration(simulation, calibration_dir, offset_progress(0));
+  moveToTruth(calibration_dir / "camera.yaml", truth_dir, "camera.yaml");
+  moveToTruth(calibration_dir / "truth.yaml", truth_dir, "calibration_truth.yaml");
+  fs::remove(calibration_dir / "target.yaml");
+
+  const fs::path measurement_dir = directory / "measurement";
+  fs::remove_all(measurement_dir);  // left by an interrupted run
+  simulatePoses(simulation, measurement_dir, offset_progress(calibration_images));
+  fs::rename(measurement_dir / "poses", pose_images);
+  moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
+  moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
+  fs::remove_all(measurement_dir);
+}
+
+}  // namespace mire::datasets
