@@ -1,5 +1,8 @@
 #include "mire/datasets/campaign_images.hpp"
 
+#include "mire/support/yaml.hpp"
+
+#include <sstream>
 #include <string>
 
 namespace mire::datasets {
@@ -44,6 +47,16 @@ void renderCampaignImages(const SimulationSpec& simulation, const fs::path& dire
   moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
   moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
   fs::remove_all(measurement_dir);
+}
+
+std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform) {
+  std::ostringstream out;
+  out << key << ": [";
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      out << support::formatYamlNumber(transform.matrix()(r, c)) << (r == 3 && c == 3 ? "" : ", ");
+  out << "]\n";
+  return out.str();
 }
 
 }  // namespace mire::datasets

@@ -55,17 +55,6 @@ Eigen::Isometry3d markerTEffectorFor(const metrology::Target& target) {
   return marker_T_effector;
 }
 
-// Numbers as floats that YAML 1.1 readers (PyYAML) also read as numbers (doc/files.md).
-std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform) {
-  std::ostringstream out;
-  out << key << ": [";
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      out << support::formatYamlNumber(transform.matrix()(r, c)) << (r == 3 && c == 3 ? "" : ", ");
-  out << "]\n";
-  return out.str();
-}
-
 std::string geometryYaml(const H4TrueGeometry& geometry) {
   const auto n = [](double value) { return support::formatYamlNumber(value); };
   std::ostringstream out;

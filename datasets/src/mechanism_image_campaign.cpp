@@ -118,16 +118,6 @@ void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const Mechanis
   mechanism::writeLinesCsv(campaign.lines_file(), lines, columns);
 }
 
-std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform) {
-  std::ostringstream out;
-  out << key << ": [";
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      out << support::formatYamlNumber(transform.matrix()(r, c)) << (r == 3 && c == 3 ? "" : ", ");
-  out << "]\n";
-  return out.str();
-}
-
 // The true robot: its geometry in the `delta-legs` / `gough-stewart` parameters, its defects
 // and the mountings.
 std::string truthYaml(const MechanismImageCampaign& campaign) {

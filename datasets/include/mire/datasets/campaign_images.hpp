@@ -2,7 +2,10 @@
 // The image folders of a simulated campaign (the H4 demo's and the mechanism demos'):
 // DIR/calibration/images/ (calibration views) and DIR/poses/<pose_id>/ (images per pose),
 // rendered from one SimulationSpec, with the simulator's truth files moved to a truth folder.
+#include <Eigen/Geometry>
+
 #include <filesystem>
+#include <string>
 
 #include "mire/datasets/simulation.hpp"
 
@@ -33,5 +36,9 @@ SimulationSpec campaignSimulationBase(const CampaignSpec& spec, const calibratio
 // `truth_dir` as camera.yaml, calibration_truth.yaml, poses_truth.yaml and poses_truth.csv.
 void renderCampaignImages(const SimulationSpec& simulation, const std::filesystem::path& directory,
                           const std::filesystem::path& truth_dir, const ProgressCallback& progress);
+
+// `key: [16 numbers]`, the 4 × 4 matrix row by row, as the campaigns' truth files write their
+// mountings (numbers PyYAML also reads as floats, doc/files.md).
+std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform);
 
 }  // namespace mire::datasets
