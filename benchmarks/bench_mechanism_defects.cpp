@@ -36,20 +36,13 @@ struct Outcome {
   double joint_rms = 0, chi2_dof = 0;
 };
 
-// Two straight lines through the reference pose, from −(a, ±a, dz) to +(a, ±a, dz); `reach`
-// scales the default half-extents (Delta 120 / 50 mm, hexapod 40 / 25 mm).
-std::vector<std::vector<Eigen::VectorXd>> recordLines(const DefectiveRobot& robot, bool translation, double reach) {
+// The true robot's encoder readings along the two V3 lines (datasets::straightLinePoses, 21
+// poses each; `reach` scales their extent).
+std::vector<std::vector<Eigen::VectorXd>> recordLines(const DefectiveRobot& robot, double reach) {
   std::vector<std::vector<Eigen::VectorXd>> lines;
-  const Eigen::VectorXd ref = robot.mechanism().referencePose(robot.geometry.values());
-  const double a = reach * (translation ? 0.12 : 0.04), dz = reach * (translation ? 0.05 : 0.025);
-  for (int sign : {1, -1}) {
+  for (const auto& poses : straightLinePoses(robot, 21, reach)) {
     std::vector<Eigen::VectorXd> q;
-    for (int k = 0; k <= 20; ++k) {
-      const double s = -1.0 + k / 10.0;
-      Eigen::VectorXd X = ref;
-      X[0] += a * s;
-      X[1] += sign * a * s;
-      X[2] += dz * s;
+    for (const Eigen::VectorXd& X : poses) {
       q.push_back(robot.joints(X));
       if (q.back().size() == 0) throw std::runtime_error("V3 line leaves the true robot's workspace");
     }
@@ -58,22 +51,12 @@ std::vector<std::vector<Eigen::VectorXd>> recordLines(const DefectiveRobot& robo
   return lines;
 }
 
-Scores score(const DefectiveRobot& robot, const Mechanism& m, const Eigen::VectorXd& g, bool translation, double reach) {
+Scores score(const DefectiveRobot& robot, const Mechanism& m, const Eigen::VectorXd& g, double reach) {
   Scores s;
-  const StraightnessResult v3 = straightnessCriterion(m, g, recordLines(robot, translation, reach));
+  const StraightnessResult v3 = straightnessCriterion(m, g, recordLines(robot, reach));
   s.v3 = v3.ok ? v3.v3_m : NAN;
-  const Eigen::VectorXd ref = m.referencePose(g);
-  std::vector<Eigen::Vector3d> reached;
-  const double corners[5][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {-1, -1}};
-  for (const auto& c : corners) {
-    Eigen::VectorXd X = ref;
-    X[0] += 0.05 * c[0];
-    X[1] += 0.05 * c[1];
-    const IkmResult ikm = m.inverseKinematics(g, m.poseToTransform(X));
-    reached.push_back(robot.fkm(ikm.joints).head<3>());
-  }
   double sq = 0;
-  for (int k = 0; k < 4; ++k) sq += std::pow((reached[k + 1] - reached[k]).norm() - 0.1, 2);
+  for (const double side : positioningTestSides(robot, m, g)) sq += side * side;
   s.square = std::sqrt(sq / 4);
   return s;
 }
@@ -102,8 +85,8 @@ Outcome study(const Case& k, unsigned seed) {
   const IdentificationResult result = identify(initial, c.poses);
   const bool translation = reg.mechanism->motionType() == MotionType::Translation;
   Outcome o;
-  o.before = score(robot, *reg.mechanism, reg.nominal.values(), translation, k.reach);
-  o.after = score(robot, *reg.mechanism, result.model.geometricValues(), translation, k.reach);
+  o.before = score(robot, *reg.mechanism, reg.nominal.values(), k.reach);
+  o.after = score(robot, *reg.mechanism, result.model.geometricValues(), k.reach);
   o.joint_rms = result.rms_joint_residual * (translation ? 57.29578 : 1e3);
   const double dof = static_cast<double>(c.poses.size()) * reg.mechanism->jointCount() - result.free_names.size();
   o.chi2_dof = result.weighted ? result.chi2 / dof : NAN;

@@ -16,7 +16,6 @@
 #include "mire/support/progress.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -128,26 +127,11 @@ void scoreParameters(const mech::IdentificationResult& result, const std::option
   score.error_over_sigma_rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, result.free_names.size())));
 }
 
-// The positioning test (benchmarks/bench_mechanism_defects.cpp): a 100 mm square at the
-// workspace centre commanded through the model's IKM at `geometric`, reached by the true
-// robot; the 3-D side-length errors (frame-invariant: the model's base frame is a gauge).
+// The positioning test in mm (datasets::positioningTestSides: a 100 mm square).
 std::array<double, 4> squareSides(const datasets::DefectiveRobot& robot, const mech::Mechanism& model,
                                   const Eigen::VectorXd& geometric) {
-  constexpr double kSide = 0.1;
-  const double corners[5][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {-1, -1}};
-  const Eigen::VectorXd centre = model.referencePose(geometric);
-  std::vector<Eigen::Vector3d> reached;
-  for (const auto& corner : corners) {
-    Eigen::VectorXd X = centre;
-    X[0] += 0.5 * kSide * corner[0];
-    X[1] += 0.5 * kSide * corner[1];
-    const mech::IkmResult ikm = model.inverseKinematics(geometric, model.poseToTransform(X));
-    if (!ikm.reachable()) throw std::runtime_error("positioning test: a corner is unreachable for " + model.name());
-    reached.push_back(robot.fkm(ikm.joints).head<3>());
-  }
-  std::array<double, 4> sides_mm{};
-  for (int k = 0; k < 4; ++k)
-    sides_mm[static_cast<std::size_t>(k)] = 1e3 * ((reached[k + 1] - reached[k]).norm() - kSide);
+  std::array<double, 4> sides_mm = datasets::positioningTestSides(robot, model, geometric);
+  for (double& side : sides_mm) side *= 1e3;
   return sides_mm;
 }
 
@@ -230,7 +214,7 @@ datasets::MechanismImageCampaignSpec campaignSpec(const DemoOptions& options) {
 }  // namespace
 
 // Stages: simulate, calibrate, measure, identify each model (Delta: the simple and the per-leg
-// model; hexapod: its 42-parameter model), then the report.
+// model; hexapod: the 42-parameter model and the one with encoder scales), then the report.
 MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   MechanismDemoResults results;
   results.mechanism = options.mechanism;

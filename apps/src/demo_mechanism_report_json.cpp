@@ -18,19 +18,7 @@ Json modelJson(const MechanismModelScore& s) {
   setNumber(out, "chi2_per_dof", s.chi2_per_dof, "not computed");
   out["has_truth"] = s.has_truth;
   const char* no_truth = "the true robot is not of this model";
-  Json parameters = Json::array();
-  std::vector<std::string> names, units;
-  for (const DemoParameterScore& p : s.identified) {
-    Json item{{"name", p.name}, {"unit", p.si_unit}};
-    setNumber(item, "value", p.si_estimate, "not computed");
-    setNumber(item, "sigma", p.si_sigma, "not computed");
-    setNumber(item, "truth_in_gauge", p.si_truth, no_truth);
-    parameters.push_back(item);
-    names.push_back(p.name);
-    units.push_back(p.si_unit);
-  }
-  out["parameters"] = parameters;
-  out["covariance"] = covarianceJson(names, units, s.covariance);
+  demo_report::setParameterScores(out, s.identified, s.covariance, "truth_in_gauge", no_truth);
   setNumber(out, "error_over_sigma_rms", s.has_truth ? s.error_over_sigma_rms : NAN, no_truth);
   setNumber(out, "error_over_sigma_max", s.has_truth ? s.error_over_sigma_max : NAN, no_truth);
   setNumber(out, "v3_nominal_m", s.v3_before_m, none);

@@ -43,22 +43,10 @@ Json poseCountsJson(const DemoResults& r) {
 
 // Variant D on all poses, SI (as identified_D.yaml), with the truth and the full covariance.
 Json identifiedJson(const DemoResults& r) {
-  Json parameters = Json::array();
-  std::vector<std::string> names, units;
-  for (const DemoParameterScore& p : r.identified) {
-    Json item{{"name", p.name}, {"unit", p.si_unit}};
-    setNumber(item, "value", p.si_estimate, "not computed");
-    setNumber(item, "sigma", p.si_sigma, "not computed");
-    setNumber(item, "truth", p.si_truth, "not computed");
-    parameters.push_back(item);
-    names.push_back(p.name);
-    units.push_back(p.si_unit);
-  }
   Json out{{"variant", "D"}, {"file", "identified_D.yaml"}, {"sigma_method", r.sigma_method}};
   setNumber(out, "chi2_per_dof", r.chi2_per_dof, "not computed");
   out["outlier_poses"] = r.outlier_count;
-  out["parameters"] = parameters;
-  out["covariance"] = covarianceJson(names, units, r.identified_covariance);
+  demo_report::setParameterScores(out, r.identified, r.identified_covariance, "truth", "not computed");
   return out;
 }
 

@@ -99,4 +99,21 @@ Json measurementJson(const DemoMeasurement& m) {
   return out;
 }
 
+void setParameterScores(Json& out, const std::vector<DemoParameterScore>& scores, const Eigen::MatrixXd& covariance,
+                        const std::string& truth_key, const std::string& no_truth_reason) {
+  Json parameters = Json::array();
+  std::vector<std::string> names, units;
+  for (const DemoParameterScore& p : scores) {
+    Json item{{"name", p.name}, {"unit", p.si_unit}};
+    setNumber(item, "value", p.si_estimate, "not computed");
+    setNumber(item, "sigma", p.si_sigma, "not computed");
+    setNumber(item, truth_key, p.si_truth, no_truth_reason);
+    parameters.push_back(item);
+    names.push_back(p.name);
+    units.push_back(p.si_unit);
+  }
+  out["parameters"] = parameters;
+  out["covariance"] = covarianceJson(names, units, covariance);
+}
+
 }  // namespace mire::app::demo_report

@@ -24,5 +24,9 @@ void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const
 
 Json calibrationJson(const DemoCalibration& c);
 Json measurementJson(const DemoMeasurement& m);
+// out["parameters"] (name, unit, value, sigma and the truth under `truth_key`, SI) and
+// out["covariance"] of identified parameters.
+void setParameterScores(Json& out, const std::vector<DemoParameterScore>& scores, const Eigen::MatrixXd& covariance,
+                        const std::string& truth_key, const std::string& no_truth_reason);
 
 }  // namespace mire::app::demo_report

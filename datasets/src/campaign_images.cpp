@@ -2,6 +2,7 @@
 
 #include "mire/support/yaml.hpp"
 
+#include <cstdio>
 #include <sstream>
 #include <string>
 
@@ -47,6 +48,18 @@ void renderCampaignImages(const SimulationSpec& simulation, const fs::path& dire
   moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
   moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
   fs::remove_all(measurement_dir);
+}
+
+std::string campaignPoseId(std::size_t index) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "p%03zu", index + 1);
+  return buffer;
+}
+
+Eigen::Vector3d targetCentroid(const metrology::Target& target) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& point : target.points()) sum += point;
+  return sum / static_cast<double>(target.points().size());
 }
 
 std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform) {

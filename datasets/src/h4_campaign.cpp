@@ -37,18 +37,10 @@ H4CampaignSpec H4CampaignSpec::reference() {
 
 namespace {
 
-std::string poseId(std::size_t index) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "p%03zu", index + 1);
-  return buffer;
-}
-
 // The board is mounted centred under the effector (the default mounting's offset is for a
 // generic board; here it is the centroid of this target's features).
 Eigen::Isometry3d markerTEffectorFor(const metrology::Target& target) {
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& point : target.points()) centroid += point;
-  centroid /= static_cast<double>(target.points().size());
+  const Eigen::Vector3d centroid = targetCentroid(target);
   Eigen::Isometry3d marker_T_effector = defaultMarkerTEffector();
   marker_T_effector.translation().x() = centroid.x();
   marker_T_effector.translation().y() = centroid.y();
@@ -124,7 +116,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
                       {},
                       straightLineMotions(spec.grid, spec.line_points),
                       directory};
-  for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(poseId(i));
+  for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(campaignPoseId(i));
 
   fs::create_directories(directory);
   const fs::path truth_dir = directory / "truth";

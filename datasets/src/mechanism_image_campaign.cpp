@@ -25,38 +25,11 @@ void checkMechanism(const std::string& mechanism) {
     throw std::invalid_argument("unknown demo mechanism '" + mechanism + "' (known: h4, delta, gough-stewart)");
 }
 
-std::string poseId(std::size_t index) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "p%03zu", index + 1);
-  return buffer;
-}
-
 Eigen::Isometry3d isometry(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
   transform.linear() = rotation;
   transform.translation() = translation;
   return transform;
-}
-
-// The two straight lines of criterion V3 (paper §6.1) through the workspace centre, as
-// benchmarks/bench_mechanism_defects.cpp records them: diagonals rising in z.
-std::array<std::vector<Eigen::VectorXd>, 2> straightLines(const DefectiveRobot& robot, int points) {
-  const bool delta = robot.mechanism().motionType() == MotionType::Translation;
-  const Eigen::VectorXd ref = robot.mechanism().referencePose(robot.geometry.values());
-  const double a = delta ? 0.12 : 0.04, dz = delta ? 0.05 : 0.025;
-  std::array<std::vector<Eigen::VectorXd>, 2> lines;
-  for (int line = 0; line < 2; ++line) {
-    const double sign = line == 0 ? 1.0 : -1.0;
-    for (int k = 0; k < points; ++k) {
-      const double s = -1.0 + 2.0 * k / (points - 1);
-      Eigen::VectorXd X = ref;
-      X[0] += a * s;
-      X[1] += sign * a * s;
-      X[2] += dz * s;
-      lines[static_cast<std::size_t>(line)].push_back(X);
-    }
-  }
-  return lines;
 }
 
 // Every target feature at least `margin` px inside the image at every pose (the measurement
@@ -171,9 +144,7 @@ Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism) {
 // (the board's z axis points away from the camera, OpenCV's convention).
 Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target) {
   checkMechanism(mechanism);
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& point : target.points()) centroid += point;
-  centroid /= static_cast<double>(target.points().size());
+  const Eigen::Vector3d centroid = targetCentroid(target);
   Eigen::Matrix3d rotation = Eigen::AngleAxisd(10.0 * kCampaignDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   if (!isDelta(mechanism)) rotation = Eigen::AngleAxisd(kCampaignDeg * 180.0, Eigen::Vector3d::UnitX()) * rotation;
   return isometry(rotation, Eigen::Vector3d(centroid.x(), centroid.y(), 0.04));
@@ -210,9 +181,9 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
     const Eigen::VectorXd X = mechanism.transformToPose(pose);
     campaign.commanded.push_back(X);
     campaign.bTe.push_back(campaign.robot.effector(X));
-    campaign.pose_ids.push_back(poseId(campaign.pose_ids.size()));
+    campaign.pose_ids.push_back(campaignPoseId(campaign.pose_ids.size()));
   }
-  campaign.lines = straightLines(campaign.robot, spec.line_points);
+  campaign.lines = straightLinePoses(campaign.robot, spec.line_points);
   checkTargetInView(campaign, target);
 
   fs::create_directories(directory);

@@ -1,4 +1,5 @@
 // Where the simulated target goes: calibration views and the effector pose grid.
+#include "mire/datasets/campaign_images.hpp"
 #include "mire/datasets/simulation.hpp"
 #include "mire/support/constants.hpp"
 
@@ -13,12 +14,6 @@ namespace {
 
 using support::kPi;
 using support::kRadiansPerDegree;
-
-Eigen::Vector3d centroid(const metrology::Target& target) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& point : target.points()) sum += point;
-  return sum / static_cast<double>(target.points().size());
-}
 
 // True when every feature, and the board's outline one feature spacing beyond them (a
 // chessboard's outer squares, a grid's quiet zone), projects inside the image by `margin`.
@@ -65,7 +60,7 @@ Eigen::Isometry3d placeTarget(const calibration::Camera& camera, const metrology
   const Eigen::Vector3d centre = placement.distance_m * Eigen::Vector3d(ray.x(), ray.y(), 1.0).normalized();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = rotation;
-  pose.translation() = centre - rotation * centroid(target);
+  pose.translation() = centre - rotation * targetCentroid(target);
   return pose;
 }
 
@@ -139,7 +134,7 @@ std::vector<SimulatedPose> generatePoseGrid(const metrology::Target& target, con
   // camera: target z (into the board) = -z_E, hence a half turn about x.
   Eigen::Isometry3d effector_T_target = Eigen::Isometry3d::Identity();
   effector_T_target.linear() = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  effector_T_target.translation() = -(effector_T_target.linear() * centroid(target));
+  effector_T_target.translation() = -(effector_T_target.linear() * targetCentroid(target));
   std::vector<SimulatedPose> poses;
   const auto axis = [&](int i, int index) {
     const int count = spec.counts[i];

@@ -37,6 +37,12 @@ SimulationSpec campaignSimulationBase(const CampaignSpec& spec, const calibratio
 void renderCampaignImages(const SimulationSpec& simulation, const std::filesystem::path& directory,
                           const std::filesystem::path& truth_dir, const ProgressCallback& progress);
 
+// The campaigns' pose ids: p001, p002, … (index 0 → p001); they name the pose folders.
+std::string campaignPoseId(std::size_t index);
+
+// Mean of the target's feature points (frame M): where the campaigns centre the board.
+Eigen::Vector3d targetCentroid(const metrology::Target& target);
+
 // `key: [16 numbers]`, the 4 × 4 matrix row by row, as the campaigns' truth files write their
 // mountings (numbers PyYAML also reads as floats, doc/files.md).
 std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform);

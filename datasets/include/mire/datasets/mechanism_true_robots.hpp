@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -154,6 +155,51 @@ inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std
     p.covariance = cov;
   }
   return c;
+}
+
+// The two straight lines of criterion V3 (paper §6.1) through the reference pose, as the
+// benchmark and the mechanism demo record them: from −(a, ±a, dz) to +(a, ±a, dz) in `points`
+// poses; `reach` scales the half-extents (Delta 120 / 50 mm, hexapod 40 / 25 mm).
+inline std::array<std::vector<Eigen::VectorXd>, 2> straightLinePoses(const DefectiveRobot& robot, int points,
+                                                                     double reach = 1.0) {
+  const bool translation = robot.mechanism().motionType() == MotionType::Translation;
+  const Eigen::VectorXd ref = robot.mechanism().referencePose(robot.geometry.values());
+  const double a = reach * (translation ? 0.12 : 0.04), dz = reach * (translation ? 0.05 : 0.025);
+  std::array<std::vector<Eigen::VectorXd>, 2> lines;
+  for (int line = 0; line < 2; ++line) {
+    const double sign = line == 0 ? 1.0 : -1.0;
+    for (int k = 0; k < points; ++k) {
+      const double s = -1.0 + 2.0 * k / (points - 1);
+      Eigen::VectorXd X = ref;
+      X[0] += a * s;
+      X[1] += sign * a * s;
+      X[2] += dz * s;
+      lines[static_cast<std::size_t>(line)].push_back(X);
+    }
+  }
+  return lines;
+}
+
+// The positioning test (the square test generalised, doc/mechanisms.md): a `side` square at the
+// model's reference pose commanded through its IKM at `geometric`, reached by the true robot;
+// the 3-D side-length errors [m] (frame-invariant: the model's base frame is a gauge). Throws
+// when a corner is unreachable for the model.
+inline std::array<double, 4> positioningTestSides(const DefectiveRobot& robot, const Mechanism& model,
+                                                  const Eigen::VectorXd& geometric, double side = 0.1) {
+  const double corners[5][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {-1, -1}};
+  const Eigen::VectorXd centre = model.referencePose(geometric);
+  std::vector<Eigen::Vector3d> reached;
+  for (const auto& corner : corners) {
+    Eigen::VectorXd X = centre;
+    X[0] += 0.5 * side * corner[0];
+    X[1] += 0.5 * side * corner[1];
+    const IkmResult ikm = model.inverseKinematics(geometric, model.poseToTransform(X));
+    if (!ikm.reachable()) throw std::runtime_error("positioning test: a corner is unreachable for " + model.name());
+    reached.push_back(robot.fkm(ikm.joints).head<3>());
+  }
+  std::array<double, 4> sides{};
+  for (std::size_t k = 0; k < 4; ++k) sides[k] = (reached[k + 1] - reached[k]).norm() - side;
+  return sides;
 }
 
 }  // namespace mire::datasets
