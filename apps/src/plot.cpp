@@ -73,7 +73,9 @@ YAxis makeAxis(const std::vector<Series>& series, YScale scale, int height) {
     return axis;
   }
   if (!std::isfinite(minimum)) minimum = maximum > 0.0 ? maximum : 1.0;
-  const double low = std::floor(std::log10(minimum)), high = std::ceil(std::log10(std::max(maximum, minimum)));
+  // The smallest value stands at least a quarter decade above the axis (a bar at 0.0106 on an
+  // axis from 0.01 would be invisible).
+  const double low = std::floor(std::log10(minimum) - 0.25), high = std::ceil(std::log10(std::max(maximum, minimum)));
   axis.low = std::pow(10.0, low);
   axis.high = std::pow(10.0, std::max(high, low + 1.0));
   return axis;
