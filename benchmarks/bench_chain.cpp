@@ -5,8 +5,9 @@
 // shared-term side file, identify model 12 (variant D) — and scores every stage against the
 // simulator's truth: calibration error/σ, pose error/σ, identification error/σ with and without
 // the shared calibration term.
-// Usage: bench_chain [chains=20] [images_per_pose=10] [work_dir=/tmp/mire_bench_chain]
+// Usage: bench_chain [chains=20] [images_per_pose=10] [work_dir=/tmp/mire_bench_chain] [drawn|fixed]
 // Even chains: the same robot (robot seed 2004); odd chains: a different random robot each.
+// Camera placement: drawn anew per chain (default), or the demo's for every chain ("fixed").
 #include "image_folders.hpp"
 
 #include "mire/calibration/calibrate.hpp"
@@ -19,6 +20,7 @@
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/shared_term_csv.hpp"
+#include "mire/support/constants.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -30,6 +32,7 @@
 #include <ctime>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -88,13 +91,31 @@ struct Study {
   int chains = 0, failed = 0;
 };
 
-datasets::H4CampaignSpec chainSpec(int chain, int images_per_pose) {
+// A camera placement per chain: the demo's (datasets::defaultBaseTCamera) turned about the
+// base's z axis by any angle, tilted by up to 2° and moved by up to 20 mm, so that the target's
+// features fall on other pixels and the detector's systematic error differs between chains.
+Eigen::Isometry3d drawnPlacement(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double degree = support::kRadiansPerDegree;
+  Eigen::Isometry3d base_T_camera = datasets::defaultBaseTCamera();
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(180.0 * degree * unit(rng), Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(2.0 * degree * unit(rng), Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(2.0 * degree * unit(rng), Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
+  base_T_camera.linear() = turn * base_T_camera.linear();
+  base_T_camera.translation() += 0.02 * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+  return base_T_camera;
+}
+
+datasets::H4CampaignSpec chainSpec(int chain, int images_per_pose, bool draw_placement) {
   datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
   spec.seed = 19000 + static_cast<std::uint64_t>(chain);  // new images and encoder noise
   spec.robot_seed = chain % 2 == 0 ? 2004 : 5000 + static_cast<std::uint64_t>(chain);
   spec.errors.leg_length_m = spec.errors.pivot_height_m = spec.errors.axis_tilt_rad = spec.errors.bar_mismatch_m = 0.0;
   spec.images_per_pose = images_per_pose;
   spec.line_points = 3;  // the lines (V3) are not used here
+  if (draw_placement) spec.base_T_camera = drawnPlacement(spec.seed);
   return spec;
 }
 
@@ -211,8 +232,8 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
   study.value_shift.push_back(shift);
 }
 
-void runChain(int chain, int images_per_pose, const fs::path& work, Study& study) {
-  const datasets::H4CampaignSpec spec = chainSpec(chain, images_per_pose);
+void runChain(int chain, int images_per_pose, bool draw_placement, const fs::path& work, Study& study) {
+  const datasets::H4CampaignSpec spec = chainSpec(chain, images_per_pose, draw_placement);
   const fs::path dir = work / ("chain" + std::to_string(chain));
   const double start = processCpuSeconds();
   const auto wall = std::chrono::steady_clock::now();
@@ -301,20 +322,22 @@ int main(int argc, char** argv) {
   const int chains = argc > 1 ? std::atoi(argv[1]) : 20;
   const int images = argc > 2 ? std::atoi(argv[2]) : datasets::H4CampaignSpec::reference().images_per_pose;
   const fs::path work = argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "mire_bench_chain";
-  if (chains < 2 || images < 1) {
-    std::fprintf(stderr, "usage: bench_chain [chains>=2] [images_per_pose>=1] [work_dir]\n");
+  const std::string placement = argc > 4 ? argv[4] : "drawn";
+  const bool draw_placement = placement == "drawn";
+  if (chains < 2 || images < 1 || (placement != "drawn" && placement != "fixed")) {
+    std::fprintf(stderr, "usage: bench_chain [chains>=2] [images_per_pose>=1] [work_dir] [drawn|fixed]\n");
     return 2;
   }
   std::printf(
       "%d chains, %d images per pose, exactly-model-12 H4 (demo error sizes, no unmodelled defects), "
-      "robot seed 2004 on even chains, a new one on odd chains; work dir %s\n",
-      chains, images, work.string().c_str());
+      "robot seed 2004 on even chains, a new one on odd chains; camera placement %s; work dir %s\n",
+      chains, images, draw_placement ? "drawn per chain" : "the demo's", work.string().c_str());
   Study study;
   // Some random robots cannot be initialised from the nominal (5° encoder offsets): such a
   // chain is reported and replaced, up to `chains` more attempts.
   for (int chain = 0; study.chains < chains && chain < 2 * chains; ++chain) {
     try {
-      runChain(chain, images, work, study);
+      runChain(chain, images, draw_placement, work, study);
     } catch (const std::exception& e) {
       ++study.failed;
       std::printf("chain %2d failed: %s\n", chain, e.what());

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace mire::datasets {
@@ -48,6 +49,20 @@ void renderCampaignImages(const SimulationSpec& simulation, const fs::path& dire
   moveToTruth(measurement_dir / "truth.yaml", truth_dir, "poses_truth.yaml");
   moveToTruth(measurement_dir / "truth_poses.csv", truth_dir, "poses_truth.csv");
   fs::remove_all(measurement_dir);
+}
+
+void checkTargetInView(const SimulationSpec& simulation, const std::string& what) {
+  constexpr double kMargin = 10.0;
+  const calibration::Camera& camera = simulation.camera;
+  for (const SimulatedPose& pose : simulation.poses)
+    for (const Eigen::Vector3d& point : simulation.target.points()) {
+      Eigen::Vector2d pixel;
+      const Eigen::Vector3d in_camera = pose.camera_T_target * point;
+      const bool inside = in_camera.z() > 0.0 && camera.project(in_camera, &pixel) && pixel.x() >= kMargin &&
+                          pixel.y() >= kMargin && pixel.x() <= camera.width - 1 - kMargin &&
+                          pixel.y() <= camera.height - 1 - kMargin;
+      if (!inside) throw std::runtime_error(what + ": the target leaves the image at pose " + pose.id);
+    }
 }
 
 std::string campaignPoseId(std::size_t index) {

@@ -110,18 +110,21 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   const metrology::Target target = metrology::Target::fromFile(target_file);
 
   const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.robot_seed.value_or(spec.seed));
-  H4Campaign campaign{H4TrueRobot(geometry, defaultBaseTCamera(), markerTEffectorFor(target)),
-                      camera,
-                      protocolPoses(spec.grid),
-                      {},
-                      straightLineMotions(spec.grid, spec.line_points),
-                      directory};
+  H4Campaign campaign{
+      H4TrueRobot(geometry, spec.base_T_camera.value_or(defaultBaseTCamera()), markerTEffectorFor(target)),
+      camera,
+      protocolPoses(spec.grid),
+      {},
+      straightLineMotions(spec.grid, spec.line_points),
+      directory};
   for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(campaignPoseId(i));
 
+  const SimulationSpec simulation = campaignSimulation(spec, camera, target, campaign);
+  checkTargetInView(simulation, "simulated H4");
   fs::create_directories(directory);
   const fs::path truth_dir = directory / "truth";
   support::writeFileAtomically(campaign.target_file(), target.yamlString());
-  renderCampaignImages(campaignSimulation(spec, camera, target, campaign), campaign.directory, truth_dir, progress);
+  renderCampaignImages(simulation, campaign.directory, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
   support::writeFileAtomically(truth_dir / "robot.yaml", geometryYaml(geometry) +
                                                              isometryYaml("bTc", campaign.robot.baseTCamera()) +

@@ -198,7 +198,7 @@ std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text
 std::string defaultSelectionModels(int joint_count, Unit unit) {
   if (joint_count == 4 && unit == Unit::Radian) return "h4-12:A,B,C,D,h4-31c:E,F,G,H";
   if (joint_count == 3 && unit == Unit::Radian) return "delta,delta-legs";
-  if (joint_count == 6 && unit == Unit::Metre) return "gough-stewart";
+  if (joint_count == 6 && unit == Unit::Metre) return "gough-stewart,gough-stewart-gains";
   throw std::invalid_argument("no registered mechanism has " + std::to_string(joint_count) + " joints in " +
                               unitName(unit) + ": give --models");
 }

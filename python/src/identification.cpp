@@ -7,6 +7,7 @@
 #include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
+#include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/variants.hpp"
 
 #include <memory>
@@ -166,7 +167,18 @@ void bindResult(py::module_& m) {
          const std::vector<mech::PoseObservation>& poses) {
         mech::alignTranslatingTarget(*mechanism, form, parameters, poses);
       },
-      py::arg("mechanism"), py::arg("form"), py::arg("parameters"), py::arg("poses"), "Updates `parameters` in place.");
+      py::arg("mechanism"), py::arg("form"), py::arg("parameters"), py::arg("poses"),
+      "Updates `parameters` in place (values only: prefer the overload on a result).");
+  m.def(
+      "alignTranslatingTarget",
+      [](mech::IdentificationResult& result, const std::vector<mech::PoseObservation>& poses) {
+        return mech::alignTranslatingTarget(result, poses);
+      },
+      py::arg("result"), py::arg("poses"),
+      "On an identification result, as `mire identify` does for a translating plate (Delta): sets the "
+      "target's rotation from the measured orientations, turns the covariance rows of the target offset "
+      "with it (in place) and returns the 3x3 covariance of the mean orientation; None (and no change) "
+      "for other motions.");
 }
 
 // The H4 variants A–H (paper Table 2) and the calibration term shared by every pose.

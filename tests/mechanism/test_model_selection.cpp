@@ -28,7 +28,7 @@ TEST(ModelSelection, ParsesVariantsAndModels) {
   EXPECT_THROW(h4Candidates("h4-99"), std::invalid_argument);  // unknown model
   EXPECT_THROW(h4Candidates("A,B"), std::invalid_argument);    // letters without a model
   EXPECT_EQ(defaultSelectionModels(4, Unit::Radian), "h4-12:A,B,C,D,h4-31c:E,F,G,H");
-  EXPECT_EQ(defaultSelectionModels(6, Unit::Metre), "gough-stewart");
+  EXPECT_EQ(defaultSelectionModels(6, Unit::Metre), "gough-stewart,gough-stewart-gains");
 }
 
 TEST(ModelSelection, ExactModel12RobotGetsAModel12Variant) {

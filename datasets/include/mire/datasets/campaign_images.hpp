@@ -30,6 +30,11 @@ SimulationSpec campaignSimulationBase(const CampaignSpec& spec, const calibratio
   return simulation;
 }
 
+// Throws std::runtime_error("<what>: the target leaves the image at pose <id>") unless every
+// target feature projects at least 10 px inside the image at every pose of `simulation` (the
+// measurement needs the whole board).
+void checkTargetInView(const SimulationSpec& simulation, const std::string& what);
+
 // Renders the calibration views, then the poses (one progress count over both), into
 // `directory`'s calibration/images and poses folders (a previous campaign's images there are
 // removed first), and moves the simulator's camera.yaml, truth.yaml and truth_poses.csv to

@@ -36,6 +36,9 @@ struct H4CampaignSpec {
   // The true robot's draw (its errors); unset: `seed`. Set, it keeps one robot while `seed`
   // renews the images and encoder noise (benchmarks/bench_chain.cpp).
   std::optional<std::uint64_t> robot_seed;
+  // The camera's placement bTc; unset: defaultBaseTCamera(). The chain study draws one per chain
+  // so that the detector's systematic feature error differs between chains (doc/uncertainty.md).
+  std::optional<Eigen::Isometry3d> base_T_camera;
   // The images are read back once by the pipeline: stored PNG, 10x cheaper to write and 7x
   // to read than compressed, for twice the disk space (png.hpp).
   PngEncoding png = PngEncoding::Stored;
@@ -63,6 +66,8 @@ struct H4Campaign {
 };
 
 // Generates the campaign under `directory` (created; existing files are replaced atomically).
+// Throws std::runtime_error naming the pose, before writing anything, when a target feature
+// would come within 10 px of the image border at a protocol pose (campaign_images.hpp).
 // `progress` is called after each image written.
 H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const std::filesystem::path& directory,
                               const ProgressCallback& progress = {});
