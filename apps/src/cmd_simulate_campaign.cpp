@@ -54,7 +54,7 @@ struct ModelGuide {
 
 std::optional<ModelGuide> guideFor(const std::string& mechanism) {
   if (mechanism == "h4")
-    return ModelGuide{"h4-12", "every parameter (the H4's mounting is axis-aligned: no gauge)",
+    return ModelGuide{"h4-12", "its 12 geometric parameters (model 12's mounting is axis-aligned: no gauge)",
                       "h4-31c (variants E-H: --variant)"};
   if (mechanism == "delta")
     return ModelGuide{"delta-legs", "L1..L3 and l1..l3 (the pivots, axes and q0i are in the frame of the gauge)",
