@@ -351,8 +351,13 @@ void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, 
     out << "joints without a measured pose (ignored): " << inputs.observations.unused_joint_ids.size() << "\n";
   const double rms_after = result.rms_joint_residual;
   char line[256];
-  std::snprintf(line, sizeof line, "joint residual RMS: before %.4f deg (%.3e rad), after %.4f deg (%.3e rad)\n",
-                rms_before * kDegreesPerRadian, rms_before, rms_after * kDegreesPerRadian, rms_after);
+  // Rotary joints in deg (rad), prismatic ones (the hexapod's legs) in mm (m).
+  const bool rotary = result.model.mechanism->jointUnits().front() == mech::Unit::Radian;
+  const double display = rotary ? kDegreesPerRadian : 1e3;
+  const char* const unit = rotary ? "deg" : "mm";
+  const char* const si = rotary ? "rad" : "m";
+  std::snprintf(line, sizeof line, "joint residual RMS: before %.4f %s (%.3e %s), after %.4f %s (%.3e %s)\n",
+                rms_before * display, unit, rms_before, si, rms_after * display, unit, rms_after, si);
   out << line;
   std::snprintf(line, sizeof line, "condition number %.4g (%s), rank %d of %zu\n",
                 result.identifiability.condition_number, result.identifiability.scaling.c_str(),

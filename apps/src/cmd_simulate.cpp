@@ -1,7 +1,9 @@
 // `mire simulate calibration|poses --spec SPEC.yaml -o DIR`: synthetic image sets with their
-// ground truth (issue 3). Glue only: the spec and the generation live in mire::datasets.
+// ground truth (issue 3); `mire simulate campaign` is in cmd_simulate_campaign.cpp. Glue only: the
+// spec and the generation live in mire::datasets.
 #include "commands.hpp"
 #include "output_paths.hpp"
+#include "simulate_campaign.hpp"
 #include "simulation_checks.hpp"
 #include "validate.hpp"
 
@@ -74,7 +76,9 @@ Runner addSimulateCommand(CLI::App& app) {
   CLI::App* poses = simulate->add_subcommand(
       "poses", "Images per pose: DIR/poses/<pose_id>/img_XX.png + DIR/truth.yaml + DIR/truth_poses.csv");
   addSpecOptions(poses, poses_options.get());
-  return [calibration, calibration_options, poses_options] {
+  const SimulateSubcommand campaign = addSimulateCampaignSubcommand(*simulate);
+  return [calibration, calibration_options, poses_options, campaign] {
+    if (campaign.command->parsed()) return campaign.run();
     const bool is_calibration = calibration->parsed();
     return runSimulation(is_calibration ? *calibration_options : *poses_options, is_calibration);
   };

@@ -741,6 +741,35 @@ void specCases(std::vector<Case>& c) {
       1, {"20000x20000"});
 }
 
+// ---- mire simulate campaign: refused before any rendering ----
+void simulateCampaignCases(std::vector<Case>& c) {
+  const auto campaign = [](const std::string& extra) {
+    return [extra](Env e) { return "simulate campaign -o " + e.p("out") + " " + extra; };
+  };
+  const std::vector<std::tuple<std::string, std::string, std::vector<std::string>>> options = {
+      {"MechanismUnknown", "--mechanism scara", {"--mechanism 'scara'", "valid: h4, delta, gough-stewart"}},
+      {"MechanismMissing", "", {"--mechanism"}},
+      {"ImagesPerPoseZero", "--mechanism delta --images-per-pose 0", {"--images-per-pose 0", "1 to 100"}},
+      {"ImagesPerPoseNegative", "--mechanism delta --images-per-pose -3", {"--images-per-pose"}},
+      {"ImagesPerPoseHuge", "--mechanism h4 --images-per-pose 1000", {"--images-per-pose 1000", "1 to 100"}},
+      {"ImagesPerPoseText", "--mechanism delta --images-per-pose many", {"--images-per-pose"}},
+      {"CalibrationViewsTwo", "--mechanism delta --calibration-views 2", {"--calibration-views 2", "at least 3"}},
+      {"SeedNegative", "--mechanism delta --seed -1", {"--seed"}},
+  };
+  for (const auto& [name, extra, message] : options) add(c, "SimulateCampaign" + name, campaign(extra), 2, message);
+  add(c, "SimulateCampaignOutputNotACampaign",
+      [](Env e) {
+        e.write("mine/notes.txt", "my notes");
+        return "simulate campaign --mechanism delta -o " + e.p("mine");
+      },
+      2, {"mine", "not a previous campaign (no truth/robot.yaml)"});
+  add(c, "SimulateCampaignOutputEmpty", [](Env) { return std::string("simulate campaign --mechanism delta -o ''"); }, 2,
+      {"-o: empty path"});
+  add(c, "SimulateCampaignOutputIsFile",
+      [](Env e) { return "simulate campaign --mechanism delta -o " + e.write("plain", "x"); }, 1,
+      {"plain", "not a folder"});
+}
+
 std::vector<Case> makeCases() {
   std::vector<Case> cases;
   inputCases(cases);
@@ -750,6 +779,7 @@ std::vector<Case> makeCases() {
   imageCases(cases);
   csvCases(cases);
   specCases(cases);
+  simulateCampaignCases(cases);
   return cases;
 }
 

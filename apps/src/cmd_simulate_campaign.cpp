@@ -1,0 +1,217 @@
+// `mire simulate campaign --mechanism h4|delta|gough-stewart -o DIR` (issue 14): the demo's whole
+// rendered campaign on disk (doc/simulation.md, "Whole campaigns"), so that a user runs
+// calibrate -> measure -> identify by hand with the public commands. Glue only: the campaigns
+// are datasets::generateH4Campaign and datasets::generateMechanismImageCampaign.
+#include "output_paths.hpp"
+#include "simulate_campaign.hpp"
+#include "validate.hpp"
+
+#include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
+#include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/support/output_transaction.hpp"
+#include "mire/support/progress.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mire::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CampaignOptions {
+  std::string mechanism;
+  std::string output;
+  std::uint64_t seed = 2004;  // the demo's
+  std::optional<int> images_per_pose, calibration_views;
+};
+
+// Bounds of the options: calibrate needs 3 usable views; beyond the upper bounds a campaign
+// takes hours and gigabytes (81 poses x 100 images is 5 GB of PNG).
+constexpr int kMaxImagesPerPose = 100;
+constexpr int kMinCalibrationViews = 3;
+constexpr int kMaxCalibrationViews = 500;
+
+// The file whose presence marks a folder as a previous campaign (both generators write it).
+const char* const kCampaignMarker = "truth/robot.yaml";
+
+// What to identify: the model the simulated robot's geometry is written in (truth/<model>.yaml),
+// which of its parameters compare with the truth directly, and the mechanism's other models
+// (doc/mechanisms.md, "The registry"). The Delta's and the hexapod's joint centres and angles are
+// identified in the frame of the mounting `mire identify` holds as gauge, not the simulator's
+// (doc/demo-mechanisms.md, "Scoring"); lengths do not depend on the frame.
+struct ModelGuide {
+  std::string model, comparable, others;
+};
+
+std::optional<ModelGuide> guideFor(const std::string& mechanism) {
+  if (mechanism == "h4")
+    return ModelGuide{"h4-12", "its 12 geometric parameters (model 12's mounting is axis-aligned: no gauge)",
+                      "h4-31c (variants E-H: --variant)"};
+  if (mechanism == "delta")
+    return ModelGuide{"delta-legs", "L1..L3 and l1..l3 (the pivots, axes and q0i are in the frame of the gauge)",
+                      "delta (one geometry for the three legs)"};
+  if (mechanism == "gough-stewart")
+    return ModelGuide{"gough-stewart", "rho01..rho06 (the joint centres are in the frame of the gauge)",
+                      "gough-stewart-gains (one encoder scale per leg)"};
+  return std::nullopt;
+}
+
+void checkRange(const std::optional<int>& value, int low, int high, const std::string& option, const std::string& why) {
+  if (value && (*value < low || *value > high))
+    throw UsageError(option + " " + std::to_string(*value) + ": expected " + std::to_string(low) + " to " +
+                     std::to_string(high) + why);
+}
+
+// Everything is checked before the rendering starts: option values, then the output folder,
+// replaced only when it is empty or a previous campaign.
+void checkCampaignOptions(const CampaignOptions& options) {
+  if (!guideFor(options.mechanism))
+    throw UsageError("--mechanism '" + options.mechanism + "': unknown mechanism (valid: h4, delta, gough-stewart)");
+  checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
+  checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
+             " views (calibrate needs at least 3)");
+  checkCommandPaths({{}, {}, {}, {{options.output, "-o"}}});
+  const fs::path out = options.output;
+  if (fs::is_directory(out) && !fs::is_empty(out) && !fs::exists(out / kCampaignMarker))
+    throw UsageError("-o '" + options.output + "': exists, holds files and is not a previous campaign (no " +
+                     kCampaignMarker + "): choose a new or empty folder");
+}
+
+// What the summary reports of a generated campaign.
+struct WrittenCampaign {
+  int calibration_views = 0, images_per_pose = 0;
+  std::size_t poses = 0, lines = 0;
+  std::vector<std::string> joint_columns;
+};
+
+template <class Spec>
+void applyOptions(const CampaignOptions& options, Spec& spec) {
+  spec.seed = options.seed;
+  if (options.images_per_pose) spec.images_per_pose = *options.images_per_pose;
+  if (options.calibration_views) spec.calibration_views = *options.calibration_views;
+}
+
+// The true geometry in the parameters `mire identify --model <model>` writes, for comparing by
+// hand (truth/robot.yaml keeps the simulator's full description, defects included).
+void writeTruthParameters(const fs::path& directory, const std::string& model, const mechanism::ParameterSet& truth,
+                          const std::string& what) {
+  mechanism::writeParameterFile(directory / "truth" / (model + ".yaml"), truth, {},
+                                {{"model", model}, {"created_by", "mire simulate campaign"}}, what);
+}
+
+WrittenCampaign generateH4(const CampaignOptions& options, const fs::path& directory,
+                           const datasets::ProgressCallback& progress) {
+  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
+  applyOptions(options, spec);
+  const datasets::H4Campaign campaign = datasets::generateH4Campaign(spec, directory, progress);
+  // The model-12 part of the true robot (the demo scores model 12 against it, demo_pipeline.cpp).
+  writeTruthParameters(directory, "h4-12",
+                       mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, spec.seed)),
+                       "True geometry of the simulated H4 in model 12's parameters (SI); its unmodelled defects "
+                       "are in robot.yaml");
+  return {spec.calibration_views,
+          spec.images_per_pose,
+          campaign.poses.size(),
+          campaign.lines.size(),
+          {"q1_rad", "q2_rad", "q3_rad", "q4_rad"}};
+}
+
+WrittenCampaign generateMechanism(const CampaignOptions& options, const fs::path& directory,
+                                  const datasets::ProgressCallback& progress) {
+  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
+  applyOptions(options, spec);
+  const datasets::MechanismImageCampaign campaign = datasets::generateMechanismImageCampaign(spec, directory, progress);
+  writeTruthParameters(
+      directory, campaign.robot.geometry_model.name, campaign.robot.geometry,
+      "True geometry of the simulated " + options.mechanism + " (SI); its unmodelled defects are in robot.yaml");
+  return {spec.calibration_views, spec.images_per_pose, campaign.pose_ids.size(), campaign.lines.size(),
+          campaign.robot.mechanism().jointColumnNames()};
+}
+
+// A path as a shell word: quoted when it holds anything but plain characters.
+std::string shellWord(const fs::path& path) {
+  const std::string text = path.string();
+  if (!text.empty() &&
+      text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./+-=:,@%") ==
+          std::string::npos)
+    return text;
+  std::string quoted = "'";
+  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// What was written, and the commands a user runs next, as on a real robot.
+void printCampaign(const CampaignOptions& options, const WrittenCampaign& written) {
+  const fs::path dir = options.output;
+  const ModelGuide guide = *guideFor(options.mechanism);
+  const auto in = [&](const std::string& relative) { return shellWord(dir / relative); };
+  std::cout << "mire simulate campaign: a simulated " << options.mechanism << " (seed " << options.seed << ") in "
+            << dir.string() << "\n"
+            << "  " << in("calibration/images") << ": " << written.calibration_views << " calibration views\n"
+            << "  " << in("poses") << ": " << written.poses << " poses x " << written.images_per_pose << " images\n"
+            << "  " << in("joints.csv") << " (" << written.joint_columns.front() << ".." << written.joint_columns.back()
+            << "), " << in("lines.csv") << " (" << written.lines << " straight lines), " << in("target.yaml") << "\n"
+            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << guide.model << ".yaml)\n"
+            << "next, as on a real robot (results in the current folder):\n"
+            << "  mire calibrate --target " << in("target.yaml") << " --images " << in("calibration/images")
+            << " -o camera.yaml\n"
+            << "  mire measure --camera camera.yaml --target " << in("target.yaml") << " --poses " << in("poses")
+            << " -o poses.csv\n"
+            << "  mire identify --poses poses.csv --joints " << in("joints.csv") << " --lines " << in("lines.csv")
+            << " --model " << guide.model << " -o identified.yaml\n"
+            << "then compare identified.yaml with " << in("truth/" + guide.model + ".yaml") << ": " << guide.comparable
+            << "; doc/simulation.md, \"Whole campaigns\"\n"
+            << "other models: " << guide.others << "\n";
+}
+
+int runCampaign(const CampaignOptions& options) {
+  checkCampaignOptions(options);
+  std::optional<support::Progress> progress;
+  std::size_t shown = 0;
+  const datasets::ProgressCallback advance = [&](std::size_t done, std::size_t total) {
+    if (!progress) progress.emplace("rendering the campaign", total);
+    if (done > shown) progress->advance(done - shown);
+    shown = std::max(shown, done);
+  };
+  support::OutputTransaction outputs;
+  const fs::path staged = outputs.stageFolder(options.output, support::OutputTransaction::FolderCommit::ReplaceWhole);
+  const WrittenCampaign written =
+      options.mechanism == "h4" ? generateH4(options, staged, advance) : generateMechanism(options, staged, advance);
+  if (progress) progress->finish();
+  outputs.commit();
+  printCampaign(options, written);
+  return kOk;
+}
+
+}  // namespace
+
+SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
+  auto options = std::make_shared<CampaignOptions>();
+  CLI::App* campaign = simulate.add_subcommand(
+      "campaign",
+      "A whole campaign as mire demo renders it (doc/simulation.md): DIR/calibration/images, DIR/poses, "
+      "DIR/joints.csv, DIR/lines.csv, DIR/target.yaml, DIR/truth/");
+  campaign->add_option("--mechanism", options->mechanism, "h4, delta or gough-stewart (doc/demo-mechanisms.md)")->required();
+  campaign->add_option("-o,--output", options->output, "Output folder (created; replaced if a previous campaign)")
+      ->required();
+  campaign->add_option("--seed", options->seed, "Seed of the simulated robot, images and encoder noise")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  const datasets::H4CampaignSpec defaults;  // the reference campaigns' counts (both mechanisms' specs)
+  campaign->add_option("--images-per-pose", options->images_per_pose, "Images per pose (1 to 100)")
+      ->default_str(std::to_string(defaults.images_per_pose));
+  campaign->add_option("--calibration-views", options->calibration_views, "Calibration views (3 to 500)")
+      ->default_str(std::to_string(defaults.calibration_views));
+  return {campaign, [options] { return runCampaign(*options); }};
+}
+
+}  // namespace mire::app

@@ -1,0 +1,16 @@
+#pragma once
+// `mire simulate campaign` (cmd_simulate_campaign.cpp): the demo's whole rendered campaign of an
+// H4, a Delta or a hexapod on disk, for the user to run calibrate -> measure -> identify by hand.
+#include "commands.hpp"
+
+namespace mire::app {
+
+// A subcommand of `mire simulate` and its runner (called when the subcommand was parsed).
+struct SimulateSubcommand {
+  CLI::App* command = nullptr;
+  Runner run;
+};
+
+SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate);
+
+}  // namespace mire::app

@@ -1,0 +1,115 @@
+// `mire simulate campaign` (issue 14): a rendered Delta campaign on disk, then the commands it
+// prints run as a user would (calibrate -> measure -> identify), the identified parameters
+// scored against the campaign's truth/; and the output folder's rules.
+#include "test_support.hpp"
+
+#include "mire/mechanism/io.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs `mire <args>` in `folder`; returns its exit code, stdout+stderr in *output.
+int mireIn(const fs::path& folder, const std::string& args, std::string* output) {
+  int code = -1;
+  *output = mire::test::captureCommand(
+      "cd '" + folder.string() + "' && " + mire::test::mireBinary().string() + " " + args + " </dev/null", &code);
+  return code;
+}
+
+// The commands the campaign's summary tells the user to run next ("  mire ..." lines).
+std::vector<std::string> printedCommands(const std::string& output) {
+  std::vector<std::string> commands;
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("  mire ", 0) == 0) commands.push_back(line.substr(7));
+  return commands;
+}
+
+double number(const mire::mechanism::ParameterFile& file, const std::string& key) {
+  const auto* entry = file.find(key);
+  if (entry == nullptr) throw std::runtime_error(file.path.string() + ": no " + key);
+  return file.number(*entry);
+}
+
+}  // namespace
+
+// The fastest mechanism (27 poses), one image per pose, 6 calibration views: about 3 s in all.
+TEST(SimulateCampaign, DeltaByHandIdentifiesTheTrueLengths) {
+  const mire::test::TempDir dir;
+  std::string output;
+  ASSERT_EQ(mireIn(dir.path(),
+                   "simulate campaign --mechanism delta -o campaign --images-per-pose 1 --calibration-views 6", &output),
+            0)
+      << output;
+  for (const char* file : {"target.yaml", "joints.csv", "lines.csv", "calibration/images/view_005.png",
+                           "poses/p027/img_00.png", "truth/robot.yaml", "truth/delta-legs.yaml"})
+    EXPECT_TRUE(fs::exists(dir.path() / "campaign" / file)) << file;
+  EXPECT_FALSE(fs::exists(dir.path() / "campaign/poses/p001/img_01.png"));
+
+  // The printed chain, exactly as printed, from the folder the campaign was made in.
+  const std::vector<std::string> commands = printedCommands(output);
+  ASSERT_EQ(commands.size(), 3u) << output;
+  EXPECT_EQ(commands[0].rfind("calibrate ", 0), 0u);
+  EXPECT_EQ(commands[1].rfind("measure ", 0), 0u);
+  EXPECT_NE(commands[2].find("--model delta-legs"), std::string::npos) << commands[2];
+  for (const std::string& command : commands) ASSERT_EQ(mireIn(dir.path(), command, &output), 0) << command << output;
+
+  // The lengths do not depend on the frame the gauge defines: compared with the truth directly.
+  // Measured (seed 2004): |error| <= 0.48 mm, |error/σ| <= 2.4 (RMS 1.3); the other parameters
+  // are in the gauge's frame, RMS error/σ over all 24 against the raw truth 2.6.
+  const auto identified = mire::mechanism::readParameterFile(dir.path() / "identified.yaml");
+  const auto truth = mire::mechanism::readParameterFile(dir.path() / "campaign/truth/delta-legs.yaml");
+  for (const std::string leg : {"1", "2", "3"})
+    for (const std::string length : {"L", "l"}) {
+      const std::string name = length + leg;
+      const double error = number(identified, name) - number(truth, name);
+      const double sigma = number(identified, "sigma_" + name);
+      EXPECT_LT(std::abs(error), 1.5e-3) << name;
+      EXPECT_LT(std::abs(error / sigma), 5.0) << name << " error " << error << " m, sigma " << sigma << " m";
+      EXPECT_GT(sigma, 0.05e-3) << name;  // σ is not absurdly small (measured 0.18–1.0 mm)
+    }
+  double sum = 0.0;
+  int count = 0;
+  for (const auto& entry : truth.entries) {
+    if (entry.key == "model" || entry.key == "created_by") continue;
+    const double z = (number(identified, entry.key) - truth.number(entry)) / number(identified, "sigma_" + entry.key);
+    sum += z * z;
+    ++count;
+  }
+  ASSERT_EQ(count, 24);
+  EXPECT_LT(std::sqrt(sum / count), 5.0);
+}
+
+TEST(SimulateCampaign, RefusesAForeignFolderReplacesAPreviousCampaign) {
+  const mire::test::TempDir dir;
+  const fs::path mine = dir.path() / "mine";
+  fs::create_directories(mine);
+  mire::test::writeText(mine / "notes.txt", "my notes");
+  std::string output;
+  EXPECT_EQ(mireIn(dir.path(), "simulate campaign --mechanism delta -o mine --images-per-pose 1", &output), 2);
+  EXPECT_NE(output.find("not a previous campaign"), std::string::npos) << output;
+  EXPECT_EQ(mire::test::readText(mine / "notes.txt"), "my notes");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);  // no temporary
+
+  // A previous campaign (its truth/robot.yaml) is replaced whole: a stale file goes.
+  const fs::path previous = dir.path() / "previous";
+  fs::create_directories(previous / "truth");
+  mire::test::writeText(previous / "truth/robot.yaml", "model: delta-legs\n");
+  mire::test::writeText(previous / "stale.txt", "from an older run");
+  ASSERT_EQ(mireIn(dir.path(),
+                   "simulate campaign --mechanism delta -o previous --images-per-pose 1 --calibration-views 3 --seed 7",
+                   &output),
+            0)
+      << output;
+  EXPECT_FALSE(fs::exists(previous / "stale.txt"));
+  EXPECT_TRUE(fs::exists(previous / "poses/p027/img_00.png"));
+  EXPECT_NE(mire::test::readText(previous / "truth/robot.yaml").find("geometry:"), std::string::npos);
+  EXPECT_NE(output.find("(seed 7)"), std::string::npos) << output;
+}
