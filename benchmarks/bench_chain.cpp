@@ -6,6 +6,7 @@
 // simulator's truth: calibration error/σ, pose error/σ, identification error/σ with and without
 // the shared calibration term.
 // Usage: bench_chain [chains=20] [images_per_pose=10] [work_dir=/tmp/mire_bench_chain] [drawn|fixed]
+//                    [first_chain=0]
 // Even chains: the same robot (robot seed 2004); odd chains: a different random robot each.
 // Camera placement: drawn anew per chain (default), or the demo's for every chain ("fixed").
 #include "image_folders.hpp"
@@ -62,6 +63,12 @@ double stddev(const std::vector<double>& v) {
   return std::sqrt(sq / static_cast<double>(v.size() - 1));
 }
 
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (const double x : v) s += x / static_cast<double>(v.size());
+  return s;
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -76,10 +83,14 @@ double mahalanobis(const Eigen::VectorXd& x, const Eigen::MatrixXd& covariance) 
 
 // Everything scored over the chains.
 struct Study {
-  Samples calibration_z;                             // camera parameter: error/σ
-  std::vector<double> calibration_chi2;              // Mahalanobis of the camera error, per chain
-  Samples pose_z, pose_z_independent;                // component: error/σ (full σ), (error − D Δk)/σ_noise
-  std::vector<double> pose_reduced_chi2;             // per pose
+  Samples calibration_z;                  // camera parameter: error/σ
+  std::vector<double> calibration_chi2;   // Mahalanobis of the camera error, per chain
+  Samples pose_z, pose_z_independent;     // component: error/σ (full σ), (error − D Δk)/σ_noise
+  std::vector<double> pose_reduced_chi2;  // per pose
+  std::vector<double> pose_mahalanobis, pose_mahalanobis_independent;  // eᵀΣ⁻¹e / 6 per pose
+  // Mean product of two poses' whitened independent errors (the calibration's error removed),
+  // per chain: 0 when the poses' errors are independent; poses of the same orientation θ, others.
+  std::vector<double> pose_correlation_same_theta, pose_correlation_other_theta;
   Samples z_before, z_after, abs_error;              // identified parameter: error/σ, |error| (display units)
   Samples z_corrected;                               // the same refitted with the calibration error removed, σ before
   Samples z_corrected_unscaled;                      // the same against √diag (AᵀA)⁻¹ (no misfit scaling)
@@ -137,6 +148,22 @@ calibration::Camera calibrate(const datasets::H4Campaign& campaign, const metrol
   return camera;
 }
 
+// Mean w_j·w_k / 6 over pose pairs of the same orientation θ and of different ones.
+void scoreCorrelation(const std::vector<Eigen::Matrix<double, 6, 1>>& whitened, const std::vector<double>& theta,
+                      Study& study) {
+  double same = 0.0, other = 0.0;
+  int same_pairs = 0, other_pairs = 0;
+  for (std::size_t j = 0; j < whitened.size(); ++j)
+    for (std::size_t k = j + 1; k < whitened.size(); ++k) {
+      const double product = whitened[j].dot(whitened[k]) / 6.0;
+      const bool same_theta = std::abs(theta[j] - theta[k]) < 1e-6;
+      (same_theta ? same : other) += product;
+      ++(same_theta ? same_pairs : other_pairs);
+    }
+  study.pose_correlation_same_theta.push_back(same / std::max(1, same_pairs));
+  study.pose_correlation_other_theta.push_back(other / std::max(1, other_pairs));
+}
+
 // Stage 2, as `mire demo`/`mire measure`: one pose per folder, poses.csv + covariance + shared
 // term; each pose scored against the true cTm, and with the calibration's own error removed
 // (e − D_j Δk, the true Δk known here) against the independent part of its covariance.
@@ -146,6 +173,8 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
   options.integrity.split = metrology::SplitPolicy::KeepLargest;
   static const char* const components[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
   std::vector<metrology::MeasuredPose> measured;
+  std::vector<Eigen::Matrix<double, 6, 1>> whitened;
+  std::vector<double> theta;
   for (const auto& pose : app::measurePoseFolders(camera, target, campaign.pose_images(), options, 0)) {
     const auto& m = pose.measurement;
     if (!m.ok) continue;
@@ -160,7 +189,12 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
       study.pose_z_independent[components[k]].push_back(independent[k] / std::sqrt(m.estimate.covariance_noise(k, k)));
     }
     study.pose_reduced_chi2.push_back(m.estimate.reduced_chi2);
+    study.pose_mahalanobis.push_back(mahalanobis(error, m.estimate.covariance) / 6.0);
+    study.pose_mahalanobis_independent.push_back(mahalanobis(independent, m.estimate.covariance_noise) / 6.0);
+    whitened.push_back(m.estimate.covariance_noise.llt().matrixL().solve(independent));
+    theta.push_back(campaign.poses[static_cast<std::size_t>(std::stoi(pose.pose_id.substr(1)) - 1)][3]);
   }
+  scoreCorrelation(whitened, theta, study);
   metrology::writePosesCsv(poses_csv, measured);
   metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
   metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured);
@@ -203,16 +237,21 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
   const Eigen::VectorXd truth = truthOf(before, campaign, spec);
   const auto& p = before.model.parameters;
   const auto free = static_cast<Eigen::Index>(before.free_names.size());
+  // An angle may come out a turn away from the truth (ψ_BC near ±180° with a drawn placement).
+  const auto errorOf = [&](double value, std::size_t i) {
+    const double e = value - truth[static_cast<Eigen::Index>(i)];
+    return p[i].unit == mech::Unit::Radian ? std::remainder(e, 2.0 * support::kPi) : e;
+  };
   Eigen::VectorXd error(free);
   double shift = 0.0;
   for (Eigen::Index f = 0; f < free; ++f) {
     const std::string& name = before.free_names[static_cast<std::size_t>(f)];
     const std::size_t i = p.index(name);
-    error[f] = p[i].value - truth[static_cast<Eigen::Index>(i)];
+    error[f] = errorOf(p[i].value, i);
     shift = std::max(shift, std::abs(after.model.parameters[i].value - p[i].value));
     study.z_before[name].push_back(error[f] / before.sigma[static_cast<Eigen::Index>(i)]);
     study.z_after[name].push_back(error[f] / after.sigma[static_cast<Eigen::Index>(i)]);
-    const double corrected_error = corrected.model.parameters[i].value - truth[static_cast<Eigen::Index>(i)];
+    const double corrected_error = errorOf(corrected.model.parameters[i].value, i);
     const double unscaled2 = before.information_inverse(f, f);
     study.z_corrected[name].push_back(corrected_error / before.sigma[static_cast<Eigen::Index>(i)]);
     study.z_corrected_unscaled[name].push_back(corrected_error / std::sqrt(unscaled2));
@@ -230,6 +269,14 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
   study.ident_chi2_before.push_back(mahalanobis(error, before.covariance) / static_cast<double>(free));
   study.ident_chi2_after.push_back(mahalanobis(error, after.covariance) / static_cast<double>(free));
   study.value_shift.push_back(shift);
+  Eigen::Index worst = 0;
+  for (Eigen::Index f = 1; f < free; ++f)
+    if (std::abs(study.z_after[study.names[static_cast<std::size_t>(f)]].back()) >
+        std::abs(study.z_after[study.names[static_cast<std::size_t>(worst)]].back()))
+      worst = f;
+  std::printf("  largest |error/sigma| with the shared term: %s %.2f\n",
+              study.names[static_cast<std::size_t>(worst)].c_str(),
+              study.z_after[study.names[static_cast<std::size_t>(worst)]].back());
 }
 
 void runChain(int chain, int images_per_pose, bool draw_placement, const fs::path& work, Study& study) {
@@ -259,12 +306,6 @@ void runChain(int chain, int images_per_pose, bool draw_placement, const fs::pat
   fs::remove_all(dir / "campaign");  // 0.6 GB of images per chain
 }
 
-double mean(const std::vector<double>& v) {
-  double s = 0.0;
-  for (const double x : v) s += x / static_cast<double>(v.size());
-  return s;
-}
-
 void printStages(const Study& s) {
   std::printf("\nStage 1, calibration (camera truth known): error/sigma per camera parameter over %d chains\n", s.chains);
   std::printf("  %-6s %8s %8s\n", "param", "std", "RMS");
@@ -278,6 +319,13 @@ void printStages(const Study& s) {
   for (const char* c : {"tx", "ty", "tz", "rx", "ry", "rz"})
     std::printf("  %-3s %8.3f | %8.3f\n", c, rms(s.pose_z.at(c)), rms(s.pose_z_independent.at(c)));
   std::printf("  pose fit reduced chi2: median %.2f\n", median(s.pose_reduced_chi2));
+  std::printf("  6-D Mahalanobis / 6 per pose: mean %.3f full sigma, %.3f calibration error removed (1 if honest)\n",
+              mean(s.pose_mahalanobis), mean(s.pose_mahalanobis_independent));
+  std::printf(
+      "  correlation of two poses' whitened independent errors (0 if independent): same theta %.4f +- %.4f, "
+      "other theta %.4f +- %.4f (mean +- sd over chains)\n",
+      mean(s.pose_correlation_same_theta), stddev(s.pose_correlation_same_theta), mean(s.pose_correlation_other_theta),
+      stddev(s.pose_correlation_other_theta));
 }
 
 void printIdentification(const Study& s) {
@@ -286,12 +334,13 @@ void printIdentification(const Study& s) {
   std::printf("  %-8s %-4s | %-17s | %-17s | %-17s | %s\n", "param", "unit", "without shared", "with shared",
               "no calib: sc, unsc", "median |error|");
   std::printf("  %-8s %-4s | %8s %8s | %8s %8s | %8s %8s |\n", "", "", "std", "RMS", "std", "RMS", "RMS", "RMS");
+  const auto inside = [](const std::vector<double>& z) { return stddev(z) >= 0.8 && stddev(z) <= 1.25 ? 1 : 0; };
   int inside_before = 0, inside_after = 0;
   for (const auto& name : s.names) {
     const auto& b = s.z_before.at(name);
     const auto& a = s.z_after.at(name);
-    inside_before += stddev(b) >= 0.8 && stddev(b) <= 1.25;
-    inside_after += stddev(a) >= 0.8 && stddev(a) <= 1.25;
+    inside_before += inside(b);
+    inside_after += inside(a);
     std::printf("  %-8s %-4s | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %.4g\n", name.c_str(), s.unit.at(name).c_str(),
                 stddev(b), rms(b), stddev(a), rms(a), rms(s.z_corrected.at(name)), rms(s.z_corrected_unscaled.at(name)),
                 median(s.abs_error.at(name)));
@@ -308,8 +357,8 @@ void printIdentification(const Study& s) {
   std::printf(
       "  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
       "without the shared term: as printed (sc) and (A^T A)^-1 without the misfit scaling (unsc)\n");
-  std::printf("  std(error/sigma) in [0.8, 1.25]: %d of %zu without the shared term, %d of %zu with it\n",
-              inside_before, s.names.size(), inside_after, s.names.size());
+  std::printf("  std(error/sigma) in [0.8, 1.25]: %d of %zu without the shared term, %d with it\n", inside_before,
+              s.names.size(), inside_after);
   std::printf("  identification Mahalanobis chi2 / p: mean %.2f without, %.2f with (1 if honest)\n",
               mean(s.ident_chi2_before), mean(s.ident_chi2_after));
   std::printf("  fit chi2/dof: median %.2f; largest value change from adding the shared term: %.3g (SI)\n",
@@ -324,18 +373,21 @@ int main(int argc, char** argv) {
   const fs::path work = argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "mire_bench_chain";
   const std::string placement = argc > 4 ? argv[4] : "drawn";
   const bool draw_placement = placement == "drawn";
-  if (chains < 2 || images < 1 || (placement != "drawn" && placement != "fixed")) {
-    std::fprintf(stderr, "usage: bench_chain [chains>=2] [images_per_pose>=1] [work_dir] [drawn|fixed]\n");
+  Study study;
+  const int first = argc > 5 ? std::atoi(argv[5]) : 0;
+  if (chains < 2 || images < 1 || (placement != "drawn" && placement != "fixed") || first < 0) {
+    std::fprintf(stderr,
+                 "usage: bench_chain [chains>=2] [images_per_pose>=1] [work_dir] [drawn|fixed] "
+                 "[first_chain>=0]\n");
     return 2;
   }
   std::printf(
       "%d chains, %d images per pose, exactly-model-12 H4 (demo error sizes, no unmodelled defects), "
       "robot seed 2004 on even chains, a new one on odd chains; camera placement %s; work dir %s\n",
       chains, images, draw_placement ? "drawn per chain" : "the demo's", work.string().c_str());
-  Study study;
   // Some random robots cannot be initialised from the nominal (5° encoder offsets): such a
   // chain is reported and replaced, up to `chains` more attempts.
-  for (int chain = 0; study.chains < chains && chain < 2 * chains; ++chain) {
+  for (int chain = first; study.chains < chains && chain < first + 2 * chains; ++chain) {
     try {
       runChain(chain, images, draw_placement, work, study);
     } catch (const std::exception& e) {

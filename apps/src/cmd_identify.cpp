@@ -364,8 +364,10 @@ void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, 
                 result.identifiability.rank, result.free_names.size());
   out << line;
   for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
+  const bool from_residuals = result.covariance_method.rfind("residual sandwich", 0) == 0;
   std::snprintf(line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
-                !weighted ? ""
+                !weighted        ? ""
+                : from_residuals ? ": the fit's sigma term is taken from the residuals pose by pose"
                 : result.covariance_scale2 > 1.0
                     ? ": misfit (the model does not explain the measured poses to their covariances)"
                 : result.covariance_scale2 < 1.0 ? ": the pose covariances overstate the scatter"
