@@ -30,13 +30,16 @@ GaugedModel initialModel(const mech::RegisteredModel& registered, const std::vec
 }
 
 void addSharedTermLikeTheCommand(const mech::RegisteredModel& registered, const GaugedModel& initial,
-                                 const MeasuredData& data, mech::IdentificationResult& result) {
+                                 const MeasuredData& data, mech::IdentificationResult& result, RefitGauge gauge) {
   if (!data.shared) return;
   mech::IdentificationOptions quiet;
   quiet.compute_identifiability = false;
   mech::addSharedTermCovariance(result, data.poses, *data.shared, [&](const std::vector<mech::PoseObservation>& shifted) {
     mech::IdentificationModel start =
         mech::makeInitialModel(registered.mechanism, registered.nominal, shifted, registered.external_form);
+    if (gauge == RefitGauge::HeldAtMainFit)
+      for (const std::string& name : initial.gauge.gauge)
+        start.parameters.setValue(name, initial.model.parameters.value(name));
     start.parameters.fix(initial.gauge.gauge);
     mech::IdentificationResult refit = mech::identify(start, shifted, quiet);
     mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
