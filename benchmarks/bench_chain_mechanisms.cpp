@@ -7,7 +7,10 @@
 // side file), the gauged initial model, the fit without and with the shared calibration term —
 // and scores every stage against the simulator's truth: calibration error/σ, pose error/σ, and
 // every free parameter's error/σ against the truth in the identification's gauge.
-// Usage: bench_chain_mechanisms <delta|gough-stewart> [chains=20] [images_per_pose=10] [work_dir]
+// Usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains=20] [images_per_pose=10]
+//        [work_dir]
+// delta: legs that differ, model `delta-legs` (every mounting value is gauge); delta-same-legs:
+// identical legs, model `delta` (6 free mounting values); gough-stewart: model `gough-stewart`.
 // Even chains: the demo's robot (robot seed 2004); odd chains: a different random robot each.
 #include "chain_statistics.hpp"
 #include "demo.hpp"
@@ -54,13 +57,16 @@ double processCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_P
 // Everything scored over the chains.
 struct Study {
   std::string mechanism, model;
-  Samples calibration_z;                             // camera parameter: error/σ
-  std::vector<double> calibration_chi2;              // Mahalanobis of the camera error / n, per chain
-  Samples pose_z, pose_z_independent;                // component: error/σ (full σ), (error − D Δk)/σ_independent
-  std::vector<double> pose_whitened_all;             // per chain: the demo's whitened RMS over all components
-  Samples z_before, z_after, abs_error;              // free parameter: error/σ, |error| (display units)
-  Samples z_held;                                    // error/σ with the shared term, refits in the main fit's gauge
-  Samples z_corrected, z_corrected_unscaled;         // refitted with the calibration error removed
+  Samples calibration_z;                  // camera parameter: error/σ
+  std::vector<double> calibration_chi2;   // Mahalanobis of the camera error / n, per chain
+  Samples pose_z, pose_z_independent;     // component: error/σ (full σ), (error − D Δk)/σ_independent
+  std::vector<double> pose_whitened_all;  // per chain: the demo's whitened RMS over all components
+  Samples z_before, z_after, abs_error;   // free parameter: error/σ, |error| (display units)
+  Samples z_held;                         // error/σ with the shared term, refits in the main fit's gauge
+  // Refitted with the calibration error removed (Δk known here): against the σ without the shared
+  // term and against the fit's own term of the σ with it; the rest of the error (the calibration's
+  // part) against the shared term (gauge held).
+  Samples z_corrected, z_corrected_fit, z_calibration_part;
   Samples sigma_fit, sigma_alignment, sigma_shared;  // σ components with the shared term (display)
   Samples sigma_shared_held;                         // the shared term, refits in the main fit's gauge
   std::map<std::string, std::string> unit;           // display unit per parameter
@@ -72,8 +78,11 @@ struct Study {
   int chains = 0, failed = 0;
 };
 
-datasets::MechanismImageCampaignSpec chainSpec(const std::string& mechanism, int chain, int images_per_pose) {
-  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(mechanism);
+datasets::MechanismImageCampaignSpec chainSpec(const std::string& study, int chain, int images_per_pose) {
+  const bool same_legs = study == "delta-same-legs";
+  datasets::MechanismImageCampaignSpec spec =
+      datasets::MechanismImageCampaignSpec::reference(same_legs ? "delta" : study);
+  spec.delta_legs_differ = !same_legs;
   spec.seed = 19000 + static_cast<std::uint64_t>(chain);  // new images and encoder noise
   spec.robot_seed = chain % 2 == 0 ? 2004 : 5000 + static_cast<std::uint64_t>(chain);
   spec.unmodelled_defects = false;
@@ -181,6 +190,14 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   return fits;
 }
 
+// The fit's own term of the σ² with the shared term (free parameter f): the rest of the
+// covariance once the axis-alignment and shared terms are taken out.
+double fitVariance(const mech::IdentificationResult& with_shared, Eigen::Index f) {
+  const double alignment2 = with_shared.alignment_covariance.size() ? with_shared.alignment_covariance(f, f) : 0.0;
+  const double shared2 = with_shared.shared_covariance.size() ? with_shared.shared_covariance(f, f) : 0.0;
+  return std::max(0.0, with_shared.covariance(f, f) - alignment2 - shared2);
+}
+
 // The σ components of the fit with the shared term (display units): the fit's own term, the
 // axis-alignment term, the shared calibration term.
 void recordSigmaComponents(const mech::IdentificationResult& with_shared, Study& study) {
@@ -191,8 +208,7 @@ void recordSigmaComponents(const mech::IdentificationResult& with_shared, Study&
     const mech::Unit unit = p[p.index(name)].unit;
     const double alignment2 = with_shared.alignment_covariance.size() ? with_shared.alignment_covariance(e, e) : 0.0;
     const double shared2 = with_shared.shared_covariance.size() ? with_shared.shared_covariance(e, e) : 0.0;
-    const double fit2 = with_shared.covariance(e, e) - alignment2 - shared2;
-    study.sigma_fit[name].push_back(mech::toDisplay(unit, std::sqrt(std::max(0.0, fit2))));
+    study.sigma_fit[name].push_back(mech::toDisplay(unit, std::sqrt(fitVariance(with_shared, e))));
     study.sigma_alignment[name].push_back(mech::toDisplay(unit, std::sqrt(alignment2)));
     study.sigma_shared[name].push_back(mech::toDisplay(unit, std::sqrt(shared2)));
   }
@@ -219,7 +235,8 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
     study.sigma_shared_held[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(fits.held.shared_covariance(f, f))));
     const double corrected_error = fits.corrected.model.parameters[i].value - fits.truth.value(name);
     study.z_corrected[name].push_back(corrected_error / before.sigma[e]);
-    study.z_corrected_unscaled[name].push_back(corrected_error / std::sqrt(before.information_inverse(f, f)));
+    study.z_corrected_fit[name].push_back(corrected_error / std::sqrt(fitVariance(fits.with_shared_unaligned, f)));
+    study.z_calibration_part[name].push_back((error[f] - corrected_error) / std::sqrt(fits.held.shared_covariance(f, f)));
     study.abs_error[name].push_back(std::abs(mech::toDisplay(p[i].unit, error[f])));
   }
   recordSigmaComponents(fits.with_shared_unaligned, study);
@@ -287,32 +304,39 @@ void printStages(const Study& s) {
               mean(s.pose_whitened_all));
 }
 
-// [0.8, 1.25] counts per group (geometric, mounting) for one σ.
+// [0.8, 1.25] counts per group (geometric, mounting) for one σ, over the parameters free in at
+// least half the chains (the pivoted QR may choose another gauge on some chains).
 void printCounts(const Study& s, const Samples& z, const char* label) {
-  int geometric = 0, inside[2] = {0, 0};
+  int total[2] = {0, 0}, inside[2] = {0, 0}, rare = 0;
   for (const auto& name : s.names) {
+    if (2 * static_cast<int>(z.at(name).size()) < s.chains) {
+      ++rare;
+      continue;
+    }
     const int group = s.mounting.count(name) ? 1 : 0;
-    geometric += 1 - group;
     const double spread = stddev(z.at(name));
+    ++total[group];
     inside[group] += spread >= 0.8 && spread <= 1.25;
   }
-  std::printf("  std(error/sigma) in [0.8, 1.25], %s: geometric %d of %d, mounting %d of %zu\n", label, inside[0],
-              geometric, inside[1], s.names.size() - static_cast<std::size_t>(geometric));
+  std::printf(
+      "  std(error/sigma) in [0.8, 1.25], %s: geometric %d of %d, mounting %d of %d (%d free on fewer than half "
+      "the chains not counted)\n",
+      label, inside[0], total[0], inside[1], total[1], rare);
 }
 
 void printIdentificationTable(const Study& s) {
-  std::printf("  %-8s %-4s %3s | %-17s | %-17s | %-17s | %-17s | %s\n", "param", "unit", "n", "without shared",
-              "with shared (cmd)", "shared, gauge held", "no calib: sc, unsc", "median |error|");
-  std::printf("  %-8s %-4s %3s | %8s %8s | %8s %8s | %8s %8s | %8s %8s |\n", "", "", "", "std", "RMS", "std", "RMS",
-              "std", "RMS", "RMS", "RMS");
+  std::printf("  %-8s %-4s %3s | %-17s | %-17s | %-17s | %-26s | %s\n", "param", "unit", "n", "without shared",
+              "with shared (cmd)", "shared, gauge held", "no calib: sc, fit; calib", "median |error|");
+  std::printf("  %-8s %-4s %3s | %8s %8s | %8s %8s | %8s %8s | %8s %8s %8s |\n", "", "", "", "std", "RMS", "std", "RMS",
+              "std", "RMS", "RMS", "RMS", "RMS");
   for (const auto& name : s.names) {
     const auto& b = s.z_before.at(name);
     const auto& a = s.z_after.at(name);
     const auto& h = s.z_held.at(name);
-    std::printf("  %-8s %-4s %3zu | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %.4g%s\n", name.c_str(),
-                s.unit.at(name).c_str(), b.size(), stddev(b), rms(b), stddev(a), rms(a), stddev(h), rms(h),
-                rms(s.z_corrected.at(name)), rms(s.z_corrected_unscaled.at(name)), median(s.abs_error.at(name)),
-                s.mounting.count(name) ? "  (mounting)" : "");
+    std::printf("  %-8s %-4s %3zu | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f | %8.3f %8.3f %8.3f | %.4g%s\n",
+                name.c_str(), s.unit.at(name).c_str(), b.size(), stddev(b), rms(b), stddev(a), rms(a), stddev(h),
+                rms(h), rms(s.z_corrected.at(name)), rms(s.z_corrected_fit.at(name)), rms(s.z_calibration_part.at(name)),
+                median(s.abs_error.at(name)), s.mounting.count(name) ? "  (mounting)" : "");
   }
 }
 
@@ -331,7 +355,8 @@ void printIdentification(const Study& s) {
       "  with shared (cmd): the refits re-initialise the gauge parameters on the shifted poses, as `mire identify`;"
       " gauge held: the refits hold them at the main fit's values\n"
       "  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
-      "without the shared term: as printed (sc) and (A^T A)^-1 without the misfit scaling (unsc)\n");
+      "without the shared term (sc) and against the fit's own term of the sigma with it (fit); calib: the rest of "
+      "the error (the calibration's part) against the shared term, gauge held\n");
   printCounts(s, s.z_before, "without the shared term");
   printCounts(s, s.z_after, "with it (cmd)");
   printCounts(s, s.z_held, "with it, gauge held");
@@ -355,18 +380,21 @@ void printTimes(const Study& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string mechanism = argc > 1 ? argv[1] : "";
+  const std::string mechanism = argc > 1 ? argv[1] : "";  // or delta-same-legs (the `delta` model)
   const int chains = argc > 2 ? std::atoi(argv[2]) : 20;
   const int images = argc > 3 ? std::atoi(argv[3]) : 10;
   const fs::path work = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path() / ("mire_bench_chain_" + mechanism);
-  if ((mechanism != "delta" && mechanism != "gough-stewart") || chains < 2 || images < 1) {
+  if ((mechanism != "delta" && mechanism != "delta-same-legs" && mechanism != "gough-stewart") || chains < 2 ||
+      images < 1) {
     std::fprintf(stderr,
-                 "usage: bench_chain_mechanisms <delta|gough-stewart> [chains>=2] [images_per_pose>=1] [work_dir]\n");
+                 "usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains>=2] "
+                 "[images_per_pose>=1] [work_dir]\n");
     return 2;
   }
   Study study;
   study.mechanism = mechanism;
-  study.model = mechanism == "delta" ? "delta-legs" : "gough-stewart";  // the true robot's exact model
+  // The true robot's exact model: the Delta's legs differ (delta-legs) or not (delta).
+  study.model = mechanism == "delta" ? "delta-legs" : mechanism == "delta-same-legs" ? "delta" : "gough-stewart";
   std::printf(
       "%s: %d chains, %d images per pose, a true robot exactly of model %s (no unmodelled defects), robot seed "
       "2004 on even chains, a new one on odd chains, the camera placement moved per chain; work dir %s\n",

@@ -95,7 +95,8 @@ void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const Mechanis
 DefectiveRobot trueRobot(const MechanismImageCampaignSpec& spec) {
   const auto seed = static_cast<unsigned>(spec.robot_seed.value_or(spec.seed));
   if (isDelta(spec.mechanism))
-    return spec.unmodelled_defects ? makeDefectiveDelta(seed, true) : makeDefectiveDelta(seed, true, 0.0);
+    return spec.unmodelled_defects ? makeDefectiveDelta(seed, spec.delta_legs_differ)
+                                   : makeDefectiveDelta(seed, spec.delta_legs_differ, 0.0);
   return spec.unmodelled_defects ? makeDefectiveHexapod(seed) : makeDefectiveHexapod(seed, 0.0, 0.0);
 }
 

@@ -45,6 +45,9 @@ struct MechanismImageCampaignSpec {
   // still differ, so exactly `delta-legs`; hexapod: unit encoder gains, no eccentricity, so
   // exactly `gough-stewart`), for studies of the σ rather than of the model error.
   bool unmodelled_defects = true;
+  // false: the Delta's legs are identical (only the common geometry's errors), so that without
+  // its unmodelled defects it is exactly the simple `delta` model.
+  bool delta_legs_differ = true;
   // The camera's placement in the robot's base; unset: mechanismBaseTCamera(mechanism).
   std::optional<Eigen::Isometry3d> base_T_camera;
   PngEncoding png = PngEncoding::Stored;
