@@ -9,8 +9,11 @@
 // every free parameter's error/σ against the truth in the identification's gauge.
 // Usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains=20] [images_per_pose=10]
 //        [work_dir]
-// delta: legs that differ, model `delta-legs` (every mounting value is gauge); delta-same-legs:
-// identical legs, model `delta` (6 free mounting values); gough-stewart: model `gough-stewart`.
+// delta: legs that differ, model `delta-legs` (the mounting values are the gauge on most chains);
+// delta-same-legs: identical legs, model `delta` (6 free mounting values); gough-stewart: model
+// `gough-stewart`. The shared term is computed twice: as `mire identify` does (its refits
+// re-initialise the gauge parameters) and with the refits holding the main fit's gauge
+// (doc/uncertainty.md explains the difference).
 // Even chains: the demo's robot (robot seed 2004); odd chains: a different random robot each.
 #include "chain_statistics.hpp"
 #include "demo.hpp"
