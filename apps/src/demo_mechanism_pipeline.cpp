@@ -3,6 +3,7 @@
 // its images and identify each model from poses.csv + joints.csv through the library calls
 // `mire identify --model NAME` makes; the truth scores only at the end.
 #include "demo_mechanism.hpp"
+#include "demo_mechanism_identify.hpp"
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/evaluation.hpp"
@@ -26,83 +27,6 @@ namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
 namespace {
-
-// What every model's identification reads, as `mire identify` reads it.
-struct MeasuredData {
-  std::vector<mech::PoseObservation> poses;
-  std::vector<std::vector<Eigen::VectorXd>> lines;
-  std::optional<mech::SharedPoseTerm> shared;
-};
-
-MeasuredData readMeasuredData(const datasets::MechanismImageCampaign& campaign, const fs::path& poses_csv) {
-  const std::vector<std::string> columns = campaign.robot.mechanism().jointColumnNames();
-  MeasuredData data;
-  data.poses =
-      mech::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv), columns).poses;
-  for (auto& line : mech::readLinesCsv(campaign.lines_file(), columns)) data.lines.push_back(std::move(line.joints));
-  const fs::path shared_path = mech::sharedTermPath(poses_csv);
-  if (fs::exists(shared_path)) data.shared = mech::readSharedTermCsv(shared_path);
-  return data;
-}
-
-// The initial model as `mire identify` builds it: the mounting from the data (motion type),
-// then the gauge by pivoted QR.
-struct GaugedModel {
-  mech::IdentificationModel model;
-  mech::GaugeAnalysis gauge;
-};
-
-GaugedModel initialModel(const mech::RegisteredModel& registered, const std::vector<mech::PoseObservation>& poses) {
-  GaugedModel initial;
-  initial.model = mech::makeInitialModel(registered.mechanism, registered.nominal, poses, registered.external_form);
-  initial.gauge = mech::fixGauge(initial.model, poses);
-  return initial;
-}
-
-// The fit with the calibration term shared by every pose (doc/uncertainty.md): refits on
-// shifted poses, initialised as the main fit, with its gauge (apps/src/cmd_identify.cpp).
-mech::IdentificationResult identifyLikeTheCommand(const mech::RegisteredModel& registered, const GaugedModel& initial,
-                                                  const MeasuredData& data) {
-  mech::IdentificationResult result = mech::identify(initial.model, data.poses);
-  if (data.shared) {
-    mech::IdentificationOptions quiet;
-    quiet.compute_identifiability = false;
-    mech::addSharedTermCovariance(
-        result, data.poses, *data.shared, [&](const std::vector<mech::PoseObservation>& shifted) {
-          mech::IdentificationModel start =
-              mech::makeInitialModel(registered.mechanism, registered.nominal, shifted, registered.external_form);
-          start.parameters.fix(initial.gauge.gauge);
-          mech::IdentificationResult refit = mech::identify(start, shifted, quiet);
-          mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
-          return refit;
-        });
-  }
-  return result;
-}
-
-// The truth in the identification's gauge (scoring only): the true geometry's exact-model
-// observations at the commanded poses (no defect, no noise), identified from the same initial
-// model with the same parameters held; the fit is exact, and lands where the gauge puts it.
-mech::ParameterSet truthInGauge(const datasets::MechanismImageCampaign& campaign, const GaugedModel& initial,
-                                const std::vector<mech::PoseObservation>& measured) {
-  const mech::Mechanism& mechanism = campaign.robot.mechanism();
-  std::vector<mech::PoseObservation> exact;
-  for (std::size_t i = 0; i < campaign.commanded.size(); ++i) {
-    const Eigen::Isometry3d bTe = mechanism.poseToTransform(campaign.commanded[i]);
-    mech::PoseObservation pose;
-    pose.id = campaign.pose_ids[i];
-    pose.joints = mechanism.inverseKinematics(campaign.robot.geometry.values(), bTe).joints;
-    pose.cTm = mech::toPoseVector(campaign.bTc.inverse() * bTe * campaign.mTe.inverse());
-    const auto same = std::find_if(measured.begin(), measured.end(), [&](const auto& p) { return p.id == pose.id; });
-    if (same != measured.end()) pose.covariance = same->covariance;
-    exact.push_back(pose);
-  }
-  mech::IdentificationOptions options;
-  options.compute_identifiability = false;
-  mech::IdentificationResult truth = mech::identify(initial.model, exact, options);
-  mech::alignTranslatingTarget(truth, exact);
-  return truth.model.parameters;
-}
 
 // Every free parameter with its σ and (when the truth has the model's parameters) error/σ
 // against the truth in the gauge (display and SI units; truth NaN without).

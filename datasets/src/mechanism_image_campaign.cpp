@@ -91,6 +91,15 @@ void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const Mechanis
   mechanism::writeLinesCsv(campaign.lines_file(), lines, columns);
 }
 
+// The true robot of the spec's draw, with or without its unmodelled defects.
+DefectiveRobot trueRobot(const MechanismImageCampaignSpec& spec) {
+  const auto seed = static_cast<unsigned>(spec.robot_seed.value_or(spec.seed));
+  if (isDelta(spec.mechanism))
+    return spec.unmodelled_defects ? makeDefectiveDelta(seed, spec.delta_legs_differ)
+                                   : makeDefectiveDelta(seed, spec.delta_legs_differ, 0.0);
+  return spec.unmodelled_defects ? makeDefectiveHexapod(seed) : makeDefectiveHexapod(seed, 0.0, 0.0);
+}
+
 // The true robot: its geometry in the `delta-legs` / `gough-stewart` parameters, its defects
 // and the mountings.
 std::string truthYaml(const MechanismImageCampaign& campaign) {
@@ -165,17 +174,15 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
       calibration::readCamera(spec.camera_file.empty() ? defaults.camera_file : spec.camera_file);
   const metrology::Target target =
       metrology::Target::fromFile(spec.target_file.empty() ? defaults.target_file : spec.target_file);
-  const auto robot_seed = static_cast<unsigned>(spec.seed);
-  MechanismImageCampaign campaign{
-      isDelta(spec.mechanism) ? makeDefectiveDelta(robot_seed, true) : makeDefectiveHexapod(robot_seed),
-      camera,
-      mechanismBaseTCamera(spec.mechanism),
-      mechanismMarkerTEffector(spec.mechanism, target),
-      {},
-      {},
-      {},
-      {},
-      directory};
+  MechanismImageCampaign campaign{trueRobot(spec),
+                                  camera,
+                                  spec.base_T_camera.value_or(mechanismBaseTCamera(spec.mechanism)),
+                                  mechanismMarkerTEffector(spec.mechanism, target),
+                                  {},
+                                  {},
+                                  {},
+                                  {},
+                                  directory};
   const Mechanism& mechanism = campaign.robot.mechanism();
   for (const Eigen::Isometry3d& pose : protocolPoses(mechanism, campaign.robot.geometry.values())) {
     const Eigen::VectorXd X = mechanism.transformToPose(pose);

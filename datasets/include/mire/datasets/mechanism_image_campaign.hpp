@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,18 @@ struct MechanismImageCampaignSpec {
   RenderOptions render;
   NoiseOptions noise;
   std::uint64_t seed = 2004;
+  // The true robot's draw; unset: `seed`. Set, it keeps one robot while `seed` renews the
+  // images and encoder noise (benchmarks/bench_chain_mechanisms.cpp).
+  std::optional<std::uint64_t> robot_seed;
+  // false: the true robot is exactly of its geometry model (Delta: no plate tilt, the legs
+  // still differ, so exactly `delta-legs`; hexapod: unit encoder gains, no eccentricity, so
+  // exactly `gough-stewart`), for studies of the σ rather than of the model error.
+  bool unmodelled_defects = true;
+  // false: the Delta's legs are identical (only the common geometry's errors), so that without
+  // its unmodelled defects it is exactly the simple `delta` model.
+  bool delta_legs_differ = true;
+  // The camera's placement in the robot's base; unset: mechanismBaseTCamera(mechanism).
+  std::optional<Eigen::Isometry3d> base_T_camera;
   PngEncoding png = PngEncoding::Stored;
 
   // The H4 demo's optics (slight defocus, sensor noise) for `mechanism`; throws

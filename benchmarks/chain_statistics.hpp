@@ -1,0 +1,52 @@
+#pragma once
+// Small statistics of the end-to-end σ studies (doc/uncertainty.md, issue 19:
+// benchmarks/bench_chain.cpp, benchmarks/bench_chain_mechanisms.cpp): samples of error/σ per
+// name gathered over chains, their spread, and the Mahalanobis χ² of a whole error vector.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace mire::bench {
+
+// Samples per name (a parameter, a camera parameter, a pose component).
+using Samples = std::map<std::string, std::vector<double>>;
+
+inline double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (const double x : v) s += x / static_cast<double>(v.size());
+  return s;
+}
+
+inline double rms(const std::vector<double>& v) {
+  double sq = 0.0;
+  for (const double x : v) sq += x * x;
+  return v.empty() ? 0.0 : std::sqrt(sq / static_cast<double>(v.size()));
+}
+
+// Sample standard deviation (n − 1); 0 below two samples.
+inline double stddev(const std::vector<double>& v) {
+  if (v.size() < 2) return 0.0;
+  double mean = 0.0, sq = 0.0;
+  for (const double x : v) mean += x / static_cast<double>(v.size());
+  for (const double x : v) sq += (x - mean) * (x - mean);
+  return std::sqrt(sq / static_cast<double>(v.size() - 1));
+}
+
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// xᵀ Σ⁻¹ x (a Mahalanobis χ²), through the pseudo-inverse-free LDLT of Σ.
+inline double mahalanobis(const Eigen::VectorXd& x, const Eigen::MatrixXd& covariance) {
+  return x.dot(covariance.ldlt().solve(x));
+}
+
+}  // namespace mire::bench
