@@ -178,7 +178,7 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   ChainFits fits;
   fits.before = app::identifyLikeTheCommand(registered, initial, independent);
   fits.after = fits.before;
-  app::addSharedTermLikeTheCommand(registered, initial, data, fits.after);
+  app::addSharedTermLikeTheCommand(registered, initial, data, fits.after, app::RefitGauge::Reinitialised);
   fits.held = fits.before;
   app::addSharedTermLikeTheCommand(registered, initial, data, fits.held, app::RefitGauge::HeldAtMainFit);
   fits.with_shared_unaligned = fits.after;  // its σ components, before the target's rows turn
@@ -329,7 +329,7 @@ void printCounts(const Study& s, const Samples& z, const char* label) {
 
 void printIdentificationTable(const Study& s) {
   std::printf("  %-8s %-4s %3s | %-17s | %-17s | %-17s | %-26s | %s\n", "param", "unit", "n", "without shared",
-              "with shared (cmd)", "shared, gauge held", "no calib: sc, fit; calib", "median |error|");
+              "shared, re-initialised", "shared, held (cmd)", "no calib: sc, fit; calib", "median |error|");
   std::printf("  %-8s %-4s %3s | %8s %8s | %8s %8s | %8s %8s | %8s %8s %8s |\n", "", "", "", "std", "RMS", "std", "RMS",
               "std", "RMS", "RMS", "RMS", "RMS");
   for (const auto& name : s.names) {
@@ -355,21 +355,21 @@ void printIdentification(const Study& s) {
                 median(s.sigma_alignment.at(name)), median(s.sigma_shared.at(name)),
                 median(s.sigma_shared_held.at(name)), rms(s.abs_error.at(name)));
   std::printf(
-      "  with shared (cmd): the refits re-initialise the gauge parameters on the shifted poses, as `mire identify`;"
-      " gauge held: the refits hold them at the main fit's values\n"
+      "  re-initialised: the refits re-initialise the gauge parameters on the shifted poses (`mire identify` "
+      "before stop 27); held: the refits hold them at the main fit's values (`mire identify` now)\n"
       "  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
       "without the shared term (sc) and against the fit's own term of the sigma with it (fit); calib: the rest of "
       "the error (the calibration's part) against the shared term, gauge held\n");
   printCounts(s, s.z_before, "without the shared term");
-  printCounts(s, s.z_after, "with it (cmd)");
+  printCounts(s, s.z_after, "with it, gauge re-initialised (before stop 27)");
   printCounts(s, s.z_held, "with it, gauge held");
   std::printf(
-      "  identification Mahalanobis chi2 / p: mean %.2f without, %.2f with (cmd), %.2f gauge held (1 if honest); "
+      "  identification Mahalanobis chi2 / p: mean %.2f without, %.2f re-initialised, %.2f gauge held (1 if honest); "
       "medians %.2f, %.2f, %.2f\n",
       mean(s.ident_chi2_before), mean(s.ident_chi2_after), mean(s.ident_chi2_held), median(s.ident_chi2_before),
       median(s.ident_chi2_after), median(s.ident_chi2_held));
-  std::printf("  fit chi2/dof: median %.3f; sigma: %s (without), %s (with), first chain\n", median(s.chi2_dof),
-              s.method_before.front().c_str(), s.method_after.front().c_str());
+  std::printf("  fit chi2/dof: median %.3f; sigma: %s (without), %s (with, re-initialised), first chain\n",
+              median(s.chi2_dof), s.method_before.front().c_str(), s.method_after.front().c_str());
 }
 
 void printTimes(const Study& s) {

@@ -262,14 +262,19 @@ InitialModel initialModel(const ModelChoice& choice, const IdentifyInputs& input
 }
 
 // The shared-term refits' starting model on the shifted poses: built as the initial one, with
-// the gauge the main fit chose.
+// the parameters the main fit held (the gauge it chose, --fix) held at the main fit's values, so
+// that the refits measure the estimate's change within that gauge, not a change of frame
+// (doc/uncertainty.md, "the Delta and the Gough–Stewart": re-initialised, the gauge moved with
+// the shifted poses and left σ 100–1000x too small along some directions).
 mech::IdentificationModel refitStart(const ModelChoice& choice, const IdentifyInputs& inputs,
                                      const InitialModel& initial, const std::vector<mech::PoseObservation>& shifted) {
   if (!choice.h4) {
     mech::IdentificationModel start = mech::makeInitialModel(inputs.registered.mechanism, inputs.registered.nominal,
                                                              shifted, inputs.registered.external_form);
-    start.parameters.fix(inputs.options.fix);
-    if (initial.gauge) start.parameters.fix(initial.gauge->gauge);
+    std::vector<std::string> held = inputs.options.fix;
+    if (initial.gauge) held.insert(held.end(), initial.gauge->gauge.begin(), initial.gauge->gauge.end());
+    for (const std::string& name : held) start.parameters.setValue(name, initial.model.parameters.value(name));
+    start.parameters.fix(held);
     return start;
   }
   if (choice.kind == mech::H4ModelKind::Model31)
