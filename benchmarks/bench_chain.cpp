@@ -9,6 +9,7 @@
 //                    [first_chain=0]
 // Even chains: the same robot (robot seed 2004); odd chains: a different random robot each.
 // Camera placement: drawn anew per chain (default), or the demo's for every chain ("fixed").
+#include "chain_statistics.hpp"
 #include "image_folders.hpp"
 
 #include "mire/calibration/calibrate.hpp"
@@ -46,40 +47,12 @@ namespace mech = mire::mechanism;
 
 double processCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-// Samples per name (a parameter, a camera parameter, a pose component).
-using Samples = std::map<std::string, std::vector<double>>;
-
-double rms(const std::vector<double>& v) {
-  double sq = 0.0;
-  for (const double x : v) sq += x * x;
-  return v.empty() ? 0.0 : std::sqrt(sq / static_cast<double>(v.size()));
-}
-
-double stddev(const std::vector<double>& v) {
-  if (v.size() < 2) return 0.0;
-  double mean = 0.0, sq = 0.0;
-  for (const double x : v) mean += x / static_cast<double>(v.size());
-  for (const double x : v) sq += (x - mean) * (x - mean);
-  return std::sqrt(sq / static_cast<double>(v.size() - 1));
-}
-
-double mean(const std::vector<double>& v) {
-  double s = 0.0;
-  for (const double x : v) s += x / static_cast<double>(v.size());
-  return s;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// xᵀ Σ⁻¹ x (a Mahalanobis χ²), through the pseudo-inverse-free LDLT of Σ.
-double mahalanobis(const Eigen::VectorXd& x, const Eigen::MatrixXd& covariance) {
-  return x.dot(covariance.ldlt().solve(x));
-}
+using bench::mahalanobis;
+using bench::mean;
+using bench::median;
+using bench::rms;
+using bench::Samples;
+using bench::stddev;
 
 // Everything scored over the chains.
 struct Study {

@@ -32,25 +32,6 @@ Eigen::Isometry3d isometry(const Eigen::Matrix3d& rotation, const Eigen::Vector3
   return transform;
 }
 
-// Every target feature at least `margin` px inside the image at every pose (the measurement
-// needs the whole board).
-void checkTargetInView(const MechanismImageCampaign& campaign, const metrology::Target& target) {
-  constexpr double kMargin = 10.0;
-  for (std::size_t i = 0; i < campaign.bTe.size(); ++i) {
-    const Eigen::Isometry3d cTm = campaign.trueCameraTMarker(campaign.pose_ids[i]);
-    for (const Eigen::Vector3d& point : target.points()) {
-      Eigen::Vector2d pixel;
-      const Eigen::Vector3d in_camera = cTm * point;
-      const bool inside = in_camera.z() > 0.0 && campaign.camera.project(in_camera, &pixel) && pixel.x() >= kMargin &&
-                          pixel.y() >= kMargin && pixel.x() <= campaign.camera.width - 1 - kMargin &&
-                          pixel.y() <= campaign.camera.height - 1 - kMargin;
-      if (!inside)
-        throw std::runtime_error("simulated " + campaign.robot.geometry_model.name +
-                                 ": the target leaves the image at pose " + campaign.pose_ids[i]);
-    }
-  }
-}
-
 SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const calibration::Camera& camera,
                                   const metrology::Target& target, const MechanismImageCampaign& campaign) {
   SimulationSpec simulation = campaignSimulationBase(spec, camera, target);
@@ -191,12 +172,13 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
     campaign.pose_ids.push_back(campaignPoseId(campaign.pose_ids.size()));
   }
   campaign.lines = straightLinePoses(campaign.robot, spec.line_points);
-  checkTargetInView(campaign, target);
+  const SimulationSpec simulation = campaignSimulation(spec, camera, target, campaign);
+  checkTargetInView(simulation, "simulated " + campaign.robot.geometry_model.name);
 
   fs::create_directories(directory);
   const fs::path truth_dir = directory / "truth";
   support::writeFileAtomically(campaign.target_file(), target.yamlString());
-  renderCampaignImages(campaignSimulation(spec, camera, target, campaign), campaign.directory, truth_dir, progress);
+  renderCampaignImages(simulation, campaign.directory, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
   support::writeFileAtomically(truth_dir / "robot.yaml", truthYaml(campaign));
   return campaign;
