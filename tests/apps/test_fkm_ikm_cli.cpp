@@ -1,4 +1,4 @@
-// `mire identify` on a Delta and a Gough–Stewart campaign, then `mire fkm` / `mire ikm` with
+// `mire identify` on a Delta, a Gough–Stewart (with and without encoder gains) and an H4 campaign, then `mire fkm` / `mire ikm` with
 // the identified files: predictions against the simulated truth, within their σ; unreachable
 // poses named (doc/mechanisms.md).
 #include <gtest/gtest.h>
@@ -78,7 +78,7 @@ void identifyThenPredict(const std::string& model) {
             can_fail ? 3 : 0);
   if (can_fail) {
     const std::string expected =
-        model == "gough-stewart" ? "'far' is outside the stroke of joint(s) 1 (" : "'far' is unreachable";
+        model.rfind("gough-stewart", 0) == 0 ? "'far' is outside the stroke of joint(s) 1 (" : "'far' is unreachable";
     EXPECT_NE(test::readText(d / "stderr.txt").find(expected), std::string::npos) << test::readText(d / "stderr.txt");
   }
   const support::CsvTable commands = support::readCsv(d / "commands.csv");
@@ -91,6 +91,7 @@ void identifyThenPredict(const std::string& model) {
 
 TEST(FkmIkmCli, DeltaIdentifyPredictCommand) { identifyThenPredict("delta"); }
 TEST(FkmIkmCli, GoughStewartIdentifyPredictCommand) { identifyThenPredict("gough-stewart"); }
+TEST(FkmIkmCli, GoughStewartGainsIdentifyPredictCommand) { identifyThenPredict("gough-stewart-gains"); }
 TEST(FkmIkmCli, H4IdentifyPredictCommand) { identifyThenPredict("h4-12"); }
 
 TEST(FkmIkmCli, UnknownModelIsNamed) {
