@@ -45,14 +45,7 @@ using namespace mire;
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
-double processCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
-using bench::mahalanobis;
-using bench::mean;
-using bench::median;
-using bench::rms;
-using bench::Samples;
-using bench::stddev;
+using namespace mire::bench;
 
 // Everything scored over the chains.
 struct Study {
@@ -165,7 +158,8 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
     study.pose_mahalanobis.push_back(mahalanobis(error, m.estimate.covariance) / 6.0);
     study.pose_mahalanobis_independent.push_back(mahalanobis(independent, m.estimate.covariance_noise) / 6.0);
     whitened.push_back(m.estimate.covariance_noise.llt().matrixL().solve(independent));
-    theta.push_back(campaign.poses[static_cast<std::size_t>(std::stoi(pose.pose_id.substr(1)) - 1)][3]);
+    const auto index = std::find(campaign.pose_ids.begin(), campaign.pose_ids.end(), pose.pose_id);
+    theta.push_back(campaign.poses[static_cast<std::size_t>(index - campaign.pose_ids.begin())][3]);
   }
   scoreCorrelation(whitened, theta, study);
   metrology::writePosesCsv(poses_csv, measured);

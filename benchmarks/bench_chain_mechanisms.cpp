@@ -23,6 +23,7 @@
 #include "mire/mechanism/parameter_set.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/metrology/target.hpp"
+#include "mire/support/constants.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -41,21 +42,14 @@
 namespace {
 
 using namespace mire;
-using bench::mahalanobis;
-using bench::mean;
-using bench::median;
-using bench::rms;
-using bench::Samples;
-using bench::stddev;
+using namespace mire::bench;
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
+constexpr double kDegree = support::kRadiansPerDegree;
 // The camera placement's perturbation per chain: U(−1, 1) × 3 cm along each base axis and
 // × 3° about each camera axis (smaller when a target feature would leave the image).
 constexpr double kShiftM = 0.03, kTurnRad = 3.0 * kDegree;
-
-double processCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 // Everything scored over the chains.
 struct Study {

@@ -1,17 +1,21 @@
 #pragma once
 // Small statistics of the end-to-end σ studies (doc/uncertainty.md, issue 19:
 // benchmarks/bench_chain.cpp, benchmarks/bench_chain_mechanisms.cpp): samples of error/σ per
-// name gathered over chains, their spread, and the Mahalanobis χ² of a whole error vector.
+// name gathered over chains, their spread, the Mahalanobis χ² of a whole error vector, and the
+// process CPU time the studies report per stage.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace mire::bench {
+
+inline double processCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 // Samples per name (a parameter, a camera parameter, a pose component).
 using Samples = std::map<std::string, std::vector<double>>;
