@@ -66,9 +66,12 @@ struct Study {
   Samples z_corrected, z_corrected_fit, z_calibration_part;
   Samples sigma_fit, sigma_alignment, sigma_shared;  // σ components with the shared term (display)
   Samples sigma_shared_held;                         // the shared term, refits in the main fit's gauge
-  std::map<std::string, std::string> unit;           // display unit per parameter
-  std::set<std::string> mounting;                    // the free mounting parameters
-  std::vector<std::string> names;                    // free parameters, in first-seen order
+  // The fit's term from the true independent pose errors over the modelled one (variance ratios):
+  // per pose (block-diagonal) and realized (all poses together, cross-pose correlation included).
+  Samples oracle_block_ratio, oracle_realized_ratio;
+  std::map<std::string, std::string> unit;  // display unit per parameter
+  std::set<std::string> mounting;           // the free mounting parameters
+  std::vector<std::string> names;           // free parameters, in first-seen order
   std::vector<std::string> method_before, method_after;
   std::vector<double> chi2_dof, ident_chi2_before, ident_chi2_after, ident_chi2_held;
   std::vector<double> cpu_simulate, cpu_measure, cpu_identify, wall, shift_mm, turn_deg;
@@ -161,7 +164,37 @@ void scorePoses(const datasets::MechanismImageCampaign& campaign, const app::Mea
 struct ChainFits {
   mech::IdentificationResult before, after, held, with_shared_unaligned, corrected;
   mech::ParameterSet truth;
+  Eigen::VectorXd oracle_block, oracle_realized;  // variances, free parameters
 };
+
+// Diagnostic, the truth known: the fit's term from the true independent pose errors
+// u_j = e_j − D_j Δk, through the linearized estimator H⁻¹ Σ_j A_jᵀ W_j J_p,j u_j: per pose
+// (Σ_j of the score's outer product, what per-pose covariances can describe) and realized (the
+// square of the sum, whose mean over chains holds the cross-pose correlation too).
+void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
+                   const Eigen::VectorXd& camera_error, ChainFits& fits) {
+  const mech::IdentificationResult& r = fits.with_shared_unaligned;
+  const int J = r.model.mechanism->jointCount();
+  const Eigen::MatrixXd J_rad = mech::identificationJacobian(r.model, data.poses);
+  const Eigen::VectorXd g = r.model.geometricValues(), e = r.model.externalValues();
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
+  Eigen::VectorXd total = Eigen::VectorXd::Zero(J_rad.cols());
+  for (std::size_t j = 0; j < data.poses.size(); ++j) {
+    if (!r.poses.at(j).used) continue;
+    const mech::PoseObservation& pose = data.poses[j];
+    const Eigen::MatrixXd& W = r.whitening.at(j);
+    const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    const Eigen::MatrixXd Jp = r.model.mechanism->jointJacobianWrtPose(r.model.external, g, e, pose.cTm);
+    const mech::PoseVector u = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
+                               data.shared->sensitivity.at(pose.id) * camera_error;
+    const Eigen::VectorXd score = A_j.transpose() * (W * (Jp * u));
+    meat += score * score.transpose();
+    total += score;
+  }
+  const Eigen::MatrixXd& H_inv = r.information_inverse;
+  fits.oracle_block = (H_inv * meat * H_inv).diagonal();
+  fits.oracle_realized = (H_inv * total).array().square();
+}
 
 ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
                         const std::string& model, const Eigen::VectorXd& camera_error) {
@@ -176,6 +209,7 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   fits.held = fits.before;
   app::addSharedTermLikeTheCommand(registered, initial, data, fits.held, app::RefitGauge::HeldAtMainFit);
   fits.with_shared_unaligned = fits.after;  // its σ components, before the target's rows turn
+  oracleFitTerm(campaign, data, camera_error, fits);
   std::vector<mech::PoseObservation> corrected_poses = data.poses;
   for (mech::PoseObservation& pose : corrected_poses) pose.cTm -= data.shared->sensitivity.at(pose.id) * camera_error;
   fits.corrected = app::identifyLikeTheCommand(registered, initial, app::MeasuredData{corrected_poses, {}, {}});
@@ -235,6 +269,9 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
     study.z_corrected_fit[name].push_back(corrected_error / std::sqrt(fitVariance(fits.with_shared_unaligned, f)));
     study.z_calibration_part[name].push_back((error[f] - corrected_error) / std::sqrt(fits.held.shared_covariance(f, f)));
     study.abs_error[name].push_back(std::abs(mech::toDisplay(p[i].unit, error[f])));
+    const double modelled = fitVariance(fits.with_shared_unaligned, f);
+    study.oracle_block_ratio[name].push_back(fits.oracle_block[f] / modelled);
+    study.oracle_realized_ratio[name].push_back(fits.oracle_realized[f] / modelled);
   }
   recordSigmaComponents(fits.with_shared_unaligned, study);
   study.chi2_dof.push_back(before.chi2 / std::max(1, before.dof));
@@ -348,6 +385,12 @@ void printIdentification(const Study& s) {
     std::printf("  %-8s %10.4g %10.4g %10.4g %10.4g | RMS |error| %10.4g\n", name.c_str(), median(s.sigma_fit.at(name)),
                 median(s.sigma_alignment.at(name)), median(s.sigma_shared.at(name)),
                 median(s.sigma_shared_held.at(name)), rms(s.abs_error.at(name)));
+  std::printf(
+      "\n  the fit's term from the true independent pose errors over the printed one, sqrt(mean variance ratio): "
+      "per pose (block-diagonal) | realized (cross-pose correlation included)\n");
+  for (const auto& name : s.names)
+    std::printf("  %-8s %8.3f | %8.3f\n", name.c_str(), std::sqrt(mean(s.oracle_block_ratio.at(name))),
+                std::sqrt(mean(s.oracle_realized_ratio.at(name))));
   std::printf(
       "  re-initialised: the refits re-initialise the gauge parameters on the shifted poses (`mire identify` "
       "before stop 27); held: the refits hold them at the main fit's values (`mire identify` now)\n"

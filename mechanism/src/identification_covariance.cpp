@@ -24,6 +24,17 @@ int axisIndex(const std::string& text) {
   return -1;
 }
 
+// (I − H_jj)^(−1/2), H_jj = A_j H⁻¹ A_jᵀ the pose's leverage block (Bell and McCaffrey's CR2
+// adjustment): a residual of a pose the fit leans on is smaller than that pose's error, by
+// (I − H_jj) in expectation. Eigenvalues of I − H_jj are held above 1e-3 (a pose that alone
+// fixes a direction says nothing of its error along it).
+Eigen::MatrixXd leverageAdjustment(const Eigen::MatrixXd& A_j, const Eigen::MatrixXd& H_inv) {
+  const Eigen::MatrixXd complement = Eigen::MatrixXd::Identity(A_j.rows(), A_j.rows()) - A_j * H_inv * A_j.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(complement);
+  const Eigen::VectorXd inverse_root = eigen.eigenvalues().cwiseMax(1e-3).cwiseSqrt().cwiseInverse();
+  return eigen.eigenvectors() * inverse_root.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
 }  // namespace
 
 double robustPoseScale2(const std::vector<double>& pose_chi2, int joint_count) {
@@ -101,18 +112,16 @@ SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
 Eigen::MatrixXd sandwichCovariance(const IdentificationResult& result, const std::vector<PoseObservation>& poses) {
   const int J = result.model.mechanism->jointCount();
   const Eigen::MatrixXd J_rad = identificationJacobian(result.model, poses);
+  const Eigen::MatrixXd& H_inv = result.information_inverse;
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
-  int used = 0;
   for (std::size_t j = 0; j < poses.size(); ++j) {
     if (!result.poses.at(j).used) continue;
     const Eigen::MatrixXd& W = result.whitening.at(j);
-    const Eigen::VectorXd score =
-        (W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J)).transpose() * (W * result.poses[j].residual);
+    const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
+    const Eigen::VectorXd score = A_j.transpose() * (leverageAdjustment(A_j, H_inv) * (W * result.poses[j].residual));
     meat += score * score.transpose();
-    ++used;
   }
-  const double correction = used > J_rad.cols() ? double(used) / double(used - J_rad.cols()) : 1.0;
-  return result.information_inverse * meat * result.information_inverse * correction;
+  return H_inv * meat * H_inv;
 }
 
 namespace {

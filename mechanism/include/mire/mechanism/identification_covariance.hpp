@@ -34,8 +34,10 @@ double robustPoseScale2(const std::vector<double>& pose_chi2, int joint_count);
 double misfitScale2(double chi2, int dof, double p);
 
 // Sandwich (cluster-robust, one cluster per pose) covariance of the free parameters:
-// H⁻¹ (Σ_j A_jᵀ r_j r_jᵀ A_j) H⁻¹ · m/(m − p), H⁻¹ = result.information_inverse, A_j and r_j the
-// whitened Jacobian and residuals of the poses used (m of them, p free parameters).
+// H⁻¹ (Σ_j A_jᵀ r̃_j r̃_jᵀ A_j) H⁻¹, H⁻¹ = result.information_inverse, A_j and r_j the whitened
+// Jacobian and residuals of the poses used, r̃_j = (I − A_j H⁻¹ A_jᵀ)^(−1/2) r_j (the CR2
+// leverage adjustment of Bell and McCaffrey: unbiased when the weights are right, whatever the
+// number of poses per parameter, where the uniform m/(m − p) factor over- and under-corrects).
 Eigen::MatrixXd sandwichCovariance(const IdentificationResult& result, const std::vector<PoseObservation>& poses);
 
 // What `mire measure` knows about the error shared by every pose: the camera's covariance
