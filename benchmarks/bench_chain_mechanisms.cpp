@@ -8,7 +8,7 @@
 // and scores every stage against the simulator's truth: calibration error/σ, pose error/σ, and
 // every free parameter's error/σ against the truth in the identification's gauge.
 // Usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains=20] [images_per_pose=10]
-//        [work_dir]
+//        [work_dir] [first_chain=0]
 // delta: legs that differ, model `delta-legs` (the mounting values are the gauge on most chains);
 // delta-same-legs: identical legs, model `delta` (6 free mounting values); gough-stewart: model
 // `gough-stewart`. The shared term is computed twice: as `mire identify` does (its refits
@@ -21,6 +21,7 @@
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/parameter_set.hpp"
+#include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/constants.hpp"
@@ -32,6 +33,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -74,6 +76,7 @@ struct Study {
   std::vector<std::string> names;           // free parameters, in first-seen order
   std::vector<std::string> method_before, method_after;
   std::vector<double> chi2_dof, ident_chi2_before, ident_chi2_after, ident_chi2_held;
+  std::vector<double> prediction_error_mm;  // per chain: largest camera-frame position error
   std::vector<double> cpu_simulate, cpu_measure, cpu_identify, wall, shift_mm, turn_deg;
   int chains = 0, failed = 0;
 };
@@ -221,6 +224,24 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   return fits;
 }
 
+// What a user would apply: the largest error [mm] of the camera-frame pose the identified model
+// predicts from the true joints (`mire fkm --frame camera`), over the campaign's poses.
+double largestPredictionErrorMm(const datasets::MechanismImageCampaign& campaign, const std::string& model,
+                                const mech::IdentificationResult& result) {
+  const mech::PredictionModel prediction = mech::predictionModelFrom(model, result);
+  const mech::Mechanism& truth = campaign.robot.mechanism();
+  double largest = 0.0;
+  for (const Eigen::VectorXd& X : campaign.commanded) {
+    const Eigen::Isometry3d bTe = truth.poseToTransform(X);
+    const Eigen::VectorXd joints = truth.inverseKinematics(campaign.robot.geometry.values(), bTe).joints;
+    const mech::PosePrediction predicted = mech::predictPose(prediction, joints);
+    const Eigen::Isometry3d cTm = campaign.bTc.inverse() * bTe * campaign.mTe.inverse();
+    largest = std::max(largest, predicted.converged ? 1e3 * (predicted.cTm.head<3>() - cTm.translation()).norm()
+                                                    : std::numeric_limits<double>::infinity());
+  }
+  return largest;
+}
+
 // The fit's own term of the σ² with the shared term (free parameter f): the rest of the
 // covariance once the axis-alignment and shared terms are taken out.
 double fitVariance(const mech::IdentificationResult& with_shared, Eigen::Index f) {
@@ -280,6 +301,21 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
   study.ident_chi2_before.push_back(mahalanobis(error, before.covariance) / static_cast<double>(free));
   study.ident_chi2_after.push_back(mahalanobis(error, fits.after.covariance) / static_cast<double>(free));
   study.ident_chi2_held.push_back(mahalanobis(error, fits.held.covariance) / static_cast<double>(free));
+  Eigen::Index worst = 0;
+  std::string free_mounting;
+  for (Eigen::Index f = 0; f < free; ++f) {
+    const std::string& name = before.free_names[static_cast<std::size_t>(f)];
+    if (std::abs(error[f] / fits.held.sigma[static_cast<Eigen::Index>(p.index(name))]) >
+        std::abs(error[worst] / fits.held.sigma[static_cast<Eigen::Index>(p.index(before.free_names[worst]))]))
+      worst = f;
+    if (study.mounting.count(name)) free_mounting += " " + name;
+    if (std::abs(study.z_held[name].back()) > 2.5)
+      std::printf("  |error/sigma| > 2.5: %s %.2f\n", name.c_str(), study.z_held[name].back());
+  }
+  const std::string& name = before.free_names[static_cast<std::size_t>(worst)];
+  std::printf("  largest |error/sigma| with the shared term: %s %.2f (error %.4g, display units); free mounting:%s\n",
+              name.c_str(), study.z_held[name].back(), mech::toDisplay(p[p.index(name)].unit, error[worst]),
+              free_mounting.empty() ? " none" : free_mounting.c_str());
 }
 
 void runChain(int chain, int images_per_pose, const fs::path& work, Study& study) {
@@ -302,7 +338,9 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   const Eigen::VectorXd camera_error = scoreCalibration(calibration, study);
   scorePoses(campaign, data, calibration.names, camera_error, study);
   study.pose_whitened_all.push_back(measurement.whitened_error_rms_all);
-  scoreIdentification(identifyChain(campaign, data, study.model, camera_error), study);
+  const ChainFits fits = identifyChain(campaign, data, study.model, camera_error);
+  scoreIdentification(fits, study);
+  study.prediction_error_mm.push_back(largestPredictionErrorMm(campaign, study.model, fits.held));
   const double done = processCpuSeconds();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
   ++study.chains;
@@ -313,11 +351,11 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   std::printf(
       "chain %2d (robot seed %llu, camera moved %.1f mm / %.2f deg): CPU s simulate %.1f, calibrate+measure %.1f, "
       "identify %.1f; wall %.1f s; %d of %d poses; chi2/dof %.2f (%s); Mahalanobis/p without %.2f with %.2f (gauge "
-      "held %.2f)\n",
+      "held %.2f); largest camera-frame prediction error %.3f mm\n",
       chain, static_cast<unsigned long long>(*spec.robot_seed), study.shift_mm.back(), study.turn_deg.back(),
       simulated - start, measured - simulated, done - measured, seconds, measurement.measured, measurement.total,
       study.chi2_dof.back(), study.method_before.back().c_str(), study.ident_chi2_before.back(),
-      study.ident_chi2_after.back(), study.ident_chi2_held.back());
+      study.ident_chi2_after.back(), study.ident_chi2_held.back(), study.prediction_error_mm.back());
   std::fflush(stdout);
   fs::remove_all(dir);  // 0.1–0.6 GB of images per chain
 }
@@ -405,6 +443,10 @@ void printIdentification(const Study& s) {
       "medians %.2f, %.2f, %.2f\n",
       mean(s.ident_chi2_before), mean(s.ident_chi2_after), mean(s.ident_chi2_held), median(s.ident_chi2_before),
       median(s.ident_chi2_after), median(s.ident_chi2_held));
+  std::printf(
+      "  largest camera-frame position error predicted from the true joints, per chain: median %.3f mm, worst "
+      "%.3f mm\n",
+      median(s.prediction_error_mm), *std::max_element(s.prediction_error_mm.begin(), s.prediction_error_mm.end()));
   std::printf("  fit chi2/dof: median %.3f; sigma: %s (without), %s (with, re-initialised), first chain\n",
               median(s.chi2_dof), s.method_before.front().c_str(), s.method_after.front().c_str());
 }
@@ -424,11 +466,12 @@ int main(int argc, char** argv) {
   const int chains = argc > 2 ? std::atoi(argv[2]) : 20;
   const int images = argc > 3 ? std::atoi(argv[3]) : 10;
   const fs::path work = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path() / ("mire_bench_chain_" + mechanism);
+  const int first_chain = argc > 5 ? std::atoi(argv[5]) : 0;
   if ((mechanism != "delta" && mechanism != "delta-same-legs" && mechanism != "gough-stewart") || chains < 2 ||
-      images < 1) {
+      images < 1 || first_chain < 0) {
     std::fprintf(stderr,
                  "usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains>=2] "
-                 "[images_per_pose>=1] [work_dir]\n");
+                 "[images_per_pose>=1] [work_dir] [first_chain>=0]\n");
     return 2;
   }
   Study study;
@@ -439,7 +482,7 @@ int main(int argc, char** argv) {
       "%s: %d chains, %d images per pose, a true robot exactly of model %s (no unmodelled defects), robot seed "
       "2004 on even chains, a new one on odd chains, the camera placement moved per chain; work dir %s\n",
       mechanism.c_str(), chains, images, study.model.c_str(), work.string().c_str());
-  for (int chain = 0; study.chains < chains && chain < 2 * chains; ++chain) {
+  for (int chain = first_chain; study.chains < chains && chain < first_chain + 2 * chains; ++chain) {
     try {
       runChain(chain, images, work, study);
     } catch (const std::exception& e) {
