@@ -113,7 +113,7 @@ AxisAlignment estimateAxisAlignment(const std::vector<PoseObservation>& poses);
 
 // Effector poses bTe from the encoder readings through the FKM at `geometric`, started at
 // the mechanism's reference pose; where no pose reproduces the joints exactly (a geometry far
-// from the robot's), the least-squares pose when its joint mismatch is below 0.05 rad (or m).
+// from the robot's), the least-squares pose when its joint mismatch is below 0.1 rad (or m).
 // Throws std::runtime_error naming the other pose ids and why the FKM failed there.
 std::vector<Eigen::Isometry3d> effectorPosesByFkm(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
                                                   const std::vector<PoseObservation>& poses);
