@@ -9,6 +9,7 @@
 //                    [first_chain=0]
 // Even chains: the same robot (robot seed 2004); odd chains: a different random robot each.
 // Camera placement: drawn anew per chain (default), or the demo's for every chain ("fixed").
+#include "chain_prediction.hpp"
 #include "chain_statistics.hpp"
 #include "image_folders.hpp"
 
@@ -34,6 +35,7 @@
 #include <ctime>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -65,6 +67,7 @@ struct Study {
   std::vector<std::string> names;                    // identified parameters in order
   std::vector<std::string> method;
   std::vector<double> chi2_dof, ident_chi2_before, ident_chi2_after, value_shift;
+  PredictionScores prediction;  // what `mire fkm` predicts from the true joints
   int chains = 0, failed = 0;
 };
 
@@ -241,6 +244,15 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
     if (std::abs(study.z_after[study.names[static_cast<std::size_t>(f)]].back()) >
         std::abs(study.z_after[study.names[static_cast<std::size_t>(worst)]].back()))
       worst = f;
+  std::vector<Eigen::VectorXd> joints;
+  std::vector<Eigen::Isometry3d> cTm;
+  for (const datasets::H4Pose& pose : campaign.poses) {
+    const std::optional<datasets::H4Joints> q = campaign.robot.joints(pose);
+    if (!q) throw std::runtime_error("the true robot does not reach a protocol pose");
+    joints.emplace_back(*q);
+    cTm.push_back(campaign.robot.cameraTMarker(pose));
+  }
+  scorePredictions(mech::predictionModelFrom("h4-12", after), joints, cTm, study.prediction);
   std::printf("  largest |error/sigma| with the shared term: %s %.2f\n",
               study.names[static_cast<std::size_t>(worst)].c_str(),
               study.z_after[study.names[static_cast<std::size_t>(worst)]].back());
@@ -328,6 +340,7 @@ void printIdentification(const Study& s) {
               s.names.size(), inside_after);
   std::printf("  identification Mahalanobis chi2 / p: mean %.2f without, %.2f with (1 if honest)\n",
               mean(s.ident_chi2_before), mean(s.ident_chi2_after));
+  printPredictionScores(s.prediction);
   std::printf("  fit chi2/dof: median %.2f; largest value change from adding the shared term: %.3g (SI)\n",
               median(s.chi2_dof), *std::max_element(s.value_shift.begin(), s.value_shift.end()));
 }

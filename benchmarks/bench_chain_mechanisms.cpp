@@ -15,13 +15,13 @@
 // re-initialise the gauge parameters) and with the refits holding the main fit's gauge
 // (doc/uncertainty.md explains the difference).
 // Even chains: the demo's robot (robot seed 2004); odd chains: a different random robot each.
+#include "chain_prediction.hpp"
 #include "chain_statistics.hpp"
 #include "demo.hpp"
 #include "demo_mechanism_identify.hpp"
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/parameter_set.hpp"
-#include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/constants.hpp"
@@ -33,7 +33,6 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
-#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -76,7 +75,7 @@ struct Study {
   std::vector<std::string> names;           // free parameters, in first-seen order
   std::vector<std::string> method_before, method_after;
   std::vector<double> chi2_dof, ident_chi2_before, ident_chi2_after, ident_chi2_held;
-  std::vector<double> prediction_error_mm;  // per chain: largest camera-frame position error
+  PredictionScores prediction;  // what `mire fkm` predicts from the true joints
   std::vector<double> cpu_simulate, cpu_measure, cpu_identify, wall, shift_mm, turn_deg;
   int chains = 0, failed = 0;
 };
@@ -224,22 +223,18 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   return fits;
 }
 
-// What a user would apply: the largest error [mm] of the camera-frame pose the identified model
-// predicts from the true joints (`mire fkm --frame camera`), over the campaign's poses.
-double largestPredictionErrorMm(const datasets::MechanismImageCampaign& campaign, const std::string& model,
-                                const mech::IdentificationResult& result) {
-  const mech::PredictionModel prediction = mech::predictionModelFrom(model, result);
+// The campaign's true joints and target poses, for chain_prediction.hpp.
+void scorePredictions(const datasets::MechanismImageCampaign& campaign, const std::string& model,
+                      const mech::IdentificationResult& result, Study& study) {
   const mech::Mechanism& truth = campaign.robot.mechanism();
-  double largest = 0.0;
+  std::vector<Eigen::VectorXd> joints;
+  std::vector<Eigen::Isometry3d> cTm;
   for (const Eigen::VectorXd& X : campaign.commanded) {
     const Eigen::Isometry3d bTe = truth.poseToTransform(X);
-    const Eigen::VectorXd joints = truth.inverseKinematics(campaign.robot.geometry.values(), bTe).joints;
-    const mech::PosePrediction predicted = mech::predictPose(prediction, joints);
-    const Eigen::Isometry3d cTm = campaign.bTc.inverse() * bTe * campaign.mTe.inverse();
-    largest = std::max(largest, predicted.converged ? 1e3 * (predicted.cTm.head<3>() - cTm.translation()).norm()
-                                                    : std::numeric_limits<double>::infinity());
+    joints.push_back(truth.inverseKinematics(campaign.robot.geometry.values(), bTe).joints);
+    cTm.push_back(campaign.bTc.inverse() * bTe * campaign.mTe.inverse());
   }
-  return largest;
+  bench::scorePredictions(mech::predictionModelFrom(model, result), joints, cTm, study.prediction);
 }
 
 // The fit's own term of the σ² with the shared term (free parameter f): the rest of the
@@ -340,7 +335,7 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   study.pose_whitened_all.push_back(measurement.whitened_error_rms_all);
   const ChainFits fits = identifyChain(campaign, data, study.model, camera_error);
   scoreIdentification(fits, study);
-  study.prediction_error_mm.push_back(largestPredictionErrorMm(campaign, study.model, fits.held));
+  scorePredictions(campaign, study.model, fits.held, study);
   const double done = processCpuSeconds();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
   ++study.chains;
@@ -355,7 +350,7 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
       chain, static_cast<unsigned long long>(*spec.robot_seed), study.shift_mm.back(), study.turn_deg.back(),
       simulated - start, measured - simulated, done - measured, seconds, measurement.measured, measurement.total,
       study.chi2_dof.back(), study.method_before.back().c_str(), study.ident_chi2_before.back(),
-      study.ident_chi2_after.back(), study.ident_chi2_held.back(), study.prediction_error_mm.back());
+      study.ident_chi2_after.back(), study.ident_chi2_held.back(), study.prediction.largest_mm.back());
   std::fflush(stdout);
   fs::remove_all(dir);  // 0.1–0.6 GB of images per chain
 }
@@ -443,10 +438,7 @@ void printIdentification(const Study& s) {
       "medians %.2f, %.2f, %.2f\n",
       mean(s.ident_chi2_before), mean(s.ident_chi2_after), mean(s.ident_chi2_held), median(s.ident_chi2_before),
       median(s.ident_chi2_after), median(s.ident_chi2_held));
-  std::printf(
-      "  largest camera-frame position error predicted from the true joints, per chain: median %.3f mm, worst "
-      "%.3f mm\n",
-      median(s.prediction_error_mm), *std::max_element(s.prediction_error_mm.begin(), s.prediction_error_mm.end()));
+  printPredictionScores(s.prediction);
   std::printf("  fit chi2/dof: median %.3f; sigma: %s (without), %s (with, re-initialised), first chain\n",
               median(s.chi2_dof), s.method_before.front().c_str(), s.method_after.front().c_str());
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -152,9 +153,17 @@ Eigen::VectorXd freeValues(const IdentificationResult& r) {
   return v;
 }
 
-// G·√Σ_k by central differences of the whole estimator along Σ_k's principal directions.
-Eigen::MatrixXd refitSensitivity(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                                 const SharedPoseTerm& shared, const Refit& refit) {
+// The tilts δ (AxisAlignment::covariance's order) that turn `from` into `to`.
+Eigen::Vector4d tiltsBetween(const AxisAlignment& from, const AxisAlignment& to) {
+  const Eigen::AngleAxisd camera(from.camera.transpose() * to.camera), target(from.target.transpose() * to.target);
+  const Eigen::Vector3d c = camera.angle() * camera.axis(), m = target.angle() * target.axis();
+  return Eigen::Vector4d(c.x(), c.y(), m.x(), m.y());
+}
+
+// G·√Σ_k by central differences of the whole estimator along Σ_k's principal directions, into
+// result.shared_columns, and the alignment tilts' change along them (aligned forms).
+void refitSensitivity(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                      const SharedPoseTerm& shared, const Refit& refit) {
   // Σ_k = S C Sᵀ (S = diag σ_k, C the correlation), C = U Λ Uᵀ: the steps S u_i √λ_i are
   // well scaled whatever the units of k.
   const auto n = shared.covariance.rows();
@@ -163,12 +172,15 @@ Eigen::MatrixXd refitSensitivity(const IdentificationResult& result, const std::
   for (Eigen::Index i = 0; i < n; ++i) inverse_scale[i] = scale[i] > 0.0 ? 1.0 / scale[i] : 0.0;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(inverse_scale.asDiagonal() * shared.covariance *
                                                              inverse_scale.asDiagonal());
+  const bool aligned = result.model.external.form() != ExternalForm::Full;
   Eigen::MatrixXd columns = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(result.free_names.size()), n);
+  Eigen::MatrixXd tilts = Eigen::MatrixXd::Zero(aligned ? 4 : 0, n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double lambda = eigen.eigenvalues()[i];
     if (!(lambda > 0.0)) continue;
     const Eigen::VectorXd step = scale.asDiagonal() * eigen.eigenvectors().col(i) * std::sqrt(lambda);
     Eigen::VectorXd values[2];
+    Eigen::Vector4d tilt[2];
     for (int side = 0; side < 2; ++side) {
       std::vector<PoseObservation> shifted = poses;
       for (PoseObservation& p : shifted) p.cTm += (side == 0 ? 1.0 : -1.0) * shared.sensitivity.at(p.id) * step;
@@ -176,10 +188,13 @@ Eigen::MatrixXd refitSensitivity(const IdentificationResult& result, const std::
       if (r.free_names != result.free_names)
         throw std::runtime_error("shared calibration term: the refit changed the free parameters");
       values[side] = freeValues(r);
+      tilt[side] = tiltsBetween(result.model.external.alignment(), r.model.external.alignment());
     }
     columns.col(i) = 0.5 * (values[0] - values[1]);
+    if (aligned) tilts.col(i) = 0.5 * (tilt[0] - tilt[1]);
   }
-  return columns;
+  result.shared_columns = columns;
+  result.shared_alignment_columns = tilts;
 }
 
 // The fit's own term when the pose covariances include the shared part D_j Σ_k D_jᵀ: the
@@ -260,7 +275,7 @@ void replaceFitTerm(IdentificationResult& result, const std::vector<PoseObservat
 // covariances, as if their shared part D_j Σ_k D_jᵀ were independent per pose. The refits above
 // re-estimate the alignment from the shifted orientations, so they already carry that part,
 // as shared: the tilts' covariance is recomputed from the independent part Σ_j − D_j Σ_k D_jᵀ
-// alone (doc/uncertainty.md, "Rendered-image chain study").
+// alone (doc/uncertainty.md, "Rendered-image chain study"), and the model's alignment carries it.
 void replaceAlignmentTerm(IdentificationResult& result, const std::vector<PoseObservation>& poses,
                           const SharedPoseTerm& shared) {
   const Eigen::MatrixXd& S = result.alignment_sensitivity;
@@ -279,6 +294,12 @@ void replaceAlignmentTerm(IdentificationResult& result, const std::vector<PoseOb
   const Eigen::MatrixXd term = S * alignment.covariance * S.transpose();
   result.covariance += term - result.alignment_covariance;
   result.alignment_covariance = term;
+  // The model carries the same tilt covariance: predictions (predictionModelFrom) take
+  // Cov(ξ, δ) = S·Σδ from it, and with the full-covariance Σδ the joint matrix of (ξ, δ) is not
+  // positive semi-definite (negative variances of the H4's camera-frame positions).
+  AxisAlignment held = result.model.external.alignment();
+  held.covariance = alignment.covariance;
+  result.model.external = ExternalParameterization(result.model.external.form(), held);
 }
 
 }  // namespace
@@ -291,8 +312,8 @@ void addSharedTermCovariance(IdentificationResult& result, const std::vector<Pos
     if (!shared.sensitivity.count(p.id))
       throw std::runtime_error("pose '" + p.id + "' has no sensitivity in the shared-term file");
   if (refit) {
-    const Eigen::MatrixXd columns = refitSensitivity(result, poses, shared, refit);
-    result.shared_covariance = columns * columns.transpose();
+    refitSensitivity(result, poses, shared, refit);
+    result.shared_covariance = result.shared_columns * result.shared_columns.transpose();
     replaceAlignmentTerm(result, poses, shared);
   } else {
     const Eigen::MatrixXd G = analyticSensitivity(result, poses, shared);

@@ -250,8 +250,17 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
   }
   const Eigen::MatrixXd Td = alignmentJacobian(id, map, rows);
   const Eigen::MatrixXd cross = result.alignment_sensitivity * alignment.covariance;  // Cov(ξ, δ)
-  m.covariance = T * result.covariance * T.transpose() + Td * alignment.covariance * Td.transpose() +
-                 T * cross * Td.transpose() + Td * cross.transpose() * T.transpose();
+  // The calibration's shared term moves ξ and δ together (refits, identification_covariance.cpp):
+  // its columns go through both Jacobians; the rest of Σξ pairs with δ as above.
+  const bool shared = result.shared_alignment_columns.rows() == 4 &&
+                      result.shared_alignment_columns.cols() == result.shared_columns.cols();
+  const Eigen::MatrixXd own = shared ? Eigen::MatrixXd(result.covariance - result.shared_covariance) : result.covariance;
+  m.covariance = T * own * T.transpose() + Td * alignment.covariance * Td.transpose() + T * cross * Td.transpose() +
+                 Td * cross.transpose() * T.transpose();
+  if (shared) {
+    const Eigen::MatrixXd columns = T * result.shared_columns + Td * result.shared_alignment_columns;
+    m.covariance += columns * columns.transpose();
+  }
   return m;
 }
 

@@ -5,9 +5,12 @@
 // (The long studies are benchmarks/bench_identify_sigma.cpp and bench_chain_sigma.cpp.)
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/h4_true_robot.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
+#include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/variants.hpp"
 
 #include <algorithm>
@@ -202,6 +205,32 @@ TEST(IdentificationSigma, SharedTermPropagationRestoresCoverage) {
     worst_without = std::max(worst_without, rms(without[name]));
   }
   EXPECT_GT(worst_without, 1.5);  // treating the poses as independent is overconfident
+}
+
+// What `mire fkm` propagates after `mire identify` with the shared term: the parameters'
+// covariance and the axis alignment's, jointly. The alignment term folded into the parameters
+// is the independent part's (replaceAlignmentTerm), so the alignment's own covariance must be
+// the same; with the full one the joint matrix was not positive semi-definite and the
+// camera-frame tx, ty variances of the H4's predictions came out negative (σ NaN).
+TEST(IdentificationSigma, PredictionCovarianceWithTheSharedTermIsPositive) {
+  const Campaign base = simulate(2004, 1, false);
+  const mech::SharedPoseTerm shared = makeSharedTerm(base.poses);
+  Campaign c = simulate(2004, 2100, false);
+  for (auto& p : c.poses) *p.covariance += shared.poseCovariance(p.id);
+  mech::IdentificationOptions options;
+  options.compute_identifiability = false;
+  auto r = mech::identifyH4Variant('D', {}, c.poses, options);
+  mech::addSharedTermCovariance(r, c.poses, shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+    return mech::identifyH4Variant('D', {}, shifted, options);
+  });
+  const mech::PredictionModel model = mech::predictionModelFrom("h4-12", r);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(model.covariance);
+  EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * eigen.eigenvalues().maxCoeff());
+  for (const auto& pose : c.poses) {
+    const mech::PosePrediction predicted = mech::predictPose(model, pose.joints);
+    ASSERT_TRUE(predicted.converged) << pose.id;
+    EXPECT_GT(predicted.cTm_covariance.diagonal().minCoeff(), 0.0) << pose.id;
+  }
 }
 
 TEST(IdentificationSigma, SharedTermFileRoundTripAndErrors) {

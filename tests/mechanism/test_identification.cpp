@@ -26,6 +26,15 @@ IdentificationModel initialModel12(const test::TestRobot& robot, const std::vect
   return model;
 }
 
+// One Monte-Carlo draw: noisy observations of the protocol poses, model 12 fitted without the
+// identifiability report.
+IdentificationResult fitNoisyDraw(const test::TestRobot& robot, std::mt19937& rng, std::vector<PoseObservation>& poses) {
+  poses = robot.observe(test::TestRobot::protocolPoses(), &rng);
+  IdentificationOptions options;
+  options.compute_identifiability = false;
+  return identify(initialModel12(robot, poses), poses, options);
+}
+
 TEST(Identification, ExternalInitialisationIsExactOnExactData) {
   const test::TestRobot robot;
   const auto poses = robot.observe(test::TestRobot::protocolPoses(), nullptr);
@@ -83,11 +92,9 @@ TEST(Identification, MonteCarloSpreadMatchesPredictedSigma) {
   std::vector<Eigen::VectorXd> errors;
   Eigen::VectorXd predicted;
   std::vector<std::string> names;
+  std::vector<PoseObservation> poses;
   for (int draw = 0; draw < draws; ++draw) {
-    const auto poses = robot.observe(test::TestRobot::protocolPoses(), &rng);
-    IdentificationOptions options;
-    options.compute_identifiability = false;
-    const IdentificationResult r = identify(initialModel12(robot, poses), poses, options);
+    const IdentificationResult r = fitNoisyDraw(robot, rng, poses);
     ASSERT_TRUE(r.converged);
     const Eigen::VectorXd truth = robot.trueValues(r.model);
     Eigen::VectorXd e(static_cast<Eigen::Index>(r.free_names.size()));
@@ -128,11 +135,9 @@ TEST(Identification, ResidualSandwichIsUnbiasedWithRightWeights) {
   std::mt19937 rng(28);
   Eigen::VectorXd ratio_sum;
   std::vector<std::string> names;
+  std::vector<PoseObservation> poses;
   for (int draw = 0; draw < draws; ++draw) {
-    const auto poses = robot.observe(test::TestRobot::protocolPoses(), &rng);
-    IdentificationOptions options;
-    options.compute_identifiability = false;
-    const IdentificationResult r = identify(initialModel12(robot, poses), poses, options);
+    const IdentificationResult r = fitNoisyDraw(robot, rng, poses);
     ASSERT_TRUE(r.converged);
     const Eigen::VectorXd ratio = sandwichCovariance(r, poses).diagonal().cwiseQuotient(r.information_inverse.diagonal());
     ratio_sum = draw == 0 ? ratio : Eigen::VectorXd(ratio_sum + ratio);

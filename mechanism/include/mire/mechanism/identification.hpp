@@ -116,6 +116,10 @@ struct IdentificationResult {
   Eigen::MatrixXd information_inverse;     // (AᵀA)⁻¹ of the whitened problem, unscaled
   std::vector<Eigen::MatrixXd> whitening;  // W_j of every pose (4 × 4 for the H4)
   Eigen::MatrixXd shared_covariance;       // G Σ_k Gᵀ when added (else empty)
+  // With the shared term by refits: its columns G·√Σ_k (free parameters × n, shared_covariance =
+  // columns·columnsᵀ) and the same directions' change of the alignment tilts (4 × n; empty for the
+  // full form), so that predictions carry the calibration's error through both jointly.
+  Eigen::MatrixXd shared_columns, shared_alignment_columns;
   std::vector<PoseResidual> poses;
   std::vector<std::string> outliers;  // pose ids
 
