@@ -300,8 +300,8 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
   std::string free_mounting;
   for (Eigen::Index f = 0; f < free; ++f) {
     const std::string& name = before.free_names[static_cast<std::size_t>(f)];
-    if (std::abs(error[f] / fits.held.sigma[static_cast<Eigen::Index>(p.index(name))]) >
-        std::abs(error[worst] / fits.held.sigma[static_cast<Eigen::Index>(p.index(before.free_names[worst]))]))
+    if (std::abs(study.z_held[name].back()) >
+        std::abs(study.z_held[before.free_names[static_cast<std::size_t>(worst)]].back()))
       worst = f;
     if (study.mounting.count(name)) free_mounting += " " + name;
     if (std::abs(study.z_held[name].back()) > 2.5)

@@ -11,15 +11,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
 namespace mire::bench {
 
 struct PredictionScores {
-  Samples z;                         // tx ty tz: predicted − true position over its σ
-  std::vector<double> mahalanobis;   // per pose: 3-D Mahalanobis / 3
-  std::vector<double> largest_mm;    // per chain: the largest position error
+  Samples z;                        // tx ty tz: predicted − true position over its σ
+  std::vector<double> mahalanobis;  // per pose: 3-D Mahalanobis / 3
+  std::vector<double> largest_mm;   // per chain: the largest position error
 };
 
 // One chain: `joints[j]` the true encoder readings of pose j, `cTm[j]` its true target pose.
