@@ -68,16 +68,19 @@ std::string planCsv(const mech::CandidateInformation& info, const std::vector<in
   return out.str();
 }
 
-// sigma.csv of the report: per free parameter the predicted σ (SI) of the three designs.
+// sigma.csv of the report: per free parameter the predicted σ (SI) of the three designs, and
+// the part of the plan's from the camera calibration's error shared by every pose (empty
+// without a camera covariance).
 std::string sigmaCsv(const mech::DesignReport& r) {
   std::ostringstream out;
-  out << "name,unit,role,sigma_plan,sigma_random,sigma_all\n";
+  out << "name,unit,role,sigma_plan,sigma_random,sigma_all,sigma_plan_shared\n";
   for (std::size_t i = 0; i < r.names.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     out << r.names[i] << ',' << mech::unitName(r.units[i]) << ','
         << (static_cast<int>(i) < r.geometric_free ? "geometric" : "mounting") << ','
         << support::formatNumber(r.sigma_plan[k], 6) << ',' << support::formatNumber(r.sigma_random[k], 6) << ','
-        << support::formatNumber(r.sigma_all[k], 6) << '\n';
+        << support::formatNumber(r.sigma_all[k], 6) << ','
+        << (r.sigma_plan_shared.size() > 0 ? support::formatNumber(r.sigma_plan_shared[k], 6) : std::string()) << '\n';
   }
   return out.str();
 }
@@ -159,7 +162,9 @@ int runPlan(const PlanArguments& args) {
   const mech::CandidateInformation info = mech::candidateInformation(
       model, mounting, poses, options,
       camera.target ? cameraCovarianceProvider(camera.camera, *camera.target, args.camera_options)
-                    : mech::PoseCovarianceProvider{});
+                    : mech::PoseCovarianceProvider{},
+      camera.target ? cameraSharedTerm(camera.camera, *camera.target, args.camera_options) : mech::SharedTermModel{});
+  camera_summary.shared_term = info.hasSharedTerm();
   const mech::DesignReport report = mech::planExperiment(info, options);
   if (camera.target)
     camera_summary.sigmas = plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);

@@ -52,6 +52,21 @@ mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera&
   };
 }
 
+mech::SharedTermModel cameraSharedTerm(const calibration::Camera& camera, const metrology::Target& target,
+                                       const CameraPlanOptions& options) {
+  mech::SharedTermModel shared;
+  if (camera.covariance.size() == 0) return shared;
+  shared.covariance = camera.covariance;
+  shared.sensitivity = [camera, points = target.points(),
+                        prediction = options.prediction](const mech::PoseVector& cTm) -> Eigen::MatrixXd {
+    const metrology::PosePrediction p =
+        metrology::predictPoseCovariance(camera, points, mech::toIsometry(cTm), prediction);
+    // Not observable: the candidate carries no information either (no rows), so no shared part.
+    return p.valid ? p.intrinsics_sensitivity : Eigen::MatrixXd::Zero(6, camera.covariance.rows());
+  };
+  return shared;
+}
+
 std::vector<PoseSigma> plannedPoseSigmas(const mech::CandidateInformation& info, const std::vector<int>& design,
                                          const calibration::Camera& camera, const metrology::Target& target,
                                          const CameraPlanOptions& options) {
@@ -87,7 +102,11 @@ std::string cameraPlanText(const CameraPlanSummary& summary) {
                   "pose noise: %.3g px per feature per image, %d images per pose, systematic (%.3g + %.3g cos 4a) "
                   "x %.3g px / s px (s: projected square, a: its edges' angle to the pixel rows)\n",
                   p.pixel_sigma, p.images, p.systematic_mean_px, p.systematic_grid_px, p.reference_square_px);
-  out << line << "predicted pose sigma per planned pose (tx ty tz mm, rx ry rz deg):\n";
+  out << line
+      << (summary.shared_term ? "camera calibration error: in every pose's sigma below, and in the parameters' "
+                                "sigma once, as the error all poses share\n"
+                              : "camera calibration error: not included (the camera file carries no covariance)\n");
+  out << "predicted pose sigma per planned pose (tx ty tz mm, rx ry rz deg):\n";
   for (std::size_t k = 0; k < summary.sigmas.size(); ++k) {
     const PoseSigma& s = summary.sigmas[k];
     std::snprintf(line, sizeof line, "  p%03zu  %.4f %.4f %.4f  %.5f %.5f %.5f\n", k + 1, s[0] * 1e3, s[1] * 1e3,

@@ -40,6 +40,11 @@ mechanism::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Ca
                                                            const metrology::Target& target,
                                                            const CameraPlanOptions& options);
 
+// The camera calibration's error, shared by every pose, for mechanism::candidateInformation:
+// Camera::covariance and each pose's ∂cTm/∂k (empty when the camera file carries no covariance).
+mechanism::SharedTermModel cameraSharedTerm(const calibration::Camera& camera, const metrology::Target& target,
+                                            const CameraPlanOptions& options);
+
 using PoseSigma = Eigen::Matrix<double, 6, 1>;
 
 // What `mire plan` reports on the camera.
@@ -49,6 +54,7 @@ struct CameraPlanSummary {
   std::size_t visible = 0;        // of them, visible
   int outside = 0, oblique = 0;   // excluded
   std::vector<PoseSigma> sigmas;  // per planned pose
+  bool shared_term = false;       // the camera's covariance is in the parameters' σ, once
 };
 
 // Predicted σ of cTm at each planned pose: tx ty tz [m], rx ry rz [rad] (total, as poses.csv's

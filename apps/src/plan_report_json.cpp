@@ -41,6 +41,7 @@ Json parametersJson(const mech::DesignReport& r) {
     setNumber(item, "sigma_plan", r.sigma_plan[k], kNoInformation);
     setNumber(item, "sigma_random", r.sigma_random[k], kNoInformation);
     setNumber(item, "sigma_all", r.sigma_all[k], kNoInformation);
+    if (r.sigma_plan_shared.size() > 0) setNumber(item, "sigma_plan_shared", r.sigma_plan_shared[k], kNoInformation);
     list.push_back(item);
   }
   return list;
@@ -81,6 +82,7 @@ Json cameraJson(const CameraPlanSummary& c) {
       {"systematic_grid_px", o.prediction.systematic_grid_px},
       {"candidates_drawn", c.drawn},
       {"candidates_visible", c.visible},
+      {"shared_calibration_term", c.shared_term},
       {"excluded_outside", c.outside},
       {"excluded_oblique", c.oblique},
       {"predicted_pose_sigma", sigmas}};

@@ -183,7 +183,7 @@ MountingGuess defaultMountingGuess(const Workspace& w) {
 
 CandidateInformation candidateInformation(const DesignModel& model, const MountingGuess& mounting,
                                           const std::vector<Eigen::VectorXd>& poses, const DesignOptions& options,
-                                          const PoseCovarianceProvider& covariance) {
+                                          const PoseCovarianceProvider& covariance, const SharedTermModel& shared) {
   const RegisteredModel& r = model.registered;
   const Mechanism& m = *r.mechanism;
   const Eigen::VectorXd g = r.nominal.values();
@@ -223,7 +223,15 @@ CandidateInformation candidateInformation(const DesignModel& model, const Mounti
     const Eigen::MatrixXd sq = Jx * (*o.covariance) * Jx.transpose();
     const Eigen::LLT<Eigen::MatrixXd> llt(sq);
     info.rows.emplace_back(llt.matrixL().solve(J.middleRows(static_cast<Eigen::Index>(j) * nq, nq)));
+    if (shared.empty()) continue;
+    const Eigen::MatrixXd D = shared.sensitivity(o.cTm);
+    if (D.rows() != 6 || D.cols() != shared.covariance.rows())
+      throw std::invalid_argument("shared term: the sensitivity of candidate " + o.id + " is " +
+                                  std::to_string(D.rows()) + " x " + std::to_string(D.cols()) + ", expected 6 x " +
+                                  std::to_string(shared.covariance.rows()));
+    info.shared_rows.emplace_back(llt.matrixL().solve(Jx * D));
   }
+  if (!shared.empty()) info.shared_covariance = shared.covariance;
   return info;
 }
 
@@ -235,7 +243,10 @@ Eigen::MatrixXd fisherInformation(const CandidateInformation& info, const std::v
   return M;
 }
 
-Eigen::MatrixXd designCovariance(const CandidateInformation& info, const std::vector<int>& design) {
+namespace {
+
+// (Σ_j A_jᵀ A_j)⁻¹, a pseudo-inverse with C(0, 0) = +∞ when singular.
+Eigen::MatrixXd informationInverse(const CandidateInformation& info, const std::vector<int>& design) {
   const Eigen::MatrixXd M = fisherInformation(info, design);
   // Scale to unit diagonal so that mixed units do not fake a rank loss.
   Eigen::VectorXd d = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
@@ -253,6 +264,41 @@ Eigen::MatrixXd designCovariance(const CandidateInformation& info, const std::ve
       d.asDiagonal() * (eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose()) * d.asDiagonal();
   if (singular) C(0, 0) = std::numeric_limits<double>::infinity();  // marks the design as singular
   return C;
+}
+
+// The shared term's pieces for a design: G = H⁻¹ Σ_j A_jᵀ R_j and B = Σ_j A_jᵀ R_j Σ_k R_jᵀ A_j.
+struct SharedPieces {
+  Eigen::MatrixXd G, B;
+};
+SharedPieces sharedPieces(const CandidateInformation& info, const std::vector<int>& design,
+                          const Eigen::MatrixXd& information_inverse) {
+  const Eigen::Index p = information_inverse.rows(), n = info.shared_covariance.rows();
+  Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(p, n);
+  SharedPieces pieces{Eigen::MatrixXd(), Eigen::MatrixXd::Zero(p, p)};
+  for (const int j : design) {
+    const auto k = static_cast<std::size_t>(j);
+    const Eigen::MatrixXd AtR = info.rows.at(k).transpose() * info.shared_rows.at(k);
+    Q += AtR;
+    pieces.B.noalias() += AtR * info.shared_covariance * AtR.transpose();
+  }
+  pieces.G = information_inverse * Q;
+  return pieces;
+}
+
+}  // namespace
+
+Eigen::MatrixXd designCovariance(const CandidateInformation& info, const std::vector<int>& design) {
+  const Eigen::MatrixXd C = informationInverse(info, design);
+  if (!info.hasSharedTerm() || !std::isfinite(C(0, 0))) return C;
+  const SharedPieces s = sharedPieces(info, design, C);
+  return C - C * s.B * C + s.G * info.shared_covariance * s.G.transpose();
+}
+
+Eigen::MatrixXd designSharedCovariance(const CandidateInformation& info, const std::vector<int>& design) {
+  const Eigen::MatrixXd C = informationInverse(info, design);
+  if (!info.hasSharedTerm() || !std::isfinite(C(0, 0))) return Eigen::MatrixXd::Zero(C.rows(), C.cols());
+  const Eigen::MatrixXd G = sharedPieces(info, design, C).G;
+  return G * info.shared_covariance * G.transpose();
 }
 
 Eigen::VectorXd designSigma(const CandidateInformation& info, const std::vector<int>& design) {

@@ -202,6 +202,26 @@ std::vector<int> randomDesign(int n, int count, std::mt19937& rng) {
   return all;
 }
 
+// How much of the plan's geometric variance is the calibration error shared by every pose:
+// that part does not shrink with more poses, only with a better camera calibration.
+std::string sharedTermText(const DesignReport& r) {
+  std::vector<double> shares;
+  int largest = 0;
+  for (int i = 0; i < r.geometric_free; ++i) {
+    shares.push_back(std::pow(r.sigma_plan_shared[i] / r.sigma_plan[i], 2));
+    if (shares.back() > shares[static_cast<std::size_t>(largest)]) largest = i;
+  }
+  if (shares.empty()) return {};
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "the camera calibration's error, shared by every pose, is in the predicted sigma: %.0f %% of the "
+                "geometric variance (median; largest %s %.0f %%); more poses do not lower that part, a better "
+                "camera calibration does\n",
+                100.0 * median(shares), r.names[static_cast<std::size_t>(largest)].c_str(),
+                100.0 * shares[static_cast<std::size_t>(largest)]);
+  return line;
+}
+
 }  // namespace
 
 std::vector<int> chooseDesign(const CandidateInformation& info, const DesignOptions& options) {
@@ -237,6 +257,7 @@ DesignReport planExperiment(const CandidateInformation& info, const DesignOption
   r.geometric_free = info.geometric_free;
   const Eigen::MatrixXd Cplan = designCovariance(info, r.design);
   r.sigma_plan = designSigma(info, r.design);
+  if (info.hasSharedTerm()) r.sigma_plan_shared = designSharedCovariance(info, r.design).diagonal().cwiseSqrt();
   std::vector<int> all(info.rows.size());
   std::iota(all.begin(), all.end(), 0);
   r.sigma_all = designSigma(info, all);
@@ -294,6 +315,7 @@ std::string designReportText(const DesignReport& r) {
   std::snprintf(line, sizeof line, "median sigma ratio plan/random over the geometric parameters: %.3f\n",
                 r.median_ratio_plan_random);
   out << line;
+  if (r.sigma_plan_shared.size() > 0) out << sharedTermText(r);
   std::snprintf(line, sizeof line,
                 "predicted positioning accuracy after identification (effector position sigma, common rigid "
                 "motion removed, RMS over the workspace): plan %.4f mm (max %.4f mm), random sets %.4f mm\n",

@@ -192,6 +192,7 @@ PosePrediction predictPoseCovariance(const calibration::Camera& camera, const st
   const Matrix6d& noise = precision.information_inverse;
   prediction.covariance_noise = 0.5 * (noise + noise.transpose());
   prediction.covariance_intrinsics = precision.covariance_intrinsics;
+  prediction.intrinsics_sensitivity = precision.intrinsics_sensitivity;
   prediction.covariance = prediction.covariance_noise + prediction.covariance_intrinsics;
   prediction.valid = true;
   return prediction;

@@ -61,6 +61,52 @@ TEST(PlanCameraCli, DemoCameraFillsVisibilityAndPoseSigma) {
   }
 }
 
+// A camera file from `mire calibrate` carries the intrinsics' covariance: the calibration
+// error every pose shares enters the parameters' σ once (doc/plan-and-select.md), and the report
+// says how much of the geometric variance it is. Without one, the report says it is left out.
+TEST(PlanCameraCli, CameraCovarianceEntersTheParametersSigmaOnce) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  test::writeText(d / "workspace.yaml", kH4Workspace);
+  const fs::path specs = test::sourceDir() / "datasets/specs";
+  std::string camera = test::readText(specs / "reference_camera.yaml");
+  // fx, fy 0.5 px (correlated 0.8), cx, cy 0.3 px, k1 k2 k3 1e-3, p1 p2 1e-4.
+  camera +=
+      "covariance: !!opencv-matrix\n   rows: 9\n   cols: 9\n   dt: d\n   data: [ 0.25, 0.2, 0, 0, 0, 0, 0, 0, 0, "
+      "0.2, 0.25, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.09, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.09, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1e-6, "
+      "0, 0, 0, 0, 0, 0, 0, 0, 0, 1e-6, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1e-8, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1e-8, 0, 0, 0, 0, "
+      "0, 0, 0, 0, 0, 1e-6 ]\n";
+  test::writeText(d / "camera.yaml", camera);
+  const std::string common = "plan --model h4-12 --workspace " + (d / "workspace.yaml").string() +
+                             " --count 15 --candidates 1000 --target " + (specs / "target_h4.yaml").string();
+  ASSERT_EQ(test::runMireIn(dir, common + " --camera " + (d / "camera.yaml").string() + " -o " +
+                                     (d / "plan.csv").string() + " --report " + (d / "report").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  const std::string out = test::readText(d / "stdout.txt");
+  EXPECT_NE(out.find("the camera calibration's error, shared by every pose, is in the predicted sigma"), std::string::npos)
+      << out;
+  const support::CsvTable sigma = support::readCsv(d / "report" / "plan_sigma.csv");
+  for (const auto& row : sigma.rows) {
+    const double plan = std::stod(row[sigma.column("sigma_plan")]),
+                 shared = std::stod(row[sigma.column("sigma_plan_shared")]);
+    EXPECT_GT(shared, 0.0) << row[0];
+    EXPECT_LE(shared, plan) << row[0];
+  }
+  const nlohmann::json doc = nlohmann::json::parse(test::readText(d / "report" / "report.json"));
+  EXPECT_TRUE(doc.at("camera").at("shared_calibration_term").get<bool>());
+  EXPECT_GT(doc.at("parameters").at(0).at("sigma_plan_shared").get<double>(), 0.0);
+
+  // The same plan without the covariance: the column is empty and the report says so.
+  ASSERT_EQ(test::runMireIn(dir, common + " --camera " + (specs / "reference_camera.yaml").string() + " -o " +
+                                     (d / "plain.csv").string() + " --report " + (d / "plain").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  EXPECT_NE(test::readText(d / "stdout.txt").find("camera calibration error: not included"), std::string::npos);
+  const support::CsvTable plain = support::readCsv(d / "plain" / "plan_sigma.csv");
+  EXPECT_EQ(plain.rows.at(0)[plain.column("sigma_plan_shared")], "");
+}
+
 TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
   test::TempDir dir;
   const fs::path d = dir.path();

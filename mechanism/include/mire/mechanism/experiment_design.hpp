@@ -121,23 +121,46 @@ struct CandidateInformation {
   std::vector<Eigen::VectorXd> poses;         // mechanism pose components
   std::vector<PoseObservation> observations;  // noise-free cTm and nominal IKM joints
   std::vector<Eigen::MatrixXd> rows;          // whitened Jacobian per candidate
+  // The calibration error shared by every pose (SharedTermModel), when given: Σ_k (n × n) and
+  // per candidate its whitened joint-space rows R_j = W_j·∂q/∂cTm·D_j (jointCount() × n).
+  Eigen::MatrixXd shared_covariance;
+  std::vector<Eigen::MatrixXd> shared_rows;
+  bool hasSharedTerm() const { return !shared_rows.empty(); }
 };
 
 // Per-candidate pose covariance of cTm (e.g. from the camera model); empty: the options' σ.
 using PoseCovarianceProvider = std::function<std::optional<PoseCovariance>(const PoseVector& cTm)>;
 
+// The error every pose of the campaign will share: the camera calibration's, Σ_k over its
+// parameters k, entering each pose through D = ∂cTm/∂k (6 × n, rows tx ty tz rx ry rz), as
+// `mire identify` receives it from `mire measure` (identification_covariance.hpp,
+// SharedPoseTerm). The per-candidate covariances should then include D Σ_k Dᵀ, as measure's do.
+struct SharedTermModel {
+  Eigen::MatrixXd covariance;                                     // Σ_k
+  std::function<Eigen::MatrixXd(const PoseVector&)> sensitivity;  // D at a pose cTm
+  bool empty() const { return covariance.size() == 0 || !sensitivity; }
+};
+
 // Builds the model (mounting initialised as identify() would from noise-free data at the
-// nominal geometry; gauge fixed by analyzeGauge), then the whitened Jacobian of every candidate.
+// nominal geometry; gauge fixed by analyzeGauge), then the whitened Jacobian of every candidate
+// (and, with `shared`, the candidates' shared rows; throws std::invalid_argument when a
+// sensitivity is not 6 × n).
 CandidateInformation candidateInformation(const DesignModel& model, const MountingGuess& mounting,
                                           const std::vector<Eigen::VectorXd>& poses, const DesignOptions& options,
-                                          const PoseCovarianceProvider& covariance = {});
+                                          const PoseCovarianceProvider& covariance = {},
+                                          const SharedTermModel& shared = {});
 
 // Fisher information Σ_j AᵀA over the given candidates (free-parameter order).
 Eigen::MatrixXd fisherInformation(const CandidateInformation& info, const std::vector<int>& design);
 // Covariance of the free parameters for a design: the inverse of its information
-// (pseudo-inverse when singular; σ of a parameter without information is +∞).
+// (pseudo-inverse when singular; σ of a parameter without information is +∞). With the shared
+// term, what `mire identify` reports with it (identification_covariance.hpp): the fit's term
+// from the independent part, H⁻¹ − H⁻¹ B H⁻¹ with B = Σ_j A_jᵀ R_j Σ_k R_jᵀ A_j, plus the
+// shared error once, G Σ_k Gᵀ with G = H⁻¹ Σ_j A_jᵀ R_j — a floor that more poses do not lower.
 Eigen::MatrixXd designCovariance(const CandidateInformation& info, const std::vector<int>& design);
 Eigen::VectorXd designSigma(const CandidateInformation& info, const std::vector<int>& design);
+// The shared term's part alone, G Σ_k Gᵀ (zero without the shared term).
+Eigen::MatrixXd designSharedCovariance(const CandidateInformation& info, const std::vector<int>& design);
 
 // Chooses `options.count` distinct candidates (indices into info.poses). Throws
 // std::invalid_argument when count exceeds the candidates or is too small to determine the
@@ -158,7 +181,10 @@ struct DesignReport {
   std::vector<std::string> names;  // free parameters
   std::vector<Unit> units;
   int geometric_free = 0;
-  Eigen::VectorXd sigma_plan;    // per free parameter [SI]
+  Eigen::VectorXd sigma_plan;  // per free parameter [SI]
+  // The part of sigma_plan from the calibration error shared by every pose, √diag(G Σ_k Gᵀ)
+  // (empty without the shared term).
+  Eigen::VectorXd sigma_plan_shared;
   Eigen::VectorXd sigma_random;  // median over the random designs of the same size
   Eigen::VectorXd sigma_all;     // the whole candidate set
   // median over the geometric parameters of σ_plan/σ_random: < 1 when the plan is better.

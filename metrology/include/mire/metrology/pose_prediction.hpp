@@ -94,8 +94,11 @@ struct PosePrediction {
   std::string reason;
   Matrix6d covariance_noise = Matrix6d::Zero();       // (a)
   Matrix6d covariance_intrinsics = Matrix6d::Zero();  // (b), zero without a camera covariance
-  Matrix6d covariance = Matrix6d::Zero();             // (a) + (b), order tx ty tz rx ry rz
-  double systematic_px = 0.0;                         // σ_sys used at this pose
+  // A = ∂(t, r)/∂k (6 × n over Camera::params): the calibration error this pose shares with
+  // every other pose (SharedPoseTerm of `mire identify`); empty without a camera covariance.
+  Eigen::MatrixXd intrinsics_sensitivity;
+  Matrix6d covariance = Matrix6d::Zero();  // (a) + (b), order tx ty tz rx ry rz
+  double systematic_px = 0.0;              // σ_sys used at this pose
 };
 
 // The covariance estimatePose would report for features at the projections of `points`
