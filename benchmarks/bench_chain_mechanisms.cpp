@@ -70,6 +70,11 @@ struct Study {
   // The fit's term from the true independent pose errors over the modelled one (variance ratios):
   // per pose (block-diagonal) and realized (all poses together, cross-pose correlation included).
   Samples oracle_block_ratio, oracle_realized_ratio;
+  // The same realized term without the pose errors' scale error, u_j,t ≈ (s₀ + s₁ (z_j − z̄)/z̄) t_j
+  // (a target-scale-like error every pose shares, constant and growing with the distance), and
+  // s₀, s₁ per chain.
+  Samples oracle_unscaled_ratio;
+  std::vector<double> oracle_scale, oracle_scale_slope;
   std::map<std::string, std::string> unit;  // display unit per parameter
   std::set<std::string> mounting;           // the free mounting parameters
   std::vector<std::string> names;           // free parameters, in first-seen order
@@ -167,6 +172,8 @@ struct ChainFits {
   mech::IdentificationResult before, after, held, with_shared_unaligned, corrected;
   mech::ParameterSet truth;
   Eigen::VectorXd oracle_block, oracle_realized;  // variances, free parameters
+  Eigen::VectorXd oracle_unscaled;                // realized, the scale error removed
+  double oracle_scale = 0.0, oracle_scale_slope = 0.0;
 };
 
 // Diagnostic, the truth known: the fit's term from the true independent pose errors
@@ -180,7 +187,24 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   const Eigen::MatrixXd J_rad = mech::identificationJacobian(r.model, data.poses);
   const Eigen::VectorXd g = r.model.geometricValues(), e = r.model.externalValues();
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
-  Eigen::VectorXd total = Eigen::VectorXd::Zero(J_rad.cols());
+  Eigen::VectorXd total = Eigen::VectorXd::Zero(J_rad.cols()), scale_total = total;
+  // u_t ≈ (s₀ + s₁ (z − z̄)/z̄) t: a scale error, constant and growing with the distance.
+  double z_mean = 0.0;
+  for (const mech::PoseObservation& pose : data.poses) z_mean += pose.cTm[2] / static_cast<double>(data.poses.size());
+  Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+  for (const mech::PoseObservation& pose : data.poses) {
+    const Eigen::Vector3d t = pose.cTm.head<3>();
+    const mech::PoseVector u = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
+                               data.shared->sensitivity.at(pose.id) * camera_error;
+    Eigen::Matrix<double, 3, 2> X;
+    X << t, t * (pose.cTm[2] - z_mean) / z_mean;
+    normal += X.transpose() * X;
+    rhs += X.transpose() * u.head<3>();
+  }
+  const Eigen::Vector2d scale = normal.ldlt().solve(rhs);
+  fits.oracle_scale = scale[0];
+  fits.oracle_scale_slope = scale[1];
   for (std::size_t j = 0; j < data.poses.size(); ++j) {
     if (!r.poses.at(j).used) continue;
     const mech::PoseObservation& pose = data.poses[j];
@@ -192,10 +216,14 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
     const Eigen::VectorXd score = A_j.transpose() * (W * (Jp * u));
     meat += score * score.transpose();
     total += score;
+    mech::PoseVector scaled = mech::PoseVector::Zero();
+    scaled.head<3>() = (scale[0] + scale[1] * (pose.cTm[2] - z_mean) / z_mean) * pose.cTm.head<3>();
+    scale_total += A_j.transpose() * (W * (Jp * scaled));
   }
   const Eigen::MatrixXd& H_inv = r.information_inverse;
   fits.oracle_block = (H_inv * meat * H_inv).diagonal();
   fits.oracle_realized = (H_inv * total).array().square();
+  fits.oracle_unscaled = (H_inv * (total - scale_total)).array().square();
 }
 
 ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
@@ -288,7 +316,10 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
     const double modelled = fitVariance(fits.with_shared_unaligned, f);
     study.oracle_block_ratio[name].push_back(fits.oracle_block[f] / modelled);
     study.oracle_realized_ratio[name].push_back(fits.oracle_realized[f] / modelled);
+    study.oracle_unscaled_ratio[name].push_back(fits.oracle_unscaled[f] / modelled);
   }
+  study.oracle_scale.push_back(fits.oracle_scale);
+  study.oracle_scale_slope.push_back(fits.oracle_scale_slope);
   recordSigmaComponents(fits.with_shared_unaligned, study);
   study.chi2_dof.push_back(before.chi2 / std::max(1, before.dof));
   study.method_before.push_back(before.covariance_method);
@@ -420,10 +451,13 @@ void printIdentification(const Study& s) {
                 median(s.sigma_shared_held.at(name)), rms(s.abs_error.at(name)));
   std::printf(
       "\n  the fit's term from the true independent pose errors over the printed one, sqrt(mean variance ratio): "
-      "per pose (block-diagonal) | realized (cross-pose correlation included)\n");
+      "per pose (block-diagonal) | realized (cross-pose correlation included) | realized without the pose "
+      "errors' scale error (s0 + s1 (z - mean z) / mean z) t\n");
   for (const auto& name : s.names)
-    std::printf("  %-8s %8.3f | %8.3f\n", name.c_str(), std::sqrt(mean(s.oracle_block_ratio.at(name))),
-                std::sqrt(mean(s.oracle_realized_ratio.at(name))));
+    std::printf("  %-8s %8.3f | %8.3f | %8.3f\n", name.c_str(), std::sqrt(mean(s.oracle_block_ratio.at(name))),
+                std::sqrt(mean(s.oracle_realized_ratio.at(name))), std::sqrt(mean(s.oracle_unscaled_ratio.at(name))));
+  std::printf("  the pose errors' scale error per chain: s0 mean %.3g, RMS %.3g; s1 mean %.3g, RMS %.3g\n",
+              mean(s.oracle_scale), rms(s.oracle_scale), mean(s.oracle_scale_slope), rms(s.oracle_scale_slope));
   std::printf(
       "  re-initialised: the refits re-initialise the gauge parameters on the shifted poses (`mire identify` "
       "before stop 27); held: the refits hold them at the main fit's values (`mire identify` now)\n"
