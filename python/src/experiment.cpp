@@ -142,27 +142,39 @@ void bindDesignOptions(py::module_& m) {
       .def_property_readonly(
           "poses", [](const C& c) { return fromRows(c.poses); }, "(N, poseDof)")
       .def_readonly("observations", &C::observations)
-      .def_readonly("rows", &C::rows, "whitened Jacobian rows per candidate (jointCount, free)");
+      .def_readonly("rows", &C::rows, "whitened Jacobian rows per candidate (jointCount, free)")
+      .def_readonly("shared_covariance", &C::shared_covariance, "Σ_k of the shared term (empty without)")
+      .def_readonly("shared_rows", &C::shared_rows, "whitened shared rows per candidate (jointCount, n)")
+      .def("hasSharedTerm", &C::hasSharedTerm);
 }
 
 // candidateInformation with the poses as an (N, poseDof) array and, optionally, a Python
-// callable cTm (6,) -> 6×6 covariance or None (None: the options' σ).
-mech::CandidateInformation candidateInformation(const mech::DesignModel& model, const mech::MountingGuess& mounting,
-                                                const Eigen::MatrixXd& poses, const mech::DesignOptions& options,
-                                                const std::optional<mech::PoseCovarianceProvider>& covariance) {
+// callable cTm (6,) -> 6×6 covariance or None (None: the options' σ), and the calibration's
+// shared term: Σ_k (n × n) with a callable cTm (6,) -> ∂cTm/∂k (6 × n).
+mech::CandidateInformation candidateInformation(
+    const mech::DesignModel& model, const mech::MountingGuess& mounting, const Eigen::MatrixXd& poses,
+    const mech::DesignOptions& options, const std::optional<mech::PoseCovarianceProvider>& covariance,
+    const std::optional<Eigen::MatrixXd>& shared_covariance,
+    const std::optional<std::function<Eigen::MatrixXd(const mech::PoseVector&)>>& shared_sensitivity) {
   const auto rows = poseRows(*model.registered.mechanism, poses, "candidateInformation");
   const mech::PoseCovarianceProvider provider = covariance.value_or(mech::PoseCovarianceProvider{});
+  if (shared_covariance.has_value() != shared_sensitivity.has_value())
+    throw std::invalid_argument("candidateInformation: shared_covariance and shared_sensitivity go together");
+  mech::SharedTermModel shared;
+  if (shared_covariance) shared = {*shared_covariance, *shared_sensitivity};
   py::gil_scoped_release release;  // a Python provider takes the GIL back for each call
-  return mech::candidateInformation(model, mounting, rows, options, provider);
+  return mech::candidateInformation(model, mounting, rows, options, provider, shared);
 }
 
 void bindDesign(py::module_& m) {
   const auto release = py::call_guard<py::gil_scoped_release>();
   m.def("candidateInformation", &candidateInformation, py::arg("model"), py::arg("mounting"), py::arg("poses"),
-        py::arg("options") = mech::DesignOptions{}, py::arg("covariance") = py::none());
+        py::arg("options") = mech::DesignOptions{}, py::arg("covariance") = py::none(),
+        py::arg("shared_covariance") = py::none(), py::arg("shared_sensitivity") = py::none());
   m.def("fisherInformation", &mech::fisherInformation, py::arg("info"), py::arg("design"), release);
   m.def("designCovariance", &mech::designCovariance, py::arg("info"), py::arg("design"), release);
   m.def("designSigma", &mech::designSigma, py::arg("info"), py::arg("design"), release);
+  m.def("designSharedCovariance", &mech::designSharedCovariance, py::arg("info"), py::arg("design"), release);
   m.def("chooseDesign", &mech::chooseDesign, py::arg("info"), py::arg("options"), release);
   m.def("predictedPositionSigma", &mech::predictedPositionSigma, py::arg("info"), py::arg("covariance"),
         py::arg("poses"), release);
@@ -174,6 +186,7 @@ void bindDesign(py::module_& m) {
       .def_readonly("units", &R::units)
       .def_readonly("geometric_free", &R::geometric_free)
       .def_readonly("sigma_plan", &R::sigma_plan)
+      .def_readonly("sigma_plan_shared", &R::sigma_plan_shared)
       .def_readonly("sigma_random", &R::sigma_random)
       .def_readonly("sigma_all", &R::sigma_all)
       .def_readonly("median_ratio_plan_random", &R::median_ratio_plan_random)

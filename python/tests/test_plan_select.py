@@ -146,3 +146,39 @@ def test_pose_covariance_callable_weights_the_information(plan):
     np.testing.assert_allclose(mech.designSigma(doubled, design), 2 * mech.designSigma(reference, design), rtol=1e-9)
     with pytest.raises(ValueError, match="4 columns"):
         mech.candidateInformation(model, mounting, subset[:, :3], options)
+
+
+def test_shared_calibration_term_enters_the_design_covariance_once(plan):
+    """The calibration's error shared by every pose (a focal-scale-like error: ∂tz/∂k = tz):
+    the design covariance is the fit's term from the independent part plus G Σ_k Gᵀ, as
+    doc/plan-and-select.md states, here recomputed from the rows the binding exposes."""
+    poses, options, info, report = plan
+    model = mech.makeDesignModel("h4-12")
+    mounting = mech.defaultMountingGuess(h4_workspace())
+    base = np.diag([options.sigma_translation ** 2] * 3 + [options.sigma_rotation ** 2] * 3)
+    sigma_k = np.array([[1e-6]])
+
+    def sensitivity(cTm):
+        d = np.zeros((6, 1))
+        d[2, 0] = cTm[2]
+        return d
+
+    def total(cTm):
+        d = sensitivity(cTm)
+        return base + d @ sigma_k @ d.T
+
+    subset = poses[:200]
+    info = mech.candidateInformation(model, mounting, subset, options, covariance=total,
+                                     shared_covariance=sigma_k, shared_sensitivity=sensitivity)
+    assert info.hasSharedTerm() and len(info.shared_rows) == 200
+    design = list(range(40))
+    A = [np.array(info.rows[j]) for j in design]
+    R = [np.array(info.shared_rows[j]) for j in design]
+    H_inv = np.linalg.inv(sum(a.T @ a for a in A))
+    G = H_inv @ sum(a.T @ r for a, r in zip(A, R))
+    B = sum(a.T @ r @ sigma_k @ r.T @ a for a, r in zip(A, R))
+    np.testing.assert_allclose(mech.designSharedCovariance(info, design), G @ sigma_k @ G.T, rtol=1e-6, atol=1e-30)
+    expected = H_inv - H_inv @ B @ H_inv + G @ sigma_k @ G.T
+    np.testing.assert_allclose(mech.designCovariance(info, design), expected, rtol=1e-6, atol=1e-30)
+    with pytest.raises(ValueError, match="go together"):
+        mech.candidateInformation(model, mounting, subset, options, shared_covariance=sigma_k)
