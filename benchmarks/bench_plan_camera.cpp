@@ -220,8 +220,9 @@ int main(int argc, char** argv) {
   const mire::app::CameraCandidates visible = mire::app::visibleCandidates(m, mounting, camera, target, poses, options);
   mech::DesignOptions design_options;
   design_options.count = 15;
-  const mech::CandidateInformation info = mech::candidateInformation(
-      model, mounting, visible.visible, design_options, mire::app::cameraCovarianceProvider(camera, target, options));
+  const mire::app::CameraPoseModel camera_model = mire::app::cameraPoseModel(camera, target, options);
+  const mech::CandidateInformation info = mech::candidateInformation(model, mounting, visible.visible, design_options,
+                                                                     camera_model.covariance, camera_model.shared);
   const mech::DesignReport report = mech::planExperiment(info, design_options);
   const auto predicted = mire::app::plannedPoseSigmas(info, report.design, camera, target, options);
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

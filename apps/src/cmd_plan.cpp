@@ -159,11 +159,10 @@ int runPlan(const PlanArguments& args) {
       args, camera, m, mounting,
       mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed),
       &camera_summary);
-  const mech::CandidateInformation info = mech::candidateInformation(
-      model, mounting, poses, options,
-      camera.target ? cameraCovarianceProvider(camera.camera, *camera.target, args.camera_options)
-                    : mech::PoseCovarianceProvider{},
-      camera.target ? cameraSharedTerm(camera.camera, *camera.target, args.camera_options) : mech::SharedTermModel{});
+  const CameraPoseModel camera_model =
+      camera.target ? cameraPoseModel(camera.camera, *camera.target, args.camera_options) : CameraPoseModel{};
+  const mech::CandidateInformation info =
+      mech::candidateInformation(model, mounting, poses, options, camera_model.covariance, camera_model.shared);
   camera_summary.shared_term = info.hasSharedTerm();
   const mech::DesignReport report = mech::planExperiment(info, options);
   if (camera.target)

@@ -1,8 +1,11 @@
 #include "plan_camera.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <memory>
 #include <sstream>
 
 #include "mire/mechanism/pose.hpp"
@@ -41,30 +44,32 @@ CameraCandidates visibleCandidates(const mech::Mechanism& mechanism, const mech:
   return result;
 }
 
-mech::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera& camera, const metrology::Target& target,
-                                                      const CameraPlanOptions& options) {
-  return [camera, points = target.points(),
-          prediction = options.prediction](const mech::PoseVector& cTm) -> std::optional<mech::PoseCovariance> {
-    const metrology::PosePrediction p =
-        metrology::predictPoseCovariance(camera, points, mech::toIsometry(cTm), prediction);
+CameraPoseModel cameraPoseModel(const calibration::Camera& camera, const metrology::Target& target,
+                                const CameraPlanOptions& options) {
+  using Key = std::array<double, 6>;
+  auto predictions = std::make_shared<std::map<Key, metrology::PosePrediction>>();
+  const auto predict = [camera, points = target.points(), prediction = options.prediction,
+                        predictions](const mech::PoseVector& cTm) -> const metrology::PosePrediction& {
+    const Key key{cTm[0], cTm[1], cTm[2], cTm[3], cTm[4], cTm[5]};
+    const auto found = predictions->find(key);
+    if (found != predictions->end()) return found->second;
+    return predictions->emplace(key, metrology::predictPoseCovariance(camera, points, mech::toIsometry(cTm), prediction))
+        .first->second;
+  };
+  CameraPoseModel model;
+  model.covariance = [predict](const mech::PoseVector& cTm) -> std::optional<mech::PoseCovariance> {
+    const metrology::PosePrediction& p = predict(cTm);
     if (!p.valid) return std::nullopt;
     return mech::PoseCovariance(p.covariance);
   };
-}
-
-mech::SharedTermModel cameraSharedTerm(const calibration::Camera& camera, const metrology::Target& target,
-                                       const CameraPlanOptions& options) {
-  mech::SharedTermModel shared;
-  if (camera.covariance.size() == 0) return shared;
-  shared.covariance = camera.covariance;
-  shared.sensitivity = [camera, points = target.points(),
-                        prediction = options.prediction](const mech::PoseVector& cTm) -> Eigen::MatrixXd {
-    const metrology::PosePrediction p =
-        metrology::predictPoseCovariance(camera, points, mech::toIsometry(cTm), prediction);
+  if (camera.covariance.size() == 0) return model;
+  model.shared.covariance = camera.covariance;
+  model.shared.sensitivity = [predict, n = camera.covariance.rows()](const mech::PoseVector& cTm) -> Eigen::MatrixXd {
+    const metrology::PosePrediction& p = predict(cTm);
     // Not observable: the candidate carries no information either (no rows), so no shared part.
-    return p.valid ? p.intrinsics_sensitivity : Eigen::MatrixXd::Zero(6, camera.covariance.rows());
+    return p.valid ? p.intrinsics_sensitivity : Eigen::MatrixXd::Zero(6, n);
   };
-  return shared;
+  return model;
 }
 
 std::vector<PoseSigma> plannedPoseSigmas(const mech::CandidateInformation& info, const std::vector<int>& design,

@@ -35,15 +35,16 @@ CameraCandidates visibleCandidates(const mechanism::Mechanism& mechanism, const 
                                    const calibration::Camera& camera, const metrology::Target& target,
                                    const std::vector<Eigen::VectorXd>& poses, const CameraPlanOptions& options);
 
-// The per-candidate covariance of cTm for mechanism::candidateInformation.
-mechanism::PoseCovarianceProvider cameraCovarianceProvider(const calibration::Camera& camera,
-                                                           const metrology::Target& target,
-                                                           const CameraPlanOptions& options);
-
-// The camera calibration's error, shared by every pose, for mechanism::candidateInformation:
-// Camera::covariance and each pose's ∂cTm/∂k (empty when the camera file carries no covariance).
-mechanism::SharedTermModel cameraSharedTerm(const calibration::Camera& camera, const metrology::Target& target,
-                                            const CameraPlanOptions& options);
+// What mechanism::candidateInformation needs from the camera: the per-candidate covariance of
+// cTm and, when the camera file carries a covariance, the calibration's error shared by every
+// pose (Camera::covariance and each pose's ∂cTm/∂k; empty otherwise). Both come from one
+// prediction per pose, kept for the second question (the calls are sequential).
+struct CameraPoseModel {
+  mechanism::PoseCovarianceProvider covariance;
+  mechanism::SharedTermModel shared;
+};
+CameraPoseModel cameraPoseModel(const calibration::Camera& camera, const metrology::Target& target,
+                                const CameraPlanOptions& options);
 
 using PoseSigma = Eigen::Matrix<double, 6, 1>;
 
