@@ -147,8 +147,8 @@ TEST(ExperimentDesign, DeltaAndHexapodPlansBeatRandom) {
 // A camera-calibration-like error shared by every pose, k = (focal scale, two principal-point
 // tilts, radial scale): the whole scene turns by the tilts about the camera's x and y axes, its
 // depth scales with the focal length, and its lateral position by 1 + k₄ρ², ρ the field angle's
-// tangent (a radial distortion error). σ: 0.3 % of focal length, 0.5 mrad (0.5 px at f =
-// 1000 px), 1 % at ρ = 1.
+// tangent (a radial distortion error). σ: 0.2 % of focal length, 0.5 mrad (0.5 px at f =
+// 1000 px), 2 % at ρ = 1 — a poorly calibrated camera, whose error dominates the poses'.
 Eigen::Isometry3d shiftedByCalibration(const PoseVector& cTm, const Eigen::Vector4d& k) {
   Eigen::Isometry3d T = Eigen::AngleAxisd(k[1], Eigen::Vector3d::UnitX()) *
                         Eigen::AngleAxisd(k[2], Eigen::Vector3d::UnitY()) * toIsometry(cTm);
@@ -161,7 +161,7 @@ Eigen::Isometry3d shiftedByCalibration(const PoseVector& cTm, const Eigen::Vecto
 }
 SharedTermModel calibrationLikeSharedTerm() {
   SharedTermModel shared;
-  shared.covariance = Eigen::Vector4d(5e-4, 2e-4, 2e-4, 3e-3).array().square().matrix().asDiagonal();
+  shared.covariance = Eigen::Vector4d(2e-3, 5e-4, 5e-4, 2e-2).array().square().matrix().asDiagonal();
   shared.sensitivity = [](const PoseVector& cTm) {
     // Central differences, the rotation through its smooth body-frame change (the rotation
     // vector's log jumps at π, where the H4's camera looking down puts every cTm).
@@ -233,9 +233,10 @@ IdentificationResult identifyLikeThePlan(const DesignModel& model, const Candida
 
 // The plan's predicted σ with the shared term against the spread of identify()'s geometric
 // estimates over 200 simulated campaigns at the planned poses, each with one calibration error
-// for all its poses (σ: 0.2 mm / 0.03° independent, the shared term above of about that size).
-// Measured (spread/σ): hexapod 0.85–1.12, Delta 0.90–1.02, H4 0.96–1.07; with each pose's
-// share held independent the σ are too large: 0.73–1.04, 0.62–0.73, 0.85–1.01.
+// for all its poses (0.2 mm / 0.03° independent noise besides). Measured (spread/σ): hexapod
+// 0.86–1.20, Delta 0.98–1.09, H4 0.94–1.06. Each part is needed: with each pose's share held
+// independent the σ are too large (0.60–1.02, 0.31–0.56, 0.51–1.01); without G Σ_k Gᵀ the
+// Delta's are too small (up to 1.58).
 TEST(ExperimentDesign, PredictedSigmaCarriesTheCalibrationErrorSharedByEveryPose) {
   struct Case {
     std::string model;
@@ -273,12 +274,14 @@ TEST(ExperimentDesign, PredictedSigmaCarriesTheCalibrationErrorSharedByEveryPose
     for (int c = 0; c < campaigns; ++c) {
       const IdentificationResult r =
           identifyLikeThePlan(model, info, sharedErrorCampaign(info, design, mounting, truth, shared, independent, rng));
-      if (!r.converged) continue;  // the Delta's solve stops at 100 iterations on 1 of 200
+      if (!r.converged) continue;
       for (int i = 0; i < info.geometric_free; ++i)
         estimates(used, i) = r.model.parameters.value(info.free_names[static_cast<std::size_t>(i)]);
       ++used;
     }
-    ASSERT_GE(used, campaigns - 4) << test.model << ": identify() did not converge on " << campaigns - used;
+    // Before the solver's limit went from 100 to 500 iterations, 35 Delta campaigns stopped short.
+    ASSERT_GE(used, campaigns - 2) << test.model << ": identify() did not converge on " << campaigns - used;
+    std::printf("  %s: identify() converged on %d of %d campaigns\n", test.model.c_str(), used, campaigns);
     estimates.conservativeResize(used, Eigen::NoChange);
     const Eigen::RowVectorXd mean = estimates.colwise().mean();
     bool naive_out_of_band = false;
