@@ -72,8 +72,8 @@ struct IdentificationOptions {
   // (two-sided) rejects the measured pose covariances (model error, doc/uncertainty.md).
   bool scale_on_misfit = true;
   // Solver iterations per solve. 500: a Delta on planned (extreme) poses, weighted with a large
-  // shared calibration part, crawls along a curved valley and needed up to ~480 (at 100, 35 of
-  // 200 such campaigns stopped short: doc/uncertainty.md, "Planning (stop 29)").
+  // shared calibration part, crawls along a curved valley (at 100, 35 of 200 such campaigns
+  // stopped short; at 500, none: doc/uncertainty.md, "Planning (stop 29)").
   int max_iterations = 500;
   bool compute_identifiability = true;
   IdentifiabilityOptions identifiability;
