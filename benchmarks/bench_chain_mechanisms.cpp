@@ -188,19 +188,26 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   const Eigen::VectorXd g = r.model.geometricValues(), e = r.model.externalValues();
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
   Eigen::VectorXd total = Eigen::VectorXd::Zero(J_rad.cols()), scale_total = total;
-  // u_t ≈ (s₀ + s₁ (z − z̄)/z̄) t: a scale error, constant and growing with the distance.
+  // The true independent pose errors u_j, and the scale error u_t ≈ (s₀ + s₁ (z − z̄)/z̄) t,
+  // constant and growing with the distance, fitted to them: X_j [s₀ s₁]ᵀ.
+  std::vector<mech::PoseVector> errors;
   double z_mean = 0.0;
-  for (const mech::PoseObservation& pose : data.poses) z_mean += pose.cTm[2] / static_cast<double>(data.poses.size());
+  for (const mech::PoseObservation& pose : data.poses) {
+    errors.push_back(pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
+                     data.shared->sensitivity.at(pose.id) * camera_error);
+    z_mean += pose.cTm[2] / static_cast<double>(data.poses.size());
+  }
+  const auto regressor = [z_mean](const mech::PoseVector& cTm) {
+    Eigen::Matrix<double, 3, 2> X;
+    X << cTm.head<3>(), cTm.head<3>() * (cTm[2] - z_mean) / z_mean;
+    return X;
+  };
   Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
   Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
-  for (const mech::PoseObservation& pose : data.poses) {
-    const Eigen::Vector3d t = pose.cTm.head<3>();
-    const mech::PoseVector u = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
-                               data.shared->sensitivity.at(pose.id) * camera_error;
-    Eigen::Matrix<double, 3, 2> X;
-    X << t, t * (pose.cTm[2] - z_mean) / z_mean;
+  for (std::size_t j = 0; j < data.poses.size(); ++j) {
+    const Eigen::Matrix<double, 3, 2> X = regressor(data.poses[j].cTm);
     normal += X.transpose() * X;
-    rhs += X.transpose() * u.head<3>();
+    rhs += X.transpose() * errors[j].head<3>();
   }
   const Eigen::Vector2d scale = normal.ldlt().solve(rhs);
   fits.oracle_scale = scale[0];
@@ -211,13 +218,11 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
     const Eigen::MatrixXd& W = r.whitening.at(j);
     const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
     const Eigen::MatrixXd Jp = r.model.mechanism->jointJacobianWrtPose(r.model.external, g, e, pose.cTm);
-    const mech::PoseVector u = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
-                               data.shared->sensitivity.at(pose.id) * camera_error;
-    const Eigen::VectorXd score = A_j.transpose() * (W * (Jp * u));
+    const Eigen::VectorXd score = A_j.transpose() * (W * (Jp * errors[j]));
     meat += score * score.transpose();
     total += score;
     mech::PoseVector scaled = mech::PoseVector::Zero();
-    scaled.head<3>() = (scale[0] + scale[1] * (pose.cTm[2] - z_mean) / z_mean) * pose.cTm.head<3>();
+    scaled.head<3>() = regressor(pose.cTm) * scale;
     scale_total += A_j.transpose() * (W * (Jp * scaled));
   }
   const Eigen::MatrixXd& H_inv = r.information_inverse;
