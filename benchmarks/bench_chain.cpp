@@ -144,7 +144,8 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
   std::vector<metrology::MeasuredPose> measured;
   std::vector<Eigen::Matrix<double, 6, 1>> whitened;
   std::vector<double> theta;
-  for (const auto& pose : app::measurePoseFolders(camera, target, campaign.pose_images(), options, 0)) {
+  const auto measurements = app::measurePoseFolders(camera, target, campaign.pose_images(), options, 0);
+  for (const auto& pose : measurements) {
     const auto& m = pose.measurement;
     if (!m.ok) continue;
     measured.emplace_back(pose.pose_id, m.features.images_used, pose.images_total, m.estimate);
@@ -167,7 +168,8 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
   scoreCorrelation(whitened, theta, study);
   metrology::writePosesCsv(poses_csv, measured);
   metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
-  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured);
+  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured,
+                                app::sharedDetectorBias(camera, target, measurements, options));
 }
 
 // The simulator's truth in the identified parameters' order (z_BC in the model's z_ME gauge,
@@ -199,10 +201,11 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
   mech::IdentificationResult after = before;
   const mech::SharedPoseTerm shared = mech::readSharedTermCsv(mech::sharedTermPath(poses_csv));
   mech::addSharedTermCovariance(after, poses, shared, refit);
-  if (static_cast<Eigen::Index>(shared.names.size()) != camera_error.size())
+  if (static_cast<Eigen::Index>(shared.names.size()) < camera_error.size())
     throw std::runtime_error("the shared-term file does not hold every camera parameter");
   std::vector<mech::PoseObservation> corrected_poses = poses;
-  for (mech::PoseObservation& pose : corrected_poses) pose.cTm -= shared.sensitivity.at(pose.id) * camera_error;
+  for (mech::PoseObservation& pose : corrected_poses)
+    pose.cTm -= shared.sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error;
   const mech::IdentificationResult corrected = refit(corrected_poses);
   const Eigen::VectorXd truth = truthOf(before, campaign, spec);
   const auto& p = before.model.parameters;

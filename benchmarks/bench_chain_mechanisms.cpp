@@ -150,14 +150,17 @@ Eigen::VectorXd scoreCalibration(const app::DemoCalibration& calibration, Study&
 // known here) against the independent part Σ_j − D_j Σ_k D_jᵀ.
 void scorePoses(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
                 const std::vector<std::string>& camera_names, const Eigen::VectorXd& camera_error, Study& study) {
-  if (!data.shared || data.shared->names != camera_names)
+  if (!data.shared || data.shared->names.size() < camera_names.size() ||
+      !std::equal(camera_names.begin(), camera_names.end(), data.shared->names.begin()))
     throw std::runtime_error("the shared-term file does not hold the calibrated camera's parameters");
   static const char* const components[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
   for (const mech::PoseObservation& pose : data.poses) {
     const mech::PoseVector error = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id));
-    const Eigen::MatrixXd& D = data.shared->sensitivity.at(pose.id);
+    const Eigen::MatrixXd D = data.shared->sensitivity.at(pose.id).leftCols(camera_error.size());
     const mech::PoseVector independent = error - D * camera_error;
-    const Eigen::MatrixXd independent_covariance = *pose.covariance - data.shared->poseCovariance(pose.id);
+    const auto n = camera_error.size();
+    const Eigen::MatrixXd independent_covariance =
+        *pose.covariance - D * data.shared->covariance.topLeftCorner(n, n) * D.transpose();
     for (int k = 0; k < 6; ++k) {
       study.pose_z[components[k]].push_back(error[k] / std::sqrt((*pose.covariance)(k, k)));
       study.pose_z_independent[components[k]].push_back(independent[k] / std::sqrt(independent_covariance(k, k)));
@@ -194,7 +197,7 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   double z_mean = 0.0;
   for (const mech::PoseObservation& pose : data.poses) {
     errors.push_back(pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
-                     data.shared->sensitivity.at(pose.id) * camera_error);
+                     data.shared->sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error);
     z_mean += pose.cTm[2] / static_cast<double>(data.poses.size());
   }
   const auto regressor = [z_mean](const mech::PoseVector& cTm) {
@@ -246,7 +249,8 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   fits.with_shared_unaligned = fits.after;  // its σ components, before the target's rows turn
   oracleFitTerm(campaign, data, camera_error, fits);
   std::vector<mech::PoseObservation> corrected_poses = data.poses;
-  for (mech::PoseObservation& pose : corrected_poses) pose.cTm -= data.shared->sensitivity.at(pose.id) * camera_error;
+  for (mech::PoseObservation& pose : corrected_poses)
+    pose.cTm -= data.shared->sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error;
   fits.corrected = app::identifyLikeTheCommand(registered, initial, app::MeasuredData{corrected_poses, {}, {}});
   mech::alignTranslatingTarget(fits.before, data.poses);  // as the demo, before scoring
   mech::alignTranslatingTarget(fits.after, data.poses);
@@ -381,10 +385,13 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   study.wall.push_back(seconds);
   std::printf(
       "chain %2d (robot seed %llu, camera moved %.1f mm / %.2f deg): CPU s simulate %.1f, calibrate+measure %.1f, "
-      "identify %.1f; wall %.1f s; %d of %d poses; chi2/dof %.2f (%s); Mahalanobis/p without %.2f with %.2f (gauge "
+      "identify %.1f; wall %.1f s; %d of %d poses; detector bias %.4f px of %.4f px (%.1f std, %d modes); chi2/dof "
+      "%.2f (%s); Mahalanobis/p without %.2f with %.2f (gauge "
       "held %.2f); largest camera-frame prediction error %.3f mm\n",
       chain, static_cast<unsigned long long>(*spec.robot_seed), study.shift_mm.back(), study.turn_deg.back(),
       simulated - start, measured - simulated, done - measured, seconds, measurement.measured, measurement.total,
+      measurement.detector_bias.sigma_px, measurement.detector_bias.feature_error_rms_px,
+      measurement.detector_bias.significance, static_cast<int>(measurement.detector_bias.names.size()),
       study.chi2_dof.back(), study.method_before.back().c_str(), study.ident_chi2_before.back(),
       study.ident_chi2_after.back(), study.ident_chi2_held.back(), study.prediction.largest_mm.back());
   std::fflush(stdout);

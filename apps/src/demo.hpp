@@ -17,6 +17,7 @@
 #include "mire/calibration/camera_model.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification.hpp"
+#include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/target.hpp"
 
 namespace mire::app {
@@ -55,6 +56,7 @@ struct DemoMeasurement {
   Eigen::Matrix<double, 6, 1> normalized_error_rms = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> whitened_error_rms = Eigen::Matrix<double, 6, 1>::Zero();
   double whitened_error_rms_all = 0.0;
+  metrology::DetectorBiasTerm detector_bias;  // the shared-term file's detector part
 };
 
 struct DemoVariant {

@@ -102,7 +102,8 @@ void measureStage(const fs::path& pose_images, const TrueCameraTMarker& true_pos
   if (measured.empty()) throw std::runtime_error("no pose could be measured");
   metrology::writePosesCsv(poses_csv, measured);
   metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
-  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured);
+  summary.detector_bias = sharedDetectorBias(camera, target, measurements, options);
+  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured, summary.detector_bias);
 
   summary.measured = static_cast<int>(measured.size());
   summary.total = static_cast<int>(measurements.size());

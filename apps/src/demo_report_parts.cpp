@@ -63,6 +63,15 @@ void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const
      << "the same calibration error (section 1), so error/σ pose by pose is correlated across the campaign: "
      << "its RMS is one draw of that shared error, not an average. The whitened row uses each pose's own "
      << "noise covariance plus the shared term D Σ_k Dᵀ across poses (doc/uncertainty.md).\n";
+  const metrology::DetectorBiasTerm& bias = m.detector_bias;
+  md << "\nDetector bias shared by the poses (doc/uncertainty.md, \"The detector's shared bias\"): ";
+  if (bias.features == 0)
+    md << "not estimated (fewer than 6 poses).\n";
+  else if (bias.empty())
+    md << "not seen (the shared part of the features' mean residuals is " << fixed(bias.significance, 1)
+       << " standard deviations of noise, 3 needed).\n";
+  else
+    md << fixed(bias.sigma_px, 4) << " px per feature and axis, " << bias.names.size() << " modes in poses_shared.csv.\n";
 }
 
 Json calibrationJson(const DemoCalibration& c) {
@@ -96,6 +105,10 @@ Json measurementJson(const DemoMeasurement& m) {
   out["whitened_error_rms_per_component"] = numberArray(Eigen::VectorXd(m.whitened_error_rms));
   setNumber(out, "whitened_error_rms", m.whitened_error_rms_all, "no pose measured");
   out["pose_covariances_file"] = "poses_covariance.csv";
+  Json bias{{"modes", m.detector_bias.names.size()}};
+  setNumber(bias, "sigma_px", m.detector_bias.features > 0 ? m.detector_bias.sigma_px : NAN, "too few poses");
+  setNumber(bias, "significance", m.detector_bias.features > 0 ? m.detector_bias.significance : NAN, "too few poses");
+  out["detector_bias"] = bias;
   return out;
 }
 

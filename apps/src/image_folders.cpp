@@ -177,4 +177,17 @@ std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera&
   return poses;
 }
 
+metrology::DetectorBiasTerm sharedDetectorBias(const calibration::Camera& camera, const metrology::Target& target,
+                                               const std::vector<PoseFolderMeasurement>& poses,
+                                               const metrology::MeasurementOptions& options) {
+  std::vector<metrology::PoseFeatures> features;
+  for (const PoseFolderMeasurement& pose : poses) {
+    const metrology::PoseMeasurement& m = pose.measurement;
+    if (m.ok) features.push_back({pose.pose_id, &m.features, m.estimate.cTm, m.estimate.covariance});
+  }
+  metrology::DetectorBiasOptions bias;
+  bias.pose = options.pose;
+  return metrology::estimateDetectorBias(camera, target.points(), features, bias);
+}
+
 }  // namespace mire::app

@@ -4,6 +4,7 @@
 // subfolder (doc/file-formats.md, "pose image folder"), each in parallel with a progress bar.
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/camera_model.hpp"
+#include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/target.hpp"
 
@@ -47,5 +48,11 @@ struct PoseFolderMeasurement {
 std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera, const metrology::Target& target,
                                                       const std::filesystem::path& folder,
                                                       const metrology::MeasurementOptions& options, int threads);
+
+// The detector's bias shared by the poses measured (metrology/detector_bias.hpp), from the
+// poses that succeeded.
+metrology::DetectorBiasTerm sharedDetectorBias(const calibration::Camera& camera, const metrology::Target& target,
+                                               const std::vector<PoseFolderMeasurement>& poses,
+                                               const metrology::MeasurementOptions& options);
 
 }  // namespace mire::app

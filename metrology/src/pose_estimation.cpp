@@ -293,6 +293,26 @@ void reprojectionJacobians(const calibration::Camera& camera, const std::vector<
   *jacobian_pose = toTranslationFirst(jp);
 }
 
+Eigen::MatrixXd featureSensitivity(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                                   const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
+                                   const PoseOptions& options) {
+  const auto whitening = whiteningMatrices(features, options);
+  const Eigen::Vector3d r = rotationVector(cTm.linear());
+  const double pose[6] = {r.x(), r.y(), r.z(), cTm.translation().x(), cTm.translation().y(), cTm.translation().z()};
+  Eigen::MatrixXd jp, jk;
+  jacobians(camera, points, features, whitening, pose, &jp, &jk);
+  jp = toTranslationFirst(jp);
+  const Eigen::FullPivLU<Matrix6d> lu(Matrix6d(jp.transpose() * jp));
+  if (!lu.isInvertible()) return {};
+  // ∂r_w/∂x = −L⁻¹ per feature, so δpose = (J_pᵀ J_p)⁻¹ J_pᵀ L⁻¹ δx.
+  Eigen::MatrixXd weighted = jp.transpose();
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    const auto c = static_cast<Eigen::Index>(2 * i);
+    weighted.middleCols(c, 2) = Eigen::MatrixXd(weighted.middleCols(c, 2) * whitening[i]);
+  }
+  return lu.solve(weighted);
+}
+
 // Stages: IPPE initialisation, Ceres refinement of each solution, the choice between them,
 // residual statistics, then the precision.
 PoseEstimate estimatePose(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,

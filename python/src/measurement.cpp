@@ -3,8 +3,10 @@
 #include "bindings.hpp"
 
 #include "mire/metrology/campaign_screening.hpp"
+#include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
+#include "mire/metrology/shared_term_csv.hpp"
 
 #include <filesystem>
 
@@ -184,11 +186,50 @@ void bindPosesCsv(py::module_& m) {
 
 }  // namespace
 
+// The shared-term file as `mire measure` writes it: the camera's covariance and the detector's
+// bias every pose repeats (metrology/detector_bias.hpp).
+void bindSharedTerm(py::module_& m) {
+  using B = met::DetectorBiasTerm;
+  py::class_<B>(m, "DetectorBiasTerm", "The detector's bias shared by every pose: sigma_b and its modes.")
+      .def(py::init<>())
+      .def_readonly("sigma_px", &B::sigma_px)
+      .def_readonly("feature_error_rms_px", &B::feature_error_rms_px)
+      .def_readonly("significance", &B::significance)
+      .def_readonly("features", &B::features)
+      .def_readonly("poses", &B::poses)
+      .def_readonly("retained", &B::retained)
+      .def_readonly("names", &B::names)
+      .def_readonly("sensitivity", &B::sensitivity)
+      .def("empty", &B::empty);
+  m.def(
+      "estimateDetectorBias",
+      [](const calibration::Camera& camera, const met::Target& target, const std::vector<std::string>& pose_ids,
+         const std::vector<met::PoseMeasurement>& measurements, const met::PoseOptions& options) {
+        if (pose_ids.size() != measurements.size())
+          throw std::invalid_argument("pose_ids and measurements differ in length");
+        std::vector<met::PoseFeatures> poses;
+        for (std::size_t j = 0; j < measurements.size(); ++j) {
+          const met::PoseMeasurement& pm = measurements[j];
+          if (pm.ok) poses.push_back({pose_ids[j], &pm.features, pm.estimate.cTm, pm.estimate.covariance});
+        }
+        met::DetectorBiasOptions bias;
+        bias.pose = options;
+        return met::estimateDetectorBias(camera, target.points(), poses, bias);
+      },
+      py::arg("camera"), py::arg("target"), py::arg("pose_ids"), py::arg("measurements"),
+      py::arg("options") = met::PoseOptions{}, "As `mire measure` does over the poses that succeeded.");
+  m.def("sharedTermSidePath", &met::sharedTermSidePath, py::arg("poses_csv"));
+  m.def("sharedTermCsvString", &met::sharedTermCsvString, py::arg("camera"), py::arg("poses"), py::arg("bias") = B{});
+  m.def("writeSharedTermCsv", &met::writeSharedTermCsv, py::arg("path"), py::arg("camera"), py::arg("poses"),
+        py::arg("bias") = B{});
+}
+
 void bindMeasurement(py::module_& m) {
   bindOptions(m);
   bindResults(m);
   bindMeasure(m);
   bindPosesCsv(m);
+  bindSharedTerm(m);
 }
 
 }  // namespace mire::python

@@ -99,9 +99,11 @@ def test_demo_campaign_equals_the_cli(tmp_path):
     measure.integrity.split = met.SplitPolicy.KeepLargest
     cli_poses = {row.observation.id: row.observation
                  for row in mech.readPosesCsv(out / "poses.csv", out / "poses_covariance.csv")}
-    measured = []
+    measured, ids, measurements = [], [], []
     for folder in sorted(p for p in (campaign / "poses").iterdir() if p.is_dir()):
         m = met.measurePoseFromFolder(cli_camera, target, folder, measure)
+        ids.append(folder.name)
+        measurements.append(m)
         assert m.ok, m.error
         pose = np.concatenate([m.estimate.translation, m.estimate.rotation_vector])
         assert_relative(pose, cli_poses[folder.name].cTm, 1e-12, f"pose {folder.name}")
@@ -112,6 +114,9 @@ def test_demo_campaign_equals_the_cli(tmp_path):
 
     met.writePosesCsv(tmp_path / "poses.csv", measured)
     met.writePosesCovarianceCsv(tmp_path / "poses_covariance.csv", measured)
+    # The shared terms (the calibration's error, the detector's bias when it shows) as the CLI wrote them.
+    bias = met.estimateDetectorBias(cli_camera, target, ids, measurements, measure.pose)
+    assert (out / "poses_shared.csv").read_text() == met.sharedTermCsvString(cli_camera, measured, bias)
     result = identify_like_the_cli(tmp_path / "poses.csv", campaign / "joints.csv", nominal=mech.H4Nominal())
     # The demo adds the calibration term shared by every pose, by refits of variant D.
     poses = mech.readObservations(tmp_path / "poses.csv", campaign / "joints.csv", tmp_path / "poses_covariance.csv",

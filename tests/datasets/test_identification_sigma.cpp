@@ -7,11 +7,13 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/h4_true_robot.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/metrology/shared_term_csv.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -263,6 +265,44 @@ TEST(IdentificationSigma, SharedTermFileRoundTripAndErrors) {
     out << "kind,id,row,fx\ncovariance,camera,fy,4\n";
   }
   EXPECT_THROW(mech::readSharedTermCsv(path), std::runtime_error);
+  std::filesystem::remove_all(dir);
+}
+
+// measure's writer with the detector's bias modes (metrology/detector_bias.hpp) after the camera's
+// parameters, read back as identify reads it: one shared term of n + r columns.
+TEST(IdentificationSigma, SharedTermFileCarriesTheDetectorBiasModes) {
+  calibration::Camera camera = referenceCamera();
+  const auto n = static_cast<Eigen::Index>(camera.params.size());
+  camera.covariance = Eigen::MatrixXd::Identity(n, n) * 0.25;
+  metrology::PoseEstimate estimate;
+  estimate.valid = true;
+  estimate.intrinsics_sensitivity = Eigen::MatrixXd::Constant(6, n, 1e-4);
+  const std::vector<metrology::MeasuredPose> poses = {{"p1", 3, 3, estimate}, {"p2", 3, 3, estimate}};
+  metrology::DetectorBiasTerm bias;
+  bias.sigma_px = 0.05;
+  bias.names = {"detector_bias_1", "detector_bias_2"};
+  bias.sensitivity["p1"] = Eigen::MatrixXd::Constant(6, 2, 2e-5);
+  bias.sensitivity["p2"] = Eigen::MatrixXd::Constant(6, 2, -3e-5);
+  const auto dir = std::filesystem::temp_directory_path() / "mire_shared_bias_test";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "poses_shared.csv";
+  ASSERT_TRUE(metrology::writeSharedTermCsv(path, camera, poses, bias));
+  const mech::SharedPoseTerm shared = mech::readSharedTermCsv(path);
+  ASSERT_EQ(static_cast<Eigen::Index>(shared.names.size()), n + 2);
+  EXPECT_EQ(shared.names[static_cast<std::size_t>(n)], "detector_bias_1");
+  EXPECT_DOUBLE_EQ(shared.covariance(0, 0), 0.25);
+  EXPECT_DOUBLE_EQ(shared.covariance(n, n), 1.0);
+  EXPECT_DOUBLE_EQ(shared.covariance(0, n), 0.0);
+  EXPECT_NEAR(shared.sensitivity.at("p2")(4, n + 1), -3e-5, 1e-15);
+  const Eigen::MatrixXd expected =
+      estimate.intrinsics_sensitivity * camera.covariance * estimate.intrinsics_sensitivity.transpose() +
+      bias.sensitivity["p2"] * bias.sensitivity["p2"].transpose();
+  EXPECT_LT((shared.poseCovariance("p2") - expected).norm(), 1e-9 * expected.norm());
+  // Without the camera's covariance the file holds the detector's columns alone; with neither,
+  // nothing is written.
+  camera.covariance.resize(0, 0);
+  EXPECT_EQ(mech::readSharedTermCsv((metrology::writeSharedTermCsv(path, camera, poses, bias), path)).names, bias.names);
+  EXPECT_TRUE(metrology::sharedTermCsvString(camera, poses).empty());
   std::filesystem::remove_all(dir);
 }
 

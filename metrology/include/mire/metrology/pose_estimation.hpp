@@ -85,6 +85,13 @@ void reprojectionJacobians(const calibration::Camera& camera, const std::vector<
                            const AveragedFeatures& features, const Eigen::Isometry3d& cTm, Eigen::MatrixXd* jacobian_pose,
                            Eigen::MatrixXd* jacobian_intrinsics, const PoseOptions& options = {});
 
+// ∂(t, r)/∂x at `cTm`: the pose's first-order change per feature pixel error, 6 × 2N with
+// columns (x₀ y₀ x₁ y₁ …) in `features` order, (J_pᵀ J_p)⁻¹ J_pᵀ L⁻¹ with estimatePose's
+// weighting (detector_bias.hpp). Empty when the pose is not observable.
+Eigen::MatrixXd featureSensitivity(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
+                                   const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
+                                   const PoseOptions& options = {});
+
 // Step 3 of estimatePose from whitened Jacobians at the pose (J_p 2N×6, J_k 2N×params, as
 // reprojectionJacobians gives them): the inverse Fisher information (J_pᵀ J_p)⁻¹ and, when the
 // camera carries a covariance, the intrinsics part A Σ_k Aᵀ with A = −(J_pᵀ J_p)⁻¹ J_pᵀ J_k.
