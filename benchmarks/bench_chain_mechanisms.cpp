@@ -19,14 +19,17 @@
 #include "chain_statistics.hpp"
 #include "demo.hpp"
 #include "demo_mechanism_identify.hpp"
+#include "image_folders.hpp"
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/parameter_set.hpp"
 #include "mire/mechanism/translating_target.hpp"
+#include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/constants.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -74,6 +77,7 @@ struct Study {
   // (a target-scale-like error every pose shares, constant and growing with the distance), and
   // s₀, s₁ per chain.
   Samples oracle_unscaled_ratio;
+  std::array<Samples, 4> oracle_detector_ratio;
   std::vector<double> oracle_scale, oracle_scale_slope;
   std::map<std::string, std::string> unit;  // display unit per parameter
   std::set<std::string> mounting;           // the free mounting parameters
@@ -177,20 +181,99 @@ struct ChainFits {
   Eigen::VectorXd oracle_block, oracle_realized;  // variances, free parameters
   Eigen::VectorXd oracle_unscaled;                // realized, the scale error removed
   double oracle_scale = 0.0, oracle_scale_slope = 0.0;
+  // Realized, from the pose errors the detector's true feature errors cause (true camera): all of
+  // them, their per-feature constant part, their smooth image field, the rest.
+  std::array<Eigen::VectorXd, 4> oracle_detector;
 };
+
+// The detector's true feature errors (averaged features − true projection), per pose.
+struct DetectorErrors {
+  std::map<std::string, metrology::AveragedFeatures> features;
+};
+
+// Pose errors the detector's feature errors cause, split into parts: [0] all, [1] the per-feature
+// mean over the poses, [2] a quadratic field over the image fitted to all errors, [3] the rest.
+std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(const datasets::MechanismImageCampaign& campaign,
+                                                                          const metrology::Target& target,
+                                                                          const DetectorErrors& detector) {
+  const calibration::Camera& camera = campaign.camera;
+  const auto& points = target.points();
+  struct Pose {
+    std::string id;
+    const metrology::AveragedFeatures* f;
+    Eigen::Isometry3d T;
+    std::vector<Eigen::Vector2d> error, at;
+  };
+  std::vector<Pose> poses;
+  std::map<int, Eigen::Vector2d> sum;
+  std::map<int, int> count;
+  for (const auto& [id, f] : detector.features) {
+    Pose p{id, &f, campaign.trueCameraTMarker(id), {}, {}};
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      Eigen::Vector2d projected;
+      camera.project(p.T * points[static_cast<std::size_t>(f.ids[i])], &projected);
+      p.error.push_back(f.pixels[i] - projected);
+      p.at.push_back(
+          Eigen::Vector2d((projected.x() - camera.cx()) / camera.fx(), (projected.y() - camera.cy()) / camera.fy()));
+      sum.try_emplace(f.ids[i], Eigen::Vector2d::Zero()).first->second += p.error.back();
+      ++count[f.ids[i]];
+    }
+    poses.push_back(std::move(p));
+  }
+  // Quadratic field: 6 terms per axis, least squares over every feature of every pose.
+  const auto basis = [](const Eigen::Vector2d& x) {
+    Eigen::Matrix<double, 6, 1> b;
+    b << 1.0, x.x(), x.y(), x.x() * x.x(), x.x() * x.y(), x.y() * x.y();
+    return b;
+  };
+  Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 2> rhs = Eigen::Matrix<double, 6, 2>::Zero();
+  for (const Pose& p : poses)
+    for (std::size_t i = 0; i < p.error.size(); ++i) {
+      const auto b = basis(p.at[i]);
+      normal += b * b.transpose();
+      rhs += b * p.error[i].transpose();
+    }
+  const Eigen::Matrix<double, 6, 2> field = normal.ldlt().solve(rhs);
+  std::map<std::string, std::array<mech::PoseVector, 4>> out;
+  for (const Pose& p : poses) {
+    const Eigen::MatrixXd S = metrology::featureSensitivity(camera, points, *p.f, p.T);
+    const auto n = static_cast<Eigen::Index>(p.error.size());
+    Eigen::VectorXd parts[4] = {Eigen::VectorXd(2 * n), Eigen::VectorXd(2 * n), Eigen::VectorXd(2 * n),
+                                Eigen::VectorXd(2 * n)};
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const int id = p.f->ids[static_cast<std::size_t>(i)];
+      const Eigen::Vector2d e = p.error[static_cast<std::size_t>(i)];
+      const Eigen::Vector2d constant = sum[id] / count[id];
+      const Eigen::Vector2d smooth = field.transpose() * basis(p.at[static_cast<std::size_t>(i)]);
+      parts[0].segment<2>(2 * i) = e;
+      parts[1].segment<2>(2 * i) = constant;
+      parts[2].segment<2>(2 * i) = smooth;
+      parts[3].segment<2>(2 * i) = e - constant - smooth;
+    }
+    std::array<mech::PoseVector, 4> pose_parts;
+    for (int k = 0; k < 4; ++k) pose_parts[static_cast<std::size_t>(k)] = S * parts[k];
+    out[p.id] = pose_parts;
+  }
+  return out;
+}
 
 // Diagnostic, the truth known: the fit's term from the true independent pose errors
 // u_j = e_j − D_j Δk, through the linearized estimator H⁻¹ Σ_j A_jᵀ W_j J_p,j u_j: per pose
 // (Σ_j of the score's outer product, what per-pose covariances can describe) and realized (the
 // square of the sum, whose mean over chains holds the cross-pose correlation too).
 void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
-                   const Eigen::VectorXd& camera_error, ChainFits& fits) {
+                   const Eigen::VectorXd& camera_error, const metrology::Target& target, const DetectorErrors& detector,
+                   ChainFits& fits) {
+  const auto detector_errors = detectorPoseErrors(campaign, target, detector);
+  std::array<Eigen::VectorXd, 4> detector_total;
   const mech::IdentificationResult& r = fits.with_shared_unaligned;
   const int J = r.model.mechanism->jointCount();
   const Eigen::MatrixXd J_rad = mech::identificationJacobian(r.model, data.poses);
   const Eigen::VectorXd g = r.model.geometricValues(), e = r.model.externalValues();
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
   Eigen::VectorXd total = Eigen::VectorXd::Zero(J_rad.cols()), scale_total = total;
+  for (auto& t : detector_total) t = total;
   // The true independent pose errors u_j, and the scale error u_t ≈ (s₀ + s₁ (z − z̄)/z̄) t,
   // constant and growing with the distance, fitted to them: X_j [s₀ s₁]ᵀ.
   std::vector<mech::PoseVector> errors;
@@ -227,15 +310,19 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
     mech::PoseVector scaled = mech::PoseVector::Zero();
     scaled.head<3>() = regressor(pose.cTm) * scale;
     scale_total += A_j.transpose() * (W * (Jp * scaled));
+    for (std::size_t k = 0; k < 4; ++k)
+      detector_total[k] += A_j.transpose() * (W * (Jp * detector_errors.at(pose.id)[k]));
   }
   const Eigen::MatrixXd& H_inv = r.information_inverse;
   fits.oracle_block = (H_inv * meat * H_inv).diagonal();
   fits.oracle_realized = (H_inv * total).array().square();
   fits.oracle_unscaled = (H_inv * (total - scale_total)).array().square();
+  for (std::size_t k = 0; k < 4; ++k) fits.oracle_detector[k] = (H_inv * detector_total[k]).array().square();
 }
 
 ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
-                        const std::string& model, const Eigen::VectorXd& camera_error) {
+                        const std::string& model, const Eigen::VectorXd& camera_error, const metrology::Target& target,
+                        const DetectorErrors& detector) {
   const mech::RegisteredModel registered = mech::makeRegisteredModel(model);
   const app::GaugedModel initial = app::initialModel(registered, data.poses);
   app::MeasuredData independent = data;
@@ -247,7 +334,7 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   fits.held = fits.before;
   app::addSharedTermLikeTheCommand(registered, initial, data, fits.held, app::RefitGauge::HeldAtMainFit);
   fits.with_shared_unaligned = fits.after;  // its σ components, before the target's rows turn
-  oracleFitTerm(campaign, data, camera_error, fits);
+  oracleFitTerm(campaign, data, camera_error, target, detector, fits);
   std::vector<mech::PoseObservation> corrected_poses = data.poses;
   for (mech::PoseObservation& pose : corrected_poses)
     pose.cTm -= data.shared->sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error;
@@ -326,6 +413,8 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
     study.oracle_block_ratio[name].push_back(fits.oracle_block[f] / modelled);
     study.oracle_realized_ratio[name].push_back(fits.oracle_realized[f] / modelled);
     study.oracle_unscaled_ratio[name].push_back(fits.oracle_unscaled[f] / modelled);
+    for (std::size_t k = 0; k < 4; ++k)
+      study.oracle_detector_ratio[k][name].push_back(fits.oracle_detector[k][f] / modelled);
   }
   study.oracle_scale.push_back(fits.oracle_scale);
   study.oracle_scale_slope.push_back(fits.oracle_scale_slope);
@@ -373,7 +462,12 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   const Eigen::VectorXd camera_error = scoreCalibration(calibration, study);
   scorePoses(campaign, data, calibration.names, camera_error, study);
   study.pose_whitened_all.push_back(measurement.whitened_error_rms_all);
-  const ChainFits fits = identifyChain(campaign, data, study.model, camera_error);
+  DetectorErrors detector;
+  metrology::MeasurementOptions options;
+  options.integrity.split = metrology::SplitPolicy::KeepLargest;
+  for (const auto& pose : app::measurePoseFolders(camera, target, campaign.pose_images(), options, 0))
+    if (pose.measurement.ok) detector.features[pose.pose_id] = pose.measurement.features;
+  const ChainFits fits = identifyChain(campaign, data, study.model, camera_error, target, detector);
   scoreIdentification(fits, study);
   scorePredictions(campaign, study.model, fits.held, study);
   const double done = processCpuSeconds();
@@ -468,6 +562,14 @@ void printIdentification(const Study& s) {
   for (const auto& name : s.names)
     std::printf("  %-8s %8.3f | %8.3f | %8.3f\n", name.c_str(), std::sqrt(mean(s.oracle_block_ratio.at(name))),
                 std::sqrt(mean(s.oracle_realized_ratio.at(name))), std::sqrt(mean(s.oracle_unscaled_ratio.at(name))));
+  std::printf(
+      "\n  the fit's term realized from the pose errors the detector's true feature errors cause (true camera), over "
+      "the printed one: all | per-feature constant | quadratic image field | rest\n");
+  for (const auto& name : s.names)
+    std::printf(
+        "  %-8s %8.3f | %8.3f | %8.3f | %8.3f\n", name.c_str(), std::sqrt(mean(s.oracle_detector_ratio[0].at(name))),
+        std::sqrt(mean(s.oracle_detector_ratio[1].at(name))), std::sqrt(mean(s.oracle_detector_ratio[2].at(name))),
+        std::sqrt(mean(s.oracle_detector_ratio[3].at(name))));
   std::printf("  the pose errors' scale error per chain: s0 mean %.3g, RMS %.3g; s1 mean %.3g, RMS %.3g\n",
               mean(s.oracle_scale), rms(s.oracle_scale), mean(s.oracle_scale_slope), rms(s.oracle_scale_slope));
   std::printf(

@@ -78,7 +78,7 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
 // The detector bias every pose shares (metrology/detector_bias.hpp), as the shared-term file holds it.
 void printDetectorBias(const metrology::DetectorBiasTerm& bias, std::size_t poses) {
   if (bias.features == 0)
-    std::printf("detector bias shared by the poses: not estimated (%zu poses, 6 needed)\n", poses);
+    std::printf("detector bias shared by the poses: not estimated (%zu poses; it needs 6, each feature in 3)\n", poses);
   else if (bias.empty())
     std::printf(
         "detector bias shared by the poses: not seen (the shared part of the features' mean residuals is %.1f std of "

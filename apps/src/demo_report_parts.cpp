@@ -66,7 +66,7 @@ void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const
   const metrology::DetectorBiasTerm& bias = m.detector_bias;
   md << "\nDetector bias shared by the poses (doc/uncertainty.md, \"The detector's shared bias\"): ";
   if (bias.features == 0)
-    md << "not estimated (fewer than 6 poses).\n";
+    md << "not estimated (it needs 6 poses, each feature in 3).\n";
   else if (bias.empty())
     md << "not seen (the shared part of the features' mean residuals is " << fixed(bias.significance, 1)
        << " standard deviations of noise, 3 needed).\n";

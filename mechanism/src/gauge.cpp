@@ -23,10 +23,22 @@ std::vector<PoseObservation> modelConsistentPoses(const IdentificationModel& mod
   return out;
 }
 
+namespace {
+constexpr double kMountingPivotPriority = 0.5;
+}  // namespace
+
 GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
                            const IdentifiabilityOptions& options) {
   GaugeAnalysis analysis;
-  analysis.report = analyzeIdentifiability(model, modelConsistentPoses(model, poses), options);
+  // Between equivalent parameters, hold the mounting ones: the geometry is what the user
+  // calibrates, and a gauge chosen by rounding moved from chain to chain (doc/uncertainty.md,
+  // "The base offset on a few Delta chains").
+  IdentifiabilityOptions prefer_geometry = options;
+  if (prefer_geometry.pivot_priority.empty())
+    for (const std::size_t i : model.parameters.freeIndices())
+      prefer_geometry.pivot_priority.push_back(static_cast<int>(i) < model.geometricCount() ? 1.0
+                                                                                            : kMountingPivotPriority);
+  analysis.report = analyzeIdentifiability(model, modelConsistentPoses(model, poses), prefer_geometry);
   const IdentifiabilityReport& r = analysis.report;
   std::set<std::string> dependents(r.unidentifiable.begin(), r.unidentifiable.end()), members;
   for (const UnidentifiableCombination& c : r.combinations)

@@ -91,8 +91,11 @@ void singularValueStage(IdentifiabilityReport& report, const Eigen::MatrixXd& J,
 // Khalil & Besnard: the first `rank` pivoted-QR columns form a minimal identifiable set;
 // returns the other (dependent) columns and sets the identifiable subset's condition number.
 std::vector<Eigen::Index> pivotedQrStage(IdentifiabilityReport& report, const Eigen::MatrixXd& Js,
-                                         const std::vector<std::string>& names) {
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Js);
+                                         const std::vector<std::string>& names, const std::vector<double>& priority) {
+  Eigen::MatrixXd weighted = Js;
+  if (priority.size() == static_cast<std::size_t>(Js.cols()))
+    for (Eigen::Index k = 0; k < Js.cols(); ++k) weighted.col(k) *= priority[static_cast<std::size_t>(k)];
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(weighted);
   const auto& permutation = qr.colsPermutation().indices();
   std::vector<Eigen::Index> identifiable_columns, dependent_columns;
   for (Eigen::Index k = 0; k < Js.cols(); ++k) {
@@ -173,7 +176,7 @@ IdentifiabilityReport analyzeJacobian(const Eigen::MatrixXd& J, const std::vecto
     svd.matrixV().col(k).cwiseAbs().maxCoeff(&largest);
     report.dominant_parameters.push_back(names[static_cast<std::size_t>(largest)]);
   }
-  const std::vector<Eigen::Index> dependent_columns = pivotedQrStage(report, Js, names);
+  const std::vector<Eigen::Index> dependent_columns = pivotedQrStage(report, Js, names, options.pivot_priority);
   if (report.rank < n) nullSpaceStage(report, svd.matrixV(), scale, dependent_columns, names, options);
   return report;
 }

@@ -104,9 +104,10 @@ void sensitivityModes(const calibration::Camera& camera, const std::vector<Eigen
   Eigen::MatrixXd whitened = Eigen::MatrixXd::Zero(6 * P, next);
   std::vector<Matrix6d> lower(poses.size());
   for (std::size_t j = 0; j < poses.size(); ++j) {
+    // Any invertible L gives the same term; the pose's own covariance ranks the modes by what
+    // they do to the pose relative to its precision (identity when that is not positive definite).
     const Eigen::LLT<Matrix6d> llt(poses[j].covariance);
-    lower[j] = llt.info() == Eigen::Success ? Matrix6d(llt.matrixL())
-                                            : Matrix6d(poses[j].covariance.diagonal().cwiseMax(0.0).cwiseSqrt().asDiagonal());
+    lower[j] = llt.info() == Eigen::Success ? Matrix6d(llt.matrixL()) : Matrix6d::Identity();
     const Eigen::MatrixXd S = featureSensitivity(camera, points, *poses[j].features, poses[j].cTm, options.pose);
     if (S.size() == 0) continue;
     const Eigen::MatrixXd L_inv_S = lower[j].triangularView<Eigen::Lower>().solve(S);
@@ -125,8 +126,8 @@ void sensitivityModes(const calibration::Camera& camera, const std::vector<Eigen
     kept += power[modes++];
   term->retained = kept / total;
   for (Eigen::Index m = 0; m < modes; ++m) term->names.push_back("detector_bias_" + std::to_string(m + 1));
-  const Eigen::MatrixXd scaled = svd.matrixU().leftCols(modes) *
-                                 (term->sigma_px * svd.singularValues().head(modes)).asDiagonal();
+  const Eigen::MatrixXd scaled =
+      svd.matrixU().leftCols(modes) * (term->sigma_px * svd.singularValues().head(modes)).asDiagonal();
   for (std::size_t j = 0; j < poses.size(); ++j)
     term->sensitivity[poses[j].pose_id] = lower[j] * scaled.middleRows(static_cast<Eigen::Index>(6 * j), 6);
 }

@@ -139,7 +139,8 @@ Scores score(const mire::datasets::CampaignGeometry& geometry, double bias_px, i
     for (const auto& T : campaign.truth) z_mean += T.translation().z() / kPoses;
     for (const auto& T : campaign.truth) z_spread += std::pow(T.translation().z() - z_mean, 2);
     for (int j = 0; j < kPoses; ++j)
-      slope[static_cast<std::size_t>(j)] = (campaign.truth[static_cast<std::size_t>(j)].translation().z() - z_mean) / z_spread;
+      slope[static_cast<std::size_t>(j)] =
+          (campaign.truth[static_cast<std::size_t>(j)].translation().z() - z_mean) / z_spread;
     for (int k = 0; k < 2; ++k) {
       const Statistic st = combine(campaign, term, k == 0 ? mean : slope);
       for (int c = 0; c < 6; ++c) {
@@ -166,9 +167,10 @@ mire::datasets::CampaignGeometry translating() {
 }
 
 void print(const char* label, const Scores& s, int trials) {
-  std::printf("%s: mean sigma_b %.4f px, term in %d of %d campaigns; RMS(statistic / sigma) per component, with the "
-              "cross-pose modes | poses independent:\n",
-              label, s.mean_sigma_px, s.with_term, trials);
+  std::printf(
+      "%s: mean sigma_b %.4f px, term in %d of %d campaigns; RMS(statistic / sigma) per component, with the "
+      "cross-pose modes | poses independent:\n",
+      label, s.mean_sigma_px, s.with_term, trials);
   const char* const names[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
   for (int c = 0; c < 6; ++c)
     std::printf("  %s  mean error %6.3f | %6.3f   slope with distance %6.3f | %6.3f\n", names[c], s.z_shared[0][c],

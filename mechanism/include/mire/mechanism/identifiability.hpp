@@ -23,6 +23,11 @@ struct IdentifiabilityOptions {
   double rank_tolerance = 1e-7;
   // Null-vector coefficients below this (relative to the largest) are dropped from names.
   double coefficient_tolerance = 1e-4;
+  // Per column (empty: all 1): the pivoted QR picks a column while its remaining norm × priority
+  // is the largest, so lower-priority columns are the ones named dependent when columns tie.
+  // The unit-norm scaling makes every first pivot a tie, so without it rounding decides which of
+  // two equivalent parameters is held (the Delta's base offsets or its legs' positions).
+  std::vector<double> pivot_priority;
 };
 
 // One unidentifiable direction δξ (a null vector of J, in SI parameter units), normalised

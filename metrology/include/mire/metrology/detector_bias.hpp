@@ -50,12 +50,12 @@ struct DetectorBiasOptions {
 };
 
 struct DetectorBiasTerm {
-  double sigma_px = 0.0;             // σ_b per feature and axis, estimated
-  double feature_error_rms_px = 0.0;  // RMS of the residuals per axis over every feature and pose
-  double significance = 0.0;         // the shared part over its standard deviation without a bias
-  int features = 0, poses = 0;       // features in the estimate, poses in the term
-  double retained = 0.0;             // fraction of the whitened trace the modes keep
-  std::vector<std::string> names;    // detector_bias_1 … : unit covariance each
+  double sigma_px = 0.0;                               // σ_b per feature and axis, estimated
+  double feature_error_rms_px = 0.0;                   // RMS of the residuals per axis over every feature and pose
+  double significance = 0.0;                           // the shared part over its standard deviation without a bias
+  int features = 0, poses = 0;                         // features in the estimate, poses in the term
+  double retained = 0.0;                               // fraction of the whitened trace the modes keep
+  std::vector<std::string> names;                      // detector_bias_1 … : unit covariance each
   std::map<std::string, Eigen::MatrixXd> sensitivity;  // by pose id, 6 × modes, rows tx ty tz rx ry rz
   bool empty() const { return names.empty(); }
 };
