@@ -28,6 +28,20 @@ TEST(Identifiability, NamesAnExactCombination) {
   EXPECT_FALSE(r.text().empty());
 }
 
+// Two equivalent parameters (the same column up to scale): the priority names which one is held.
+TEST(Identifiability, PivotPriorityChoosesWhichEquivalentParameterIsHeld) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n;
+  Eigen::MatrixXd J(30, 3);
+  for (Eigen::Index i = 0; i < J.size(); ++i) J.data()[i] = n(rng);
+  J.col(2) = -3.0 * J.col(0);  // "mount" ≡ "geo"
+  IdentifiabilityOptions options;
+  options.pivot_priority = {1.0, 1.0, 0.5};
+  EXPECT_EQ(analyzeJacobian(J, {"geo", "other", "mount"}, options).unidentifiable, std::vector<std::string>{"mount"});
+  options.pivot_priority = {0.5, 1.0, 1.0};
+  EXPECT_EQ(analyzeJacobian(J, {"geo", "other", "mount"}, options).unidentifiable, std::vector<std::string>{"geo"});
+}
+
 TEST(Identifiability, ScalingMakesUnitsIrrelevant) {
   std::mt19937 rng(4);
   std::normal_distribution<double> n;
