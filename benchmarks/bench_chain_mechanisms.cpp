@@ -6,7 +6,10 @@
 // then runs the demo's pipeline — calibrateStage, measureStage (poses.csv with the shared-term
 // side file), the gauged initial model, the fit without and with the shared calibration term —
 // and scores every stage against the simulator's truth: calibration error/σ, pose error/σ, and
-// every free parameter's error/σ against the truth in the identification's gauge.
+// every free parameter's error/σ against the truth in the identification's gauge. Diagnostics
+// (the truth known): the fit's term from the true pose errors, and from the pose errors the
+// detector's true feature errors cause, split into a per-feature constant, an image field and
+// the rest (doc/uncertainty.md, "Stop 30").
 // Usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains=20] [images_per_pose=10]
 //        [work_dir] [first_chain=0]
 // delta: legs that differ, model `delta-legs` (the mounting values are the gauge on most chains);
