@@ -19,6 +19,16 @@
 
 namespace mire::test {
 
+// A chessboard target of cols × rows inner corners of square_m.
+inline metrology::Target chessboard(int cols, int rows, double square_m) {
+  metrology::TargetSpec spec;
+  spec.type = metrology::TargetType::Chessboard;
+  spec.cols = cols;
+  spec.rows = rows;
+  spec.square_size_m = square_m;
+  return metrology::Target(spec);
+}
+
 struct SyntheticView {
   int width = 640;
   int height = 480;

@@ -8,6 +8,7 @@
 #include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/target.hpp"
+#include "synthetic_board.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,14 +25,7 @@ constexpr int kImagesPerPose = 10;
 constexpr double kPixelSigma = 0.1;  // one image, per coordinate (px)
 constexpr int kPoses = 20;
 
-metro::Target board() {
-  metro::TargetSpec spec;
-  spec.type = metro::TargetType::Chessboard;
-  spec.cols = 11;
-  spec.rows = 8;
-  spec.square_size_m = 0.025;
-  return metro::Target(spec);
-}
+metro::Target board() { return mire::test::chessboard(11, 8, 0.025); }
 
 // The target's x and y axes in the image at X, orthonormalised (written here independently of
 // the library's).

@@ -8,6 +8,7 @@
 #include "mire/metrology/pose_prediction.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/constants.hpp"
+#include "synthetic_board.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,14 +22,7 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 using mire::support::kPi;
 
 // The demo's board: 12 × 9 inner corners of 16 mm (datasets/specs/target_h4.yaml).
-metro::Target demoBoard() {
-  metro::TargetSpec spec;
-  spec.type = metro::TargetType::Chessboard;
-  spec.cols = 12;
-  spec.rows = 9;
-  spec.square_size_m = 0.016;
-  return metro::Target(spec);
-}
+metro::Target demoBoard() { return mire::test::chessboard(12, 9, 0.016); }
 
 // The board centred on the optical axis at `distance`, turned by `tilt_deg` about the camera's
 // x axis, shifted by `shift` (camera frame).

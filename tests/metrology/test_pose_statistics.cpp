@@ -5,6 +5,7 @@
 #include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/target.hpp"
+#include "synthetic_board.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,14 +26,7 @@ constexpr double kPixelSigma = 0.1;  // one image, per coordinate (px)
 // Corners are not equally sharp: each feature's σ is uniform in kPixelSigma·[1 − s, 1 + s].
 constexpr double kSigmaSpread = 0.5;
 
-mire::metrology::Target referenceBoard() {
-  mire::metrology::TargetSpec spec;
-  spec.type = mire::metrology::TargetType::Chessboard;
-  spec.cols = 11;
-  spec.rows = 8;
-  spec.square_size_m = 0.025;
-  return mire::metrology::Target(spec);
-}
+mire::metrology::Target referenceBoard() { return mire::test::chessboard(11, 8, 0.025); }
 
 mire::datasets::CampaignGeometry geometryFor(const mire::metrology::Target& target) {
   mire::datasets::CampaignGeometry geometry;
