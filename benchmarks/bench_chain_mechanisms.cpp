@@ -152,6 +152,12 @@ Eigen::VectorXd scoreCalibration(const app::DemoCalibration& calibration, Study&
   return error;
 }
 
+// ∂cTm/∂k of pose `id` over the camera's n parameters (the shared-term file's leading columns;
+// the detector's modes follow them).
+Eigen::MatrixXd cameraSensitivity(const app::MeasuredData& data, const std::string& id, Eigen::Index n) {
+  return data.shared->sensitivity.at(id).leftCols(n);
+}
+
 // Stage 2, read back from poses.csv and its side files as identify reads them: each pose against
 // the true cTm with its full σ, and with the calibration's own error removed (e − D_j Δk, Δk
 // known here) against the independent part Σ_j − D_j Σ_k D_jᵀ.
@@ -163,7 +169,7 @@ void scorePoses(const datasets::MechanismImageCampaign& campaign, const app::Mea
   static const char* const components[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
   for (const mech::PoseObservation& pose : data.poses) {
     const mech::PoseVector error = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id));
-    const Eigen::MatrixXd D = data.shared->sensitivity.at(pose.id).leftCols(camera_error.size());
+    const Eigen::MatrixXd D = cameraSensitivity(data, pose.id, camera_error.size());
     const mech::PoseVector independent = error - D * camera_error;
     const auto n = camera_error.size();
     const Eigen::MatrixXd independent_covariance =
@@ -189,16 +195,12 @@ struct ChainFits {
   std::array<Eigen::VectorXd, 4> oracle_detector;
 };
 
-// The detector's true feature errors (averaged features − true projection), per pose.
-struct DetectorErrors {
-  std::map<std::string, metrology::AveragedFeatures> features;
-};
-
-// Pose errors the detector's feature errors cause, split into parts: [0] all, [1] the per-feature
-// mean over the poses, [2] a quadratic field over the image fitted to all errors, [3] the rest.
-std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(const datasets::MechanismImageCampaign& campaign,
-                                                                          const metrology::Target& target,
-                                                                          const DetectorErrors& detector) {
+// Pose errors the detector's true feature errors (averaged features − true projection) cause,
+// split into parts: [0] all, [1] the per-feature mean over the poses, [2] a quadratic field over
+// the image fitted to all errors, [3] the rest.
+std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(
+    const datasets::MechanismImageCampaign& campaign, const metrology::Target& target,
+    const std::vector<app::PoseFolderMeasurement>& measured) {
   const calibration::Camera& camera = campaign.camera;
   const auto& points = target.points();
   struct Pose {
@@ -210,8 +212,10 @@ std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(const 
   std::vector<Pose> poses;
   std::map<int, Eigen::Vector2d> sum;
   std::map<int, int> count;
-  for (const auto& [id, f] : detector.features) {
-    Pose p{id, &f, campaign.trueCameraTMarker(id), {}, {}};
+  for (const app::PoseFolderMeasurement& pose : measured) {
+    if (!pose.measurement.ok) continue;
+    const metrology::AveragedFeatures& f = pose.measurement.features;
+    Pose p{pose.pose_id, &f, campaign.trueCameraTMarker(pose.pose_id), {}, {}};
     for (std::size_t i = 0; i < f.size(); ++i) {
       Eigen::Vector2d projected;
       camera.project(p.T * points[static_cast<std::size_t>(f.ids[i])], &projected);
@@ -266,9 +270,9 @@ std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(const 
 // (Σ_j of the score's outer product, what per-pose covariances can describe) and realized (the
 // square of the sum, whose mean over chains holds the cross-pose correlation too).
 void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
-                   const Eigen::VectorXd& camera_error, const metrology::Target& target, const DetectorErrors& detector,
-                   ChainFits& fits) {
-  const auto detector_errors = detectorPoseErrors(campaign, target, detector);
+                   const Eigen::VectorXd& camera_error, const metrology::Target& target,
+                   const std::vector<app::PoseFolderMeasurement>& measured, ChainFits& fits) {
+  const auto detector_errors = detectorPoseErrors(campaign, target, measured);
   std::array<Eigen::VectorXd, 4> detector_total;
   const mech::IdentificationResult& r = fits.with_shared_unaligned;
   const int J = r.model.mechanism->jointCount();
@@ -283,7 +287,7 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   double z_mean = 0.0;
   for (const mech::PoseObservation& pose : data.poses) {
     errors.push_back(pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
-                     data.shared->sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error);
+                     cameraSensitivity(data, pose.id, camera_error.size()) * camera_error);
     z_mean += pose.cTm[2] / static_cast<double>(data.poses.size());
   }
   const auto regressor = [z_mean](const mech::PoseVector& cTm) {
@@ -325,7 +329,7 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
 
 ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
                         const std::string& model, const Eigen::VectorXd& camera_error, const metrology::Target& target,
-                        const DetectorErrors& detector) {
+                        const std::vector<app::PoseFolderMeasurement>& measured) {
   const mech::RegisteredModel registered = mech::makeRegisteredModel(model);
   const app::GaugedModel initial = app::initialModel(registered, data.poses);
   app::MeasuredData independent = data;
@@ -337,10 +341,10 @@ ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const 
   fits.held = fits.before;
   app::addSharedTermLikeTheCommand(registered, initial, data, fits.held, app::RefitGauge::HeldAtMainFit);
   fits.with_shared_unaligned = fits.after;  // its σ components, before the target's rows turn
-  oracleFitTerm(campaign, data, camera_error, target, detector, fits);
+  oracleFitTerm(campaign, data, camera_error, target, measured, fits);
   std::vector<mech::PoseObservation> corrected_poses = data.poses;
   for (mech::PoseObservation& pose : corrected_poses)
-    pose.cTm -= data.shared->sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error;
+    pose.cTm -= cameraSensitivity(data, pose.id, camera_error.size()) * camera_error;
   fits.corrected = app::identifyLikeTheCommand(registered, initial, app::MeasuredData{corrected_poses, {}, {}});
   mech::alignTranslatingTarget(fits.before, data.poses);  // as the demo, before scoring
   mech::alignTranslatingTarget(fits.after, data.poses);
@@ -457,7 +461,7 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   const calibration::Camera camera =
       app::calibrateStage(campaign.calibration_images(), campaign.camera, target, dir, calibration);
   app::DemoMeasurement measurement;
-  app::measureStage(
+  const std::vector<app::PoseFolderMeasurement> measurements = app::measureStage(
       campaign.pose_images(), [&](const std::string& id) { return campaign.trueCameraTMarker(id); }, camera, target,
       dir / "poses.csv", measurement);
   const double measured = processCpuSeconds();
@@ -465,12 +469,7 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   const Eigen::VectorXd camera_error = scoreCalibration(calibration, study);
   scorePoses(campaign, data, calibration.names, camera_error, study);
   study.pose_whitened_all.push_back(measurement.whitened_error_rms_all);
-  DetectorErrors detector;
-  metrology::MeasurementOptions options;
-  options.integrity.split = metrology::SplitPolicy::KeepLargest;
-  for (const auto& pose : app::measurePoseFolders(camera, target, campaign.pose_images(), options, 0))
-    if (pose.measurement.ok) detector.features[pose.pose_id] = pose.measurement.features;
-  const ChainFits fits = identifyChain(campaign, data, study.model, camera_error, target, detector);
+  const ChainFits fits = identifyChain(campaign, data, study.model, camera_error, target, measurements);
   scoreIdentification(fits, study);
   scorePredictions(campaign, study.model, fits.held, study);
   const double done = processCpuSeconds();

@@ -75,22 +75,6 @@ void printSummary(const std::vector<metrology::MeasuredPose>& poses) {
   std::printf("\n");
 }
 
-// The detector bias every pose shares (metrology/detector_bias.hpp), as the shared-term file holds it.
-void printDetectorBias(const metrology::DetectorBiasTerm& bias, std::size_t poses) {
-  if (bias.features == 0)
-    std::printf("detector bias shared by the poses: not estimated (%zu poses; it needs 6, each feature in 3)\n", poses);
-  else if (bias.empty())
-    std::printf(
-        "detector bias shared by the poses: not seen (the shared part of the features' mean residuals is %.1f std of "
-        "noise, 3 needed)\n",
-        bias.significance);
-  else
-    std::printf(
-        "detector bias shared by the poses: %.4f px per feature and axis (feature error %.4f px RMS), %zu modes in "
-        "the shared-term file (%.1f %% of its effect)\n",
-        bias.sigma_px, bias.feature_error_rms_px, bias.names.size(), 100.0 * bias.retained);
-}
-
 // Campaign-level screening (campaign_screening.hpp): flags in poses.csv, reasons here.
 void reportScreening(std::vector<metrology::MeasuredPose>* measured) {
   const metrology::ScreeningResult screening = metrology::screenCampaign(measured);
@@ -177,7 +161,7 @@ int runMeasure(const MeasureSettings& settings) {
               output.string().c_str(), covariance.string().c_str(),
               shared_text.empty() ? "" : ("; shared calibration term: " + shared.string()).c_str());
   printSummary(measured);
-  printDetectorBias(bias, measured.size());
+  std::printf("detector bias shared by the poses: %s\n", bias.text().c_str());
   if (failed > 0) {
     std::cerr << "mire measure: " << failed << " pose(s) failed (listed above); the others were written\n";
     return kPartialFailure;

@@ -20,6 +20,8 @@
 #include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/target.hpp"
 
+#include "image_folders.hpp"
+
 namespace mire::app {
 
 struct DemoOptions {
@@ -148,10 +150,12 @@ calibration::Camera calibrateStage(const std::filesystem::path& calibration_imag
                                    const calibration::Camera& true_camera, const metrology::Target& target,
                                    const std::filesystem::path& output, DemoCalibration& summary);
 // One pose per subfolder of `pose_images` into poses_csv (+ covariance and shared-term side
-// files), scored against the simulator's true cTm of each pose id.
+// files), scored against the simulator's true cTm of each pose id; returns the measurements
+// (their features, for diagnostics against the truth).
 using TrueCameraTMarker = std::function<Eigen::Isometry3d(const std::string& pose_id)>;
-void measureStage(const std::filesystem::path& pose_images, const TrueCameraTMarker& true_pose,
-                  const calibration::Camera& camera, const metrology::Target& target,
-                  const std::filesystem::path& poses_csv, DemoMeasurement& summary);
+std::vector<PoseFolderMeasurement> measureStage(const std::filesystem::path& pose_images,
+                                                const TrueCameraTMarker& true_pose, const calibration::Camera& camera,
+                                                const metrology::Target& target, const std::filesystem::path& poses_csv,
+                                                DemoMeasurement& summary);
 
 }  // namespace mire::app

@@ -66,14 +66,15 @@ calibration::Camera calibrateStage(const fs::path& calibration_images, const cal
 }
 
 // Stage 3: one pose per folder (parallel), written as poses.csv + covariance side file.
-void measureStage(const fs::path& pose_images, const TrueCameraTMarker& true_pose, const calibration::Camera& camera,
-                  const metrology::Target& target, const fs::path& poses_csv, DemoMeasurement& summary) {
+std::vector<PoseFolderMeasurement> measureStage(const fs::path& pose_images, const TrueCameraTMarker& true_pose,
+                                                const calibration::Camera& camera, const metrology::Target& target,
+                                                const fs::path& poses_csv, DemoMeasurement& summary) {
   // The simulated robot is static by construction: a static-pose test alarm (false-alarm rate
   // 1e-3 per pose, doc/measure-integrity.md) keeps the largest consistent group, as
   // `mire measure --split-moving keep-largest` would, instead of dropping the pose.
   metrology::MeasurementOptions options;
   options.integrity.split = metrology::SplitPolicy::KeepLargest;
-  const auto measurements = measurePoseFolders(camera, target, pose_images, options, 0);
+  std::vector<PoseFolderMeasurement> measurements = measurePoseFolders(camera, target, pose_images, options, 0);
   std::vector<metrology::MeasuredPose> measured;
   std::vector<double> sigma[6];
   Eigen::Matrix<double, 6, 1> squared_error = Eigen::Matrix<double, 6, 1>::Zero();
@@ -119,6 +120,7 @@ void measureStage(const fs::path& pose_images, const TrueCameraTMarker& true_pos
   summary.normalized_error_rms = scores.rms_per_pose;
   summary.whitened_error_rms = scores.rms_whitened;
   summary.whitened_error_rms_all = scores.rms_whitened_all;
+  return measurements;
 }
 
 namespace {

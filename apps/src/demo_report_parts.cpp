@@ -63,15 +63,8 @@ void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const
      << "the same calibration error (section 1), so error/σ pose by pose is correlated across the campaign: "
      << "its RMS is one draw of that shared error, not an average. The whitened row uses each pose's own "
      << "noise covariance plus the shared term D Σ_k Dᵀ across poses (doc/uncertainty.md).\n";
-  const metrology::DetectorBiasTerm& bias = m.detector_bias;
-  md << "\nDetector bias shared by the poses (doc/uncertainty.md, \"The detector's shared bias\"): ";
-  if (bias.features == 0)
-    md << "not estimated (it needs 6 poses, each feature in 3).\n";
-  else if (bias.empty())
-    md << "not seen (the shared part of the features' mean residuals is " << fixed(bias.significance, 1)
-       << " standard deviations of noise, 3 needed).\n";
-  else
-    md << fixed(bias.sigma_px, 4) << " px per feature and axis, " << bias.names.size() << " modes in poses_shared.csv.\n";
+  md << "\nDetector bias shared by the poses (doc/uncertainty.md, \"The detector's shared bias\"): "
+     << m.detector_bias.text() << ".\n";
 }
 
 Json calibrationJson(const DemoCalibration& c) {

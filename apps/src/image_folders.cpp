@@ -180,14 +180,13 @@ std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera&
 metrology::DetectorBiasTerm sharedDetectorBias(const calibration::Camera& camera, const metrology::Target& target,
                                                const std::vector<PoseFolderMeasurement>& poses,
                                                const metrology::MeasurementOptions& options) {
-  std::vector<metrology::PoseFeatures> features;
+  std::vector<std::string> ids;
+  std::vector<const metrology::PoseMeasurement*> measurements;
   for (const PoseFolderMeasurement& pose : poses) {
-    const metrology::PoseMeasurement& m = pose.measurement;
-    if (m.ok) features.push_back({pose.pose_id, &m.features, m.estimate.cTm, m.estimate.covariance});
+    ids.push_back(pose.pose_id);
+    measurements.push_back(&pose.measurement);
   }
-  metrology::DetectorBiasOptions bias;
-  bias.pose = options.pose;
-  return metrology::estimateDetectorBias(camera, target.points(), features, bias);
+  return metrology::estimateDetectorBias(camera, target, ids, measurements, options.pose);
 }
 
 }  // namespace mire::app

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
 
 namespace mire::metrology {
 namespace {
@@ -146,6 +148,38 @@ DetectorBiasTerm estimateDetectorBias(const calibration::Camera& camera, const s
   term.poses = static_cast<int>(poses.size());
   sensitivityModes(camera, points, poses, residuals, options, &term);
   return term;
+}
+
+DetectorBiasTerm estimateDetectorBias(const calibration::Camera& camera, const Target& target,
+                                      const std::vector<std::string>& pose_ids,
+                                      const std::vector<const PoseMeasurement*>& measurements, const PoseOptions& pose) {
+  if (pose_ids.size() != measurements.size())
+    throw std::invalid_argument("estimateDetectorBias: pose_ids and measurements differ in length");
+  std::vector<PoseFeatures> poses;
+  for (std::size_t j = 0; j < measurements.size(); ++j) {
+    const PoseMeasurement& m = *measurements[j];
+    if (m.ok) poses.push_back({pose_ids[j], &m.features, m.estimate.cTm, m.estimate.covariance});
+  }
+  DetectorBiasOptions options;
+  options.pose = pose;
+  return estimateDetectorBias(camera, target.points(), poses, options);
+}
+
+std::string DetectorBiasTerm::text() const {
+  char line[200];
+  if (features == 0)
+    std::snprintf(line, sizeof line, "not estimated (it needs 6 poses, each feature in 3)");
+  else if (empty())
+    std::snprintf(line, sizeof line,
+                  "not seen (the shared part of the features' mean residuals is %.1f standard deviations of noise, "
+                  "3 needed)",
+                  significance);
+  else
+    std::snprintf(line, sizeof line,
+                  "%.4f px per feature and axis (feature error %.4f px RMS), %zu modes in the shared-term file "
+                  "(%.1f %% of its effect)",
+                  sigma_px, feature_error_rms_px, names.size(), 100.0 * retained);
+  return line;
 }
 
 }  // namespace mire::metrology

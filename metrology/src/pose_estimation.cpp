@@ -296,12 +296,9 @@ void reprojectionJacobians(const calibration::Camera& camera, const std::vector<
 Eigen::MatrixXd featureSensitivity(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                                    const AveragedFeatures& features, const Eigen::Isometry3d& cTm,
                                    const PoseOptions& options) {
-  const auto whitening = whiteningMatrices(features, options);
-  const Eigen::Vector3d r = rotationVector(cTm.linear());
-  const double pose[6] = {r.x(), r.y(), r.z(), cTm.translation().x(), cTm.translation().y(), cTm.translation().z()};
   Eigen::MatrixXd jp, jk;
-  jacobians(camera, points, features, whitening, pose, &jp, &jk);
-  jp = toTranslationFirst(jp);
+  reprojectionJacobians(camera, points, features, cTm, &jp, &jk, options);
+  const auto whitening = whiteningMatrices(features, options);
   const Eigen::FullPivLU<Matrix6d> lu(Matrix6d(jp.transpose() * jp));
   if (!lu.isInvertible()) return {};
   // ∂r_w/∂x = −L⁻¹ per feature, so δpose = (J_pᵀ J_p)⁻¹ J_pᵀ L⁻¹ δx.

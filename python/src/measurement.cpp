@@ -200,21 +200,15 @@ void bindSharedTerm(py::module_& m) {
       .def_readonly("retained", &B::retained)
       .def_readonly("names", &B::names)
       .def_readonly("sensitivity", &B::sensitivity)
-      .def("empty", &B::empty);
+      .def("empty", &B::empty)
+      .def("text", &B::text);
   m.def(
       "estimateDetectorBias",
       [](const calibration::Camera& camera, const met::Target& target, const std::vector<std::string>& pose_ids,
          const std::vector<met::PoseMeasurement>& measurements, const met::PoseOptions& options) {
-        if (pose_ids.size() != measurements.size())
-          throw std::invalid_argument("pose_ids and measurements differ in length");
-        std::vector<met::PoseFeatures> poses;
-        for (std::size_t j = 0; j < measurements.size(); ++j) {
-          const met::PoseMeasurement& pm = measurements[j];
-          if (pm.ok) poses.push_back({pose_ids[j], &pm.features, pm.estimate.cTm, pm.estimate.covariance});
-        }
-        met::DetectorBiasOptions bias;
-        bias.pose = options;
-        return met::estimateDetectorBias(camera, target.points(), poses, bias);
+        std::vector<const met::PoseMeasurement*> pointers;
+        for (const met::PoseMeasurement& m : measurements) pointers.push_back(&m);
+        return met::estimateDetectorBias(camera, target, pose_ids, pointers, options);
       },
       py::arg("camera"), py::arg("target"), py::arg("pose_ids"), py::arg("measurements"),
       py::arg("options") = met::PoseOptions{}, "As `mire measure` does over the poses that succeeded.");

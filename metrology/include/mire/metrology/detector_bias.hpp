@@ -23,6 +23,8 @@
 #include "mire/calibration/camera_model.hpp"
 #include "mire/metrology/feature_averaging.hpp"
 #include "mire/metrology/pose_estimation.hpp"
+#include "mire/metrology/pose_measurement.hpp"
+#include "mire/metrology/target.hpp"
 
 #include <Eigen/Geometry>
 
@@ -58,11 +60,19 @@ struct DetectorBiasTerm {
   std::vector<std::string> names;                      // detector_bias_1 … : unit covariance each
   std::map<std::string, Eigen::MatrixXd> sensitivity;  // by pose id, 6 × modes, rows tx ty tz rx ry rz
   bool empty() const { return names.empty(); }
+  // One line for reports: σ_b and the modes, "not seen" with the significance, or "not estimated".
+  std::string text() const;
 };
 
 // Empty (sigma_px 0, no modes) with fewer than options.min_poses poses or when the residual means
 // show no significant shared part. `points` = Target::points().
 DetectorBiasTerm estimateDetectorBias(const calibration::Camera& camera, const std::vector<Eigen::Vector3d>& points,
                                       const std::vector<PoseFeatures>& poses, const DetectorBiasOptions& options = {});
+
+// As `mire measure` does: over the measured poses that succeeded, `measurements[j]` being pose
+// `pose_ids[j]`, with the pose fit's weighting `pose`.
+DetectorBiasTerm estimateDetectorBias(const calibration::Camera& camera, const Target& target,
+                                      const std::vector<std::string>& pose_ids,
+                                      const std::vector<const PoseMeasurement*>& measurements, const PoseOptions& pose);
 
 }  // namespace mire::metrology
