@@ -1,4 +1,4 @@
-// Calibration σ under systematic error (issue 13; run by hand, results in
+// Calibration σ under systematic error (run by hand, results in
 // doc/camera-models.md): over N rendered calibration sets like the demo's (new poses and
 // noise each), RMS of error/σ per parameter with pixel-noise σ ("before") and with the printed
 // σ, inflated by the view-cluster sandwich where the residuals show systematic error ("after").

@@ -1,4 +1,4 @@
-// Honest σ end to end (issue 19, doc/uncertainty.md "Rendered-image chain study"), run by hand:
+// Honest σ end to end (doc/studies/2026-11-24-chain-study-h4.md), run by hand:
 // each chain renders a new campaign of the demo's camera and an exactly-model-12 H4 (the demo's
 // error sizes 5 mm / 2° / 5°, unmodelled defects set to zero), then runs the pipeline as
 // `mire demo` does — calibrate from the images, measure the 81 poses from their images with the

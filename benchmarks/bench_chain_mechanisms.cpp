@@ -1,5 +1,5 @@
-// Honest σ end to end on the Delta and the Gough–Stewart (issue 19, doc/uncertainty.md
-// "Rendered-image chain study: the Delta and the Gough–Stewart"), run by hand. Each chain renders
+// Honest σ end to end on the Delta and the Gough–Stewart
+// (doc/studies/2026-11-24-chain-study-delta-gough-stewart.md), run by hand. Each chain renders
 // a new campaign of `mire demo --mechanism` (new calibration images, pose images and encoder
 // noise) of a true robot that is exactly of the identified model (no plate tilt; unit encoder
 // gains and no eccentricity), seen by the demo's camera placed anew (a few cm, a few degrees),
@@ -9,7 +9,7 @@
 // every free parameter's error/σ against the truth in the identification's gauge. Diagnostics
 // (the truth known): the fit's term from the true pose errors, and from the pose errors the
 // detector's true feature errors cause, split into a per-feature constant, an image field and
-// the rest (doc/uncertainty.md, "Stop 30").
+// the rest (doc/studies/2026-11-25-delta-gauge-120-chains.md).
 // Usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains=20] [images_per_pose=10]
 //        [work_dir] [first_chain=0]
 // delta: legs that differ, model `delta-legs` (the mounting values are the gauge on most chains);

@@ -1,4 +1,4 @@
-// Per-step CPU cost of `mire demo`'s image pipeline (issue 18, doc/detection-speed.md), on one
+// Per-step CPU cost of `mire demo`'s image pipeline (doc/detection-speed.md), on one
 // thread: renderer set-up, one render, the noise of one image, PNG encoding and decoding
 // (OpenCV's settings and mire's stored PNG), detection, refinement and one pose of 10 images.
 // Run by hand: bench_demo_stages DEMO_DIR (the output of `mire demo -o DEMO_DIR`).

@@ -1,4 +1,4 @@
-// Detection speed and accuracy (issue 18), run by hand, one thread (CPU time of the thread):
+// Detection speed and accuracy (doc/detection-speed.md), run by hand, one thread (CPU time of the thread):
 //   bench_detect [DEMO_DIR] [EXTERNAL_DIR]
 // For every image: PNG/JPEG decode time, mire's detectTarget, OpenCV's classic
 // findChessboardCorners (default flags + cornerSubPix 11x11, OpenCV's tutorial) and

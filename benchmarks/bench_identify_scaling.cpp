@@ -1,4 +1,4 @@
-// `mire identify` linear in the pose count (issue 12; doc/mechanisms.md "Identify linear in the
+// `mire identify` linear in the pose count (doc/mechanisms.md "Identify linear in the
 // pose count"): the library calls `mire identify --model h4-12` makes (read poses.csv +
 // joints.csv, makeH4VariantModel 'D' = axis alignment + FKM + linear mounting, identify
 // weighted by the pose covariances) on 10³, 10⁴ and 10⁵ simulated H4 poses (random poses in the

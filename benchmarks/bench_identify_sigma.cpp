@@ -1,4 +1,4 @@
-// Honesty of the identification σ at the pose level (issue 13, run by hand; doc/uncertainty.md):
+// Honesty of the identification σ at the pose level (run by hand; doc/uncertainty.md):
 //  1. exact-model robots (model 12 represents them exactly): over N simulated campaigns,
 //     std(error/σ) of every identified parameter (target [0.8, 1.25]);
 //  2. a robot with defects model 12 cannot represent (the demo's error sizes): printed σ against

@@ -1,4 +1,4 @@
-// `mire measure` against its peers (issue 5), in one run:
+// `mire measure` against its peers (doc/measurement.md), in one run:
 //  1. pose accuracy on the SAME averaged features (feature-level campaign, 10 noisy images per
 //     pose): mire (IPPE + Ceres through the full distortion, covariance-weighted) vs
 //     cv::solvePnP ITERATIVE / IPPE / SQPnP (with the distortion coefficients) and ViSP vpPose

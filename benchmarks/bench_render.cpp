@@ -1,4 +1,4 @@
-// Renderer timings (issue 3): one 1024x768 image at 4x4 supersampling, clean, then the
+// Renderer timings (doc/simulation.md): one 1024x768 image at 4x4 supersampling, clean, then the
 // noise of one image (10 noisy images share one clean render per pose). Run by hand.
 #include "mire/datasets/render.hpp"
 #include "mire/datasets/simulation.hpp"

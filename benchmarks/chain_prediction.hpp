@@ -1,5 +1,5 @@
 #pragma once
-// What a user applies from the end-to-end σ studies (doc/uncertainty.md, issue 19): the camera-
+// What a user applies from the end-to-end σ studies (doc/studies/, the chain studies): the camera-
 // frame position `mire fkm --frame camera` predicts from the true joints with the identified
 // model, against the true position, and its error over the σ `fkm` prints (the parameters'
 // covariance propagated; benchmarks/bench_chain.cpp, benchmarks/bench_chain_mechanisms.cpp).

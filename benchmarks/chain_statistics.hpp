@@ -1,5 +1,5 @@
 #pragma once
-// Small statistics of the end-to-end σ studies (doc/uncertainty.md, issue 19:
+// Small statistics of the end-to-end σ studies (doc/studies/, the chain studies:
 // benchmarks/bench_chain.cpp, benchmarks/bench_chain_mechanisms.cpp): samples of error/σ per
 // name gathered over chains, their spread, the Mahalanobis χ² of a whole error vector, and the
 // process CPU time the studies report per stage.

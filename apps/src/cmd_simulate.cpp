@@ -1,5 +1,5 @@
 // `mire simulate calibration|poses --spec SPEC.yaml -o DIR`: synthetic image sets with their
-// ground truth (issue 3); `mire simulate campaign` is in cmd_simulate_campaign.cpp. Glue only: the
+// ground truth (doc/simulation.md); `mire simulate campaign` is in cmd_simulate_campaign.cpp. Glue only: the
 // spec and the generation live in mire::datasets.
 #include "commands.hpp"
 #include "output_paths.hpp"

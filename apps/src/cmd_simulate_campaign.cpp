@@ -1,4 +1,4 @@
-// `mire simulate campaign --mechanism h4|delta|gough-stewart -o DIR` (issue 14): the demo's whole
+// `mire simulate campaign --mechanism h4|delta|gough-stewart -o DIR`: the demo's whole
 // rendered campaign on disk (doc/simulation.md, "Whole campaigns"), so that a user runs
 // calibrate -> measure -> identify by hand with the public commands. Glue only: the campaigns
 // are datasets::generateH4Campaign and datasets::generateMechanismImageCampaign.

@@ -1,5 +1,5 @@
 #pragma once
-// `mire demo`: the paper's experiment end to end in simulation (issue 7). The pipeline sees
+// `mire demo`: the paper's experiment end to end in simulation (doc/simulation.md). The pipeline sees
 // only what a user would have (images, encoder readings, the nominal geometry); the
 // simulator's truth is used only to score the results.
 #include <Eigen/Core>

@@ -1,4 +1,4 @@
-// The demo's planning and model-selection stage (issue 15; doc/plan-and-select.md): what
+// The demo's planning and model-selection stage (doc/plan-and-select.md): what
 // `mire plan` would have chosen instead of the paper's 81 protocol poses, and which variant
 // `mire select` recommends on the measured campaign, next to the paper's Table 3.
 #include <string>

@@ -38,8 +38,8 @@ GaugedModel initialModel(const mechanism::RegisteredModel& registered,
 // values (as `mire identify` does, apps/src/cmd_identify.cpp), so the refits measure the
 // estimate's change within one gauge — the change the truth in the gauge is scored against;
 // `Reinitialised`, at the values the refit's own initialisation gives them on the shifted poses
-// (what `mire identify` did before stop 27: the gauge moved with the shifted poses; kept for
-// the study, doc/uncertainty.md "the Delta and the Gough–Stewart").
+// (what `mire identify` did before it held the gauge: the gauge moved with the shifted poses; kept
+// for the study, doc/studies/2026-11-24-chain-study-delta-gough-stewart.md).
 enum class RefitGauge { HeldAtMainFit, Reinitialised };
 
 // The shared calibration term added to `result` (a fit of `initial` on data.poses) by refits on

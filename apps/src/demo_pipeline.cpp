@@ -1,4 +1,4 @@
-// The demo's stages (issue 7): simulate the campaign, then run the real pipeline on its files
+// The demo's stages: simulate the campaign, then run the real pipeline on its files
 // exactly as a user would (calibrate from images, measure poses from images, identify from
 // poses.csv + joints.csv), and score against the simulator's truth only at the end.
 #include "demo.hpp"

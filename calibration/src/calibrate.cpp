@@ -192,7 +192,7 @@ void solvePass(const Setup& setup, State* state, RobustLoss loss, double loss_sc
   ceres::Solve(options, &problem, &summary);
   if (!summary.IsSolutionUsable()) throw std::runtime_error("calibration bundle adjustment failed: " + summary.message);
   // With the target's points free, an unconverged least-squares pass means a gauge or
-  // conditioning problem whose result must not be written (issue 13).
+  // conditioning problem whose result must not be written (doc/calibration.md).
   if (setup.refine_target && !robust && summary.termination_type == ceres::NO_CONVERGENCE)
     throw std::runtime_error("target refinement did not converge in " + std::to_string(options.max_num_iterations) +
                              " iterations (" + summary.message +

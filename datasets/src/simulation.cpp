@@ -86,7 +86,7 @@ std::uint64_t noiseSeed(std::uint64_t seed, std::size_t item, std::size_t image)
 }
 
 // Renders every item (a view or a pose) once and writes its noisy images, items in parallel
-// (issue 18: the PNG encoding, single-threaded in OpenCV, cost more than the render). Each
+// (the PNG encoding, single-threaded in OpenCV, costs more than the render). Each
 // item's render runs serially inside its worker (nested parallel_for_); the output does not
 // depend on the schedule (per-pixel jitter, noise seeded by item and image). Returns each
 // item's feature truth; `progress` is called under a lock, one image at a time.

@@ -1,5 +1,5 @@
 #pragma once
-// Large identification problems (issue 12: `mire identify` linear in the pose count,
+// Large identification problems (`mire identify` linear in the pose count,
 // doc/mechanisms.md "Identify linear in the pose count"). Above kLargeProblemRows residual
 // rows (5 000 H4 poses) the stacked N×P Jacobians no longer fit in the caches, and every
 // dense pass over them (Householder QR, SVD preconditioning, copies) costs more per row than

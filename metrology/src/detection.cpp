@@ -271,7 +271,7 @@ Detection refineChessboard(const Target& target, const cv::Mat& gray, const Dete
 // Images whose long side exceeds this are searched at half size first (then at full size).
 constexpr int kHalfSizeSearchMinSidePx = 1400;
 
-// The chessboard search, cheap path first and bounded (issue 18, doc/detection-speed.md).
+// The chessboard search, cheap path first and bounded (doc/detection-speed.md).
 // OpenCV's classic finder with CALIB_CB_FAST_CHECK and its global (histogram) threshold:
 // the fast check rejects an image without a board in a few ms, and the quad search runs at
 // most 16 passes. Its adaptive-threshold passes (48 more) and the search without the fast

@@ -19,7 +19,7 @@ std::string sizeText(const cv::Size& size) { return std::to_string(size.width) +
 
 // Identical pixels, same size and type. Row by row with an early exit:
 // two different noisy images differ in their first bytes, where a full cv::norm read both
-// images to the end (45 pairs per pose of 10 images: a third of measurePose's time, issue 18).
+// images to the end (45 pairs per pose of 10 images: a third of measurePose's time, doc/detection-speed.md).
 bool samePixels(const cv::Mat& a, const cv::Mat& b) {
   if (a.size() != b.size() || a.type() != b.type()) return false;
   const std::size_t row_bytes = static_cast<std::size_t>(a.cols) * a.elemSize();

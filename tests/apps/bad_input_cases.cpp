@@ -1,4 +1,4 @@
-// The cases of the bad-input matrix (issue 12), by class: missing and non-regular inputs,
+// The cases of the bad-input matrix (doc/robustness.md), by class: missing and non-regular inputs,
 // outputs that would overwrite an input or each other, invalid option values, absurd cameras
 // and targets, bad images, bad CSV rows, bad simulation specs, degenerate identifications.
 // Exit codes (README): 1 = bad input, 2 = wrong command line.

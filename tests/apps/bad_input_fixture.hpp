@@ -1,5 +1,5 @@
 #pragma once
-// The bad-input matrix (issue 12, doc/robustness.md): valid inputs made once per suite with
+// The bad-input matrix (doc/robustness.md): valid inputs made once per suite with
 // `mire simulate` and the simulated H4 campaign, then one mutated copy per case. Each case
 // asserts the exit code, the message (naming the file, line, image, key or option), that
 // nothing was written and that every input kept its bytes.

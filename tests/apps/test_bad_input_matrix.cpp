@@ -1,4 +1,4 @@
-// The bad-input matrix (issue 12): table-driven, one gtest per case (BadInput/Matrix.Run/<name>).
+// The bad-input matrix (doc/robustness.md): table-driven, one gtest per case (BadInput/Matrix.Run/<name>).
 // The cases themselves are in bad_input_cases.cpp; this file makes the fixture and runs them.
 #include "bad_input_fixture.hpp"
 

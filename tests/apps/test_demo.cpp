@@ -1,4 +1,4 @@
-// End to end (issue 7): `mire demo --quick` on the simulated H4 must reproduce an improvement
+// End to end: `mire demo --quick` on the simulated H4 must reproduce an improvement
 // of the paper's order. Every number asserted here came out of the pipeline (images ->
 // camera.yaml -> poses.csv -> identification); the simulator's truth only scores.
 #include "demo.hpp"

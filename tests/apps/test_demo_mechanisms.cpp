@@ -1,4 +1,4 @@
-// End to end (issue 14): `mire demo --mechanism delta|gough-stewart --quick` on a simulated robot
+// End to end: `mire demo --mechanism delta|gough-stewart --quick` on a simulated robot
 // with unmodelled defects. Every number asserted came out of the pipeline (images -> camera.yaml ->
 // poses.csv -> identification); the simulator's truth only scores.
 #include "demo_mechanism.hpp"

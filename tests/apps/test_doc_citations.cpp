@@ -1,5 +1,5 @@
 // Code comments and docs cite the paper's equations or files in doc/, never a document outside the
-// repository (issue 16). Scans every tracked C++, Python and CMake file and doc/*.md.
+// repository. Scans every tracked C++, Python and CMake file and doc/*.md.
 #include "test_support.hpp"
 
 #include <fstream>

@@ -1,5 +1,5 @@
 // `mire measure` from image folders: bad input is reported per pose, the other poses are
-// still measured and written, exit code 3 (doc/conventions.md "Exit codes", issue 5).
+// still measured and written, exit code 3 (doc/conventions.md "Exit codes").
 #include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/render.hpp"
@@ -76,7 +76,7 @@ TEST(MeasureCli, BadPoseFoldersAreReportedAndTheOthersWritten) {
           (dir.path() / "target.yaml").string() + " --poses " + poses.string() + " -o " + output.string(),
       &code);
   EXPECT_EQ(code, 3) << out;
-  // A blank image is named (it used to count as a view without the target: issue 12).
+  // A blank image is named (not counted as a view without the target).
   EXPECT_NE(out.find("pose blank: FAILED: image "), std::string::npos) << out;
   EXPECT_NE(out.find("img0.png' is blank"), std::string::npos) << out;
   EXPECT_NE(out.find("pose mixed: FAILED: mixed image sizes"), std::string::npos) << out;

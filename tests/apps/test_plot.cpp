@@ -1,4 +1,4 @@
-// The report charts: log y axis, ±σ error bars, title and y-axis label laid out apart (issue 16).
+// The report charts: log y axis, ±σ error bars, title and y-axis label laid out apart (doc/plots.md).
 #include "plot.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// `mire simulate campaign` (issue 14): a rendered Delta campaign on disk, then the commands it
+// `mire simulate campaign` (doc/simulation.md): a rendered Delta campaign on disk, then the commands it
 // prints run as a user would (calibrate -> measure -> identify), the identified parameters
 // scored against the campaign's truth/; and the output folder's rules.
 #include "test_support.hpp"

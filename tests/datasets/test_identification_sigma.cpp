@@ -1,4 +1,4 @@
-// Honest σ of the identification (issues 13 and 19, doc/uncertainty.md), at the pose level on
+// Honest σ of the identification (doc/uncertainty.md), at the pose level on
 // the simulated true H4: coverage over simulated campaigns of an exact-model robot, misfit of a
 // robot with unmodelled defects (residual-scaled σ, no "outlier" flood, injected outliers
 // named), and the calibration error shared by every pose propagated through the estimator.

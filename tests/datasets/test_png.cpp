@@ -1,4 +1,4 @@
-// Stored PNG files (issue 18, datasets/include/mire/datasets/png.hpp): ordinary PNG files that
+// Stored PNG files (datasets/include/mire/datasets/png.hpp): ordinary PNG files that
 // OpenCV reads back pixel for pixel, uncompressed; the spec key chooses the encoding.
 #include "mire/datasets/png.hpp"
 #include "mire/datasets/simulation.hpp"

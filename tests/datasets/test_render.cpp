@@ -1,4 +1,4 @@
-// The renderer (issue 3): exact inverse mapping, ground truth, and what a detector finds in
+// The renderer: exact inverse mapping, ground truth, and what a detector finds in
 // its images compared with that truth.
 #include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/render.hpp"
@@ -240,7 +240,7 @@ TEST(Render, CircleCentresAndTheirPerspectiveBias) {
   // A disc's image is an ellipse whose centre is not the projected disc centre. Without
   // distortion that ellipse centre is known exactly (conic), which checks the renderer to a
   // few thousandths of a pixel; the gap to the projected centre is the perspective bias a
-  // calibration with circles must model. Recorded here (README, issue 3).
+  // calibration with circles must model. Recorded here (doc/simulation.md).
   const Target target = circleGrid();
   const double radius = 0.5 * target.spec().diameter_m;
   Camera pinhole = referenceCamera();

@@ -1,4 +1,4 @@
-// identify() refuses degenerate problems instead of crashing (issue 12): no free parameter
+// identify() refuses degenerate problems instead of crashing (doc/robustness.md): no free parameter
 // left, or a robust fit whose outliers leave too few equations.
 #include <gtest/gtest.h>
 

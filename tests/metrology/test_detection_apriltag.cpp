@@ -70,7 +70,7 @@ TEST(DetectionAprilTag, MatchesAprilTagsReferenceDetectionsOnPhotos) {
   // (the same 44 with the Euclidean corner distance, worst 0.14 px).
   // One tag is OpenCV's JPEG decoder (±1 grey level against AprilTag's pjpeg on 2 % of the
   // pixels); two differ by 0.11 and 0.14 px even with pjpeg and the bare library: Debian's
-  // AprilTag 3.3.0 against the build that wrote the reference (doc/targets.md, issue 11).
+  // AprilTag 3.3.0 against the build that wrote the reference (doc/targets.md).
   std::cout << "AprilTag photos: " << within_tenth << " of " << references << " tags within 0.1 px, worst corner "
             << worst << " px\n";
   EXPECT_GE(within_tenth, references * 9 / 10);

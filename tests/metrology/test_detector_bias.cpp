@@ -1,4 +1,4 @@
-// The detector's bias shared by every pose (metrology/detector_bias.hpp, issue 19): a bias per
+// The detector's bias shared by every pose (metrology/detector_bias.hpp): a bias per
 // target feature, the same in every pose, drawn anew per campaign. Checked against the truth: σ_b
 // recovered, no term without a bias, and the σ of two statistics every pose enters — the
 // campaign's mean pose error and its slope with the distance — from the modes, against their

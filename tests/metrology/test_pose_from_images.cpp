@@ -1,4 +1,4 @@
-// The pose pipeline from rendered images (issue 5): detect once, refine in every image,
+// The pose pipeline from rendered images (doc/measurement.md): detect once, refine in every image,
 // average, fit; errors against the renderer's truth and a coverage sanity check.
 #include "mire/datasets/feature_campaign.hpp"
 #include "mire/datasets/render.hpp"

@@ -1,4 +1,4 @@
-// Statistics of the multi-image pose measurement at the feature level (issue 5): accuracy
+// Statistics of the multi-image pose measurement at the feature level (doc/measurement.md): accuracy
 // against ground truth, Monte-Carlo coverage of the reported σ (with exact and with uncertain
 // intrinsics), and efficiency against the Cramér–Rao bound of the pixel noise.
 #include "mire/datasets/feature_campaign.hpp"

@@ -1,6 +1,6 @@
 // `--refine-target` on OpenCV's sample chessboard photos left01..left14.jpg (9 × 6 inner
 // corners, 25 mm; shipped by Debian's opencv-doc, skipped when absent): the result is finite,
-// and the shift of cy against the flat-board calibration (≈ 5 px, issue 13) is explained by
+// and the shift of cy against the flat-board calibration (≈ 5 px) is explained by
 // the board's refined deformation: the refined camera, poses and board, projected exactly and
 // calibrated as a flat board, reproduce the flat result's cy shift within 2σ.
 #include "mire/calibration/calibrate.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// PNG encoding of the simulated images (issue 18, doc/detection-speed.md). OpenCV's PNG
+// PNG encoding of the simulated images (doc/detection-speed.md). OpenCV's PNG
 // writer (zlib level 1, Sub filter) costs 7 ms to write and 4.5 ms to read back one noisy
 // 1024x768 image; the same pixels stored without compression cost 0.7 ms and 0.6 ms, for
 // twice the disk space (770 KiB against 406 KiB). Both are ordinary PNG files.

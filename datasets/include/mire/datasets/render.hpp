@@ -1,6 +1,6 @@
 #pragma once
 // Synthetic images of a planar target seen by a distorted camera, with their exact ground
-// truth (issue 3). Rendering is an exact per-pixel INVERSE mapping: pixel -> normalised ray
+// truth (doc/simulation.md). Rendering is an exact per-pixel INVERSE mapping: pixel -> normalised ray
 // (exact undistortion) -> point (X, Y) on the target plane (homography [r1 r2 t]^-1) ->
 // albedo, averaged over n x n sub-samples per pixel (box-filter antialiasing).
 // Frames and pixel convention: doc/conventions.md (cTm maps target M to camera C,

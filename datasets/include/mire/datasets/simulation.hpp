@@ -1,5 +1,5 @@
 #pragma once
-// Simulated image sets with their ground truth (issue 3): calibration views, and images of
+// Simulated image sets with their ground truth (doc/simulation.md): calibration views, and images of
 // a target carried by the effector at a set of poses (10 per pose, paper §5). The spec is a
 // YAML file (cv::FileStorage) documented in datasets/specs/simulate_*.yaml; `mire simulate`
 // and `mire demo` both call the functions here.

@@ -73,7 +73,7 @@ struct IdentificationOptions {
   bool scale_on_misfit = true;
   // Solver iterations per solve. 500: a Delta on planned (extreme) poses, weighted with a large
   // shared calibration part, crawls along a curved valley (at 100, 35 of 200 such campaigns
-  // stopped short; at 500, none: doc/uncertainty.md, "Planning (stop 29)").
+  // stopped short; at 500, none: doc/studies/2026-11-24-chain-study-delta-gough-stewart.md, "Planning").
   int max_iterations = 500;
   bool compute_identifiability = true;
   IdentifiabilityOptions identifiability;
