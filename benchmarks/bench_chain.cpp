@@ -11,7 +11,6 @@
 // Camera placement: drawn anew per chain (default), or the demo's for every chain ("fixed").
 #include "chain_prediction.hpp"
 #include "chain_statistics.hpp"
-#include "image_folders.hpp"
 
 #include "mire/calibration/calibrate.hpp"
 #include "mire/datasets/h4_campaign.hpp"
@@ -19,11 +18,15 @@
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/parameter_set.hpp"
-#include "mire/mechanism/variants.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/shared_term_csv.hpp"
+#include "mire/pipeline/identify.hpp"
+#include "mire/pipeline/image_folders.hpp"
+#include "mire/pipeline/pose_set.hpp"
 #include "mire/support/constants.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -101,7 +104,7 @@ datasets::H4CampaignSpec chainSpec(int chain, int images_per_pose, bool draw_pla
 
 // Stage 1, as `mire demo`: detection in every calibration image, bundle adjustment (OpenCV5).
 calibration::Camera calibrate(const datasets::H4Campaign& campaign, const metrology::Target& target, Study& study) {
-  const app::CalibrationFolder folder = app::detectCalibrationFolder(target, campaign.calibration_images(), 0);
+  const pipeline::CalibrationFolder folder = pipeline::detectCalibrationFolder(target, campaign.calibration_images(), 0);
   calibration::CalibrationOptions options;
   options.model = calibration::DistortionModel::OpenCV5;
   const calibration::Camera camera =
@@ -144,7 +147,7 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
   std::vector<metrology::MeasuredPose> measured;
   std::vector<Eigen::Matrix<double, 6, 1>> whitened;
   std::vector<double> theta;
-  const auto measurements = app::measurePoseFolders(camera, target, campaign.pose_images(), options, 0);
+  const auto measurements = pipeline::measurePoseFolders(camera, target, campaign.pose_images(), options, 0);
   for (const auto& pose : measurements) {
     const auto& m = pose.measurement;
     if (!m.ok) continue;
@@ -167,9 +170,9 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
   }
   scoreCorrelation(whitened, theta, study);
   metrology::writePosesCsv(poses_csv, measured);
-  metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
-  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured,
-                                app::sharedDetectorBias(camera, target, measurements, options));
+  metrology::writePosesCovarianceCsv(mire::support::covarianceSidePath(poses_csv), measured);
+  metrology::writeSharedTermCsv(mire::support::sharedTermSidePath(poses_csv), camera, measured,
+                                pipeline::sharedDetectorBias(camera, target, measurements, options));
 }
 
 // The simulator's truth in the identified parameters' order (z_BC in the model's z_ME gauge,
@@ -191,22 +194,22 @@ Eigen::VectorXd truthOf(const mech::IdentificationResult& result, const datasets
 // cTm_j − D_j Δk, is scored against the σ without the shared term.
 void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSpec& spec, const fs::path& poses_csv,
               const Eigen::VectorXd& camera_error, Study& study) {
-  const auto poses =
-      mech::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv)).poses;
-  const mech::IdentificationOptions options;
-  const auto refit = [&](const std::vector<mech::PoseObservation>& shifted) {
-    return mech::identifyH4Variant('D', mech::H4Nominal{}, shifted, options);
-  };
-  const mech::IdentificationResult before = refit(poses);
+  const pipeline::ModelChoice choice = pipeline::chooseModel("h4-12", "D");
+  const pipeline::PoseSet set = pipeline::readPoseSet(pipeline::PoseSetFiles::beside(poses_csv, campaign.joints_file()),
+                                                      mech::makeRegisteredModel("h4-12").mechanism->jointColumnNames());
+  const std::vector<mech::PoseObservation>& poses = set.observations.poses;
+  if (!set.shared) throw std::runtime_error(poses_csv.string() + ": no shared-term side file");
+  const mech::SharedPoseTerm& shared = *set.shared;
+  const mech::IdentificationResult before = pipeline::fit(choice, pipeline::initialModel(choice, poses), poses, {});
   mech::IdentificationResult after = before;
-  const mech::SharedPoseTerm shared = mech::readSharedTermCsv(mech::sharedTermPath(poses_csv));
-  mech::addSharedTermCovariance(after, poses, shared, refit);
+  pipeline::addSharedTerm(choice, pipeline::initialModel(choice, poses), poses, shared, after);
   if (static_cast<Eigen::Index>(shared.names.size()) < camera_error.size())
     throw std::runtime_error("the shared-term file does not hold every camera parameter");
   std::vector<mech::PoseObservation> corrected_poses = poses;
   for (mech::PoseObservation& pose : corrected_poses)
     pose.cTm -= shared.sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error;
-  const mech::IdentificationResult corrected = refit(corrected_poses);
+  const mech::IdentificationResult corrected =
+      pipeline::fit(choice, pipeline::initialModel(choice, corrected_poses), corrected_poses, {});
   const Eigen::VectorXd truth = truthOf(before, campaign, spec);
   const auto& p = before.model.parameters;
   const auto free = static_cast<Eigen::Index>(before.free_names.size());

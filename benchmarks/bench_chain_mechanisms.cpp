@@ -20,15 +20,15 @@
 // Even chains: the demo's robot (robot seed 2004); odd chains: a different random robot each.
 #include "chain_prediction.hpp"
 #include "chain_statistics.hpp"
-#include "demo.hpp"
-#include "demo_mechanism_identify.hpp"
-#include "image_folders.hpp"
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/parameter_set.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/target.hpp"
+#include "mire/pipeline/identify.hpp"
+#include "mire/pipeline/pose_set.hpp"
+#include "mire/pipeline/scored_stages.hpp"
 #include "mire/support/constants.hpp"
 
 #include <algorithm>
@@ -142,7 +142,7 @@ datasets::MechanismImageCampaign generateCampaign(datasets::MechanismImageCampai
 
 // Stage 1 (calibrateStage's summary against the true camera): error/σ per parameter and the
 // Mahalanobis χ²/n of the whole camera error; returns the error Δk.
-Eigen::VectorXd scoreCalibration(const app::DemoCalibration& calibration, Study& study) {
+Eigen::VectorXd scoreCalibration(const pipeline::CalibrationScore& calibration, Study& study) {
   Eigen::VectorXd error(static_cast<Eigen::Index>(calibration.names.size()));
   for (std::size_t i = 0; i < calibration.names.size(); ++i) {
     error[static_cast<Eigen::Index>(i)] = calibration.estimate[i] - calibration.truth[i];
@@ -154,20 +154,20 @@ Eigen::VectorXd scoreCalibration(const app::DemoCalibration& calibration, Study&
 
 // ∂cTm/∂k of pose `id` over the camera's n parameters (the shared-term file's leading columns;
 // the detector's modes follow them).
-Eigen::MatrixXd cameraSensitivity(const app::MeasuredData& data, const std::string& id, Eigen::Index n) {
+Eigen::MatrixXd cameraSensitivity(const pipeline::PoseSet& data, const std::string& id, Eigen::Index n) {
   return data.shared->sensitivity.at(id).leftCols(n);
 }
 
 // Stage 2, read back from poses.csv and its side files as identify reads them: each pose against
 // the true cTm with its full σ, and with the calibration's own error removed (e − D_j Δk, Δk
 // known here) against the independent part Σ_j − D_j Σ_k D_jᵀ.
-void scorePoses(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
+void scorePoses(const datasets::MechanismImageCampaign& campaign, const pipeline::PoseSet& data,
                 const std::vector<std::string>& camera_names, const Eigen::VectorXd& camera_error, Study& study) {
   if (!data.shared || data.shared->names.size() < camera_names.size() ||
       !std::equal(camera_names.begin(), camera_names.end(), data.shared->names.begin()))
     throw std::runtime_error("the shared-term file does not hold the calibrated camera's parameters");
   static const char* const components[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
-  for (const mech::PoseObservation& pose : data.poses) {
+  for (const mech::PoseObservation& pose : data.observations.poses) {
     const mech::PoseVector error = pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id));
     const Eigen::MatrixXd D = cameraSensitivity(data, pose.id, camera_error.size());
     const mech::PoseVector independent = error - D * camera_error;
@@ -200,7 +200,7 @@ struct ChainFits {
 // the image fitted to all errors, [3] the rest.
 std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(
     const datasets::MechanismImageCampaign& campaign, const metrology::Target& target,
-    const std::vector<app::PoseFolderMeasurement>& measured) {
+    const std::vector<pipeline::PoseFolderMeasurement>& measured) {
   const calibration::Camera& camera = campaign.camera;
   const auto& points = target.points();
   struct Pose {
@@ -212,7 +212,7 @@ std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(
   std::vector<Pose> poses;
   std::map<int, Eigen::Vector2d> sum;
   std::map<int, int> count;
-  for (const app::PoseFolderMeasurement& pose : measured) {
+  for (const pipeline::PoseFolderMeasurement& pose : measured) {
     if (!pose.measurement.ok) continue;
     const metrology::AveragedFeatures& f = pose.measurement.features;
     Pose p{pose.pose_id, &f, campaign.trueCameraTMarker(pose.pose_id), {}, {}};
@@ -269,14 +269,14 @@ std::map<std::string, std::array<mech::PoseVector, 4>> detectorPoseErrors(
 // u_j = e_j − D_j Δk, through the linearized estimator H⁻¹ Σ_j A_jᵀ W_j J_p,j u_j: per pose
 // (Σ_j of the score's outer product, what per-pose covariances can describe) and realized (the
 // square of the sum, whose mean over chains holds the cross-pose correlation too).
-void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
+void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const pipeline::PoseSet& data,
                    const Eigen::VectorXd& camera_error, const metrology::Target& target,
-                   const std::vector<app::PoseFolderMeasurement>& measured, ChainFits& fits) {
+                   const std::vector<pipeline::PoseFolderMeasurement>& measured, ChainFits& fits) {
   const auto detector_errors = detectorPoseErrors(campaign, target, measured);
   std::array<Eigen::VectorXd, 4> detector_total;
   const mech::IdentificationResult& r = fits.with_shared_unaligned;
   const int J = r.model.mechanism->jointCount();
-  const Eigen::MatrixXd J_rad = mech::identificationJacobian(r.model, data.poses);
+  const Eigen::MatrixXd J_rad = mech::identificationJacobian(r.model, data.observations.poses);
   const Eigen::VectorXd g = r.model.geometricValues(), e = r.model.externalValues();
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(J_rad.cols(), J_rad.cols());
   Eigen::VectorXd total = Eigen::VectorXd::Zero(J_rad.cols()), scale_total = total;
@@ -285,10 +285,10 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   // constant and growing with the distance, fitted to them: X_j [s₀ s₁]ᵀ.
   std::vector<mech::PoseVector> errors;
   double z_mean = 0.0;
-  for (const mech::PoseObservation& pose : data.poses) {
+  for (const mech::PoseObservation& pose : data.observations.poses) {
     errors.push_back(pose.cTm - mech::toPoseVector(campaign.trueCameraTMarker(pose.id)) -
                      cameraSensitivity(data, pose.id, camera_error.size()) * camera_error);
-    z_mean += pose.cTm[2] / static_cast<double>(data.poses.size());
+    z_mean += pose.cTm[2] / static_cast<double>(data.observations.poses.size());
   }
   const auto regressor = [z_mean](const mech::PoseVector& cTm) {
     Eigen::Matrix<double, 3, 2> X;
@@ -297,17 +297,17 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   };
   Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
   Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
-  for (std::size_t j = 0; j < data.poses.size(); ++j) {
-    const Eigen::Matrix<double, 3, 2> X = regressor(data.poses[j].cTm);
+  for (std::size_t j = 0; j < data.observations.poses.size(); ++j) {
+    const Eigen::Matrix<double, 3, 2> X = regressor(data.observations.poses[j].cTm);
     normal += X.transpose() * X;
     rhs += X.transpose() * errors[j].head<3>();
   }
   const Eigen::Vector2d scale = normal.ldlt().solve(rhs);
   fits.oracle_scale = scale[0];
   fits.oracle_scale_slope = scale[1];
-  for (std::size_t j = 0; j < data.poses.size(); ++j) {
+  for (std::size_t j = 0; j < data.observations.poses.size(); ++j) {
     if (!r.poses.at(j).used) continue;
-    const mech::PoseObservation& pose = data.poses[j];
+    const mech::PoseObservation& pose = data.observations.poses[j];
     const Eigen::MatrixXd& W = r.whitening.at(j);
     const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
     const Eigen::MatrixXd Jp = r.model.mechanism->jointJacobianWrtPose(r.model.external, g, e, pose.cTm);
@@ -327,30 +327,33 @@ void oracleFitTerm(const datasets::MechanismImageCampaign& campaign, const app::
   for (std::size_t k = 0; k < 4; ++k) fits.oracle_detector[k] = (H_inv * detector_total[k]).array().square();
 }
 
-ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const app::MeasuredData& data,
+ChainFits identifyChain(const datasets::MechanismImageCampaign& campaign, const pipeline::PoseSet& data,
                         const std::string& model, const Eigen::VectorXd& camera_error, const metrology::Target& target,
-                        const std::vector<app::PoseFolderMeasurement>& measured) {
-  const mech::RegisteredModel registered = mech::makeRegisteredModel(model);
-  const app::GaugedModel initial = app::initialModel(registered, data.poses);
-  app::MeasuredData independent = data;
-  independent.shared.reset();
+                        const std::vector<pipeline::PoseFolderMeasurement>& measured) {
+  const pipeline::ModelChoice choice = pipeline::chooseModel(model, "");
+  const std::vector<mech::PoseObservation>& poses = data.observations.poses;
+  const pipeline::InitialModel initial = pipeline::initialModel(choice, poses);
   ChainFits fits;
-  fits.before = app::identifyLikeTheCommand(registered, initial, independent);
+  fits.before = pipeline::fit(choice, initial, poses, std::nullopt);
   fits.after = fits.before;
-  app::addSharedTermLikeTheCommand(registered, initial, data, fits.after, app::RefitGauge::Reinitialised);
   fits.held = fits.before;
-  app::addSharedTermLikeTheCommand(registered, initial, data, fits.held, app::RefitGauge::HeldAtMainFit);
+  if (data.shared) {
+    pipeline::IdentifyOptions reinitialised;
+    reinitialised.refit_gauge = pipeline::RefitGauge::Reinitialised;
+    pipeline::addSharedTerm(choice, initial, poses, *data.shared, fits.after, reinitialised);
+    pipeline::addSharedTerm(choice, initial, poses, *data.shared, fits.held);
+  }
   fits.with_shared_unaligned = fits.after;  // its σ components, before the target's rows turn
   oracleFitTerm(campaign, data, camera_error, target, measured, fits);
-  std::vector<mech::PoseObservation> corrected_poses = data.poses;
+  std::vector<mech::PoseObservation> corrected_poses = data.observations.poses;
   for (mech::PoseObservation& pose : corrected_poses)
     pose.cTm -= cameraSensitivity(data, pose.id, camera_error.size()) * camera_error;
-  fits.corrected = app::identifyLikeTheCommand(registered, initial, app::MeasuredData{corrected_poses, {}, {}});
-  mech::alignTranslatingTarget(fits.before, data.poses);  // as the demo, before scoring
-  mech::alignTranslatingTarget(fits.after, data.poses);
-  mech::alignTranslatingTarget(fits.held, data.poses);
+  fits.corrected = pipeline::fit(choice, initial, corrected_poses, std::nullopt);
+  mech::alignTranslatingTarget(fits.before, data.observations.poses);  // as the demo, before scoring
+  mech::alignTranslatingTarget(fits.after, data.observations.poses);
+  mech::alignTranslatingTarget(fits.held, data.observations.poses);
   mech::alignTranslatingTarget(fits.corrected, corrected_poses);
-  fits.truth = app::truthInGauge(campaign, initial, data.poses);
+  fits.truth = pipeline::truthInGauge(campaign, initial, poses);
   return fits;
 }
 
@@ -457,15 +460,17 @@ void runChain(int chain, int images_per_pose, const fs::path& work, Study& study
   const datasets::MechanismImageCampaign campaign = generateCampaign(spec, dir / "campaign", study);
   const metrology::Target target = metrology::Target::fromFile(campaign.target_file());
   const double simulated = processCpuSeconds();
-  app::DemoCalibration calibration;
+  pipeline::CalibrationScore calibration;
   const calibration::Camera camera =
-      app::calibrateStage(campaign.calibration_images(), campaign.camera, target, dir, calibration);
-  app::DemoMeasurement measurement;
-  const std::vector<app::PoseFolderMeasurement> measurements = app::measureStage(
+      pipeline::calibrateStage(campaign.calibration_images(), campaign.camera, target, dir, calibration);
+  pipeline::MeasurementScore measurement;
+  const std::vector<pipeline::PoseFolderMeasurement> measurements = pipeline::measureStage(
       campaign.pose_images(), [&](const std::string& id) { return campaign.trueCameraTMarker(id); }, camera, target,
       dir / "poses.csv", measurement);
   const double measured = processCpuSeconds();
-  const app::MeasuredData data = app::readMeasuredData(campaign, dir / "poses.csv");
+  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(dir / "poses.csv", campaign.joints_file());
+  files.lines = campaign.lines_file();
+  const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign.robot.mechanism().jointColumnNames());
   const Eigen::VectorXd camera_error = scoreCalibration(calibration, study);
   scorePoses(campaign, data, calibration.names, camera_error, study);
   study.pose_whitened_all.push_back(measurement.whitened_error_rms_all);

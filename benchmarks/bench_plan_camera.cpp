@@ -29,7 +29,7 @@
 #include "mire/mechanism/pose.hpp"
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/support/constants.hpp"
-#include "plan_camera.hpp"
+#include "mire/pipeline/camera_plan.hpp"
 
 namespace {
 
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   const mire::calibration::Camera truth = mire::calibration::readCamera(spec.camera_file);
   const mire::calibration::Camera camera = argc > 1 && argv[1][0] != 0 ? mire::calibration::readCamera(argv[1]) : truth;
   const metro::Target target = metro::Target::fromFile(spec.target_file);
-  mire::app::CameraPlanOptions options;
+  pipeline::CameraPlanOptions options;
   options.prediction.images = argc > 2 ? std::stoi(argv[2]) : 10;
   if (argc > 3) options.prediction.pixel_sigma = std::stod(argv[3]);
   if (argc > 4 && argv[4][0] != 0) {  // a constant systematic error instead of the BoardImage model
@@ -217,18 +217,18 @@ int main(int argc, char** argv) {
   const mech::Workspace workspace = mech::protocolWorkspace(m, g);
   const mech::MountingGuess mounting = demoMounting(target);
   const auto poses = mech::generateCandidatePoses(m, g, workspace, candidates, 1);
-  const mire::app::CameraCandidates visible = mire::app::visibleCandidates(m, mounting, camera, target, poses, options);
+  const pipeline::CameraCandidates visible = pipeline::visibleCandidates(m, mounting, camera, target, poses, options);
   mech::DesignOptions design_options;
   design_options.count = 15;
-  const mire::app::CameraPoseModel camera_model = mire::app::cameraPoseModel(camera, target, options);
+  const pipeline::CameraPoseModel camera_model = pipeline::cameraPoseModel(camera, target, options);
   const mech::CandidateInformation info = mech::candidateInformation(model, mounting, visible.visible, design_options,
                                                                      camera_model.covariance, camera_model.shared);
   const mech::DesignReport report = mech::planExperiment(info, design_options);
-  const auto predicted = mire::app::plannedPoseSigmas(info, report.design, camera, target, options);
+  const auto predicted = pipeline::plannedPoseSigmas(info, report.design, camera, target, options);
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  mire::app::CameraPlanSummary summary{options,         poses.size(),    visible.visible.size(),
+  pipeline::CameraPlanSummary summary{options,         poses.size(),    visible.visible.size(),
                                        visible.outside, visible.oblique, predicted};
-  std::printf("%s", mire::app::cameraPlanText(summary).c_str());
+  std::printf("%s", pipeline::cameraPlanText(summary).c_str());
   std::printf("plan: %.2f s wall; median geometric sigma ratio plan/random %.3f\n\n", plan_seconds,
               report.median_ratio_plan_random);
 

@@ -6,6 +6,7 @@
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
   try {
     const auto robot = mech::makeRegisteredModel(argc == 4 ? argv[3] : "h4-12");
     // The poses' covariances come from the side file `mire measure` writes beside poses.csv.
-    const auto data = mech::readObservations(argv[1], argv[2], mech::defaultCovariancePath(argv[1]),
+    const auto data = mech::readObservations(argv[1], argv[2], mire::support::covarianceSidePath(argv[1]),
                                              robot.mechanism->jointColumnNames());
     const auto initial = mech::makeInitialModel(robot.mechanism, robot.nominal, data.poses, robot.external_form);
     const auto result = mech::identify(initial, data.poses);

@@ -6,6 +6,7 @@
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/target.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
       poses.emplace_back(folder.filename().string(), m.features.images_used, static_cast<int>(images.size()), m.estimate);
     }
     mire::metrology::writePosesCsv(argv[4], poses);
-    mire::metrology::writePosesCovarianceCsv(mire::metrology::covarianceSidePath(argv[4]), poses);
+    mire::metrology::writePosesCovarianceCsv(mire::support::covarianceSidePath(argv[4]), poses);
     std::printf("%zu of %zu poses measured\n", poses.size(), folders.size());
     return poses.empty() ? 1 : 0;
   } catch (const std::exception& error) {

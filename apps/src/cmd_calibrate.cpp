@@ -4,7 +4,7 @@
 // too few usable views) stops with a message naming the cause and writes nothing.
 #include "commands.hpp"
 #include "detections_io.hpp"
-#include "image_folders.hpp"
+#include "mire/pipeline/image_folders.hpp"
 #include "output_paths.hpp"
 #include "plot.hpp"
 #include "report_json.hpp"
@@ -137,9 +137,9 @@ metrology::Target readTarget(const std::string& path) {
 
 // The views: detected in the images (in parallel) or read from a detections file; the images
 // without the target are listed. At least 3 views, or an error naming the folder.
-CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target, int threads) {
-  CalibrationFolder folder = args.detections_path.empty()
-                                 ? detectCalibrationFolder(target, args.images_dir, threads)
+pipeline::CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target, int threads) {
+  pipeline::CalibrationFolder folder = args.detections_path.empty()
+                                 ? pipeline::detectCalibrationFolder(target, args.images_dir, threads)
                                  : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
@@ -153,7 +153,7 @@ CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const met
 
 // Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
 void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& paths, const metrology::Target& target,
-                           const CalibrationFolder& folder, const calibration::CalibrationResult& result,
+                           const pipeline::CalibrationFolder& folder, const calibration::CalibrationResult& result,
                            const calibration::ProjectionUncertaintySummary& uncertainty) {
   support::OutputTransaction outputs;
   support::writeFileAtomically(outputs.stageFile(args.output_path),
@@ -231,7 +231,7 @@ int runCalibrate(const CalibrateArguments& args) {
   const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
   const metrology::Target target = readTarget(args.target_path);
   checkTargetSize(target, args.target_path);
-  const CalibrationFolder folder = readCalibrationViews(args, target, threads);
+  const pipeline::CalibrationFolder folder = readCalibrationViews(args, target, threads);
 
   calibration::CalibrationOptions options;
   options.model = model;

@@ -13,6 +13,7 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
@@ -83,7 +84,7 @@ int runFkm(const FkmArguments& args) {
   if (args.frame != "base" && args.frame != "camera")
     throw UsageError("--frame '" + args.frame + "': expected base or camera");
   const fs::path output(args.output);
-  const fs::path side_out = mech::defaultParameterCovariancePath(output);  // <stem>_covariance.csv
+  const fs::path side_out = support::covarianceSidePath(output);  // <stem>_covariance.csv
   CommandPaths paths{{{args.params, "--params"}, {args.joints, "--joints"}}, {}, {{output, "-o"}}, {}};
   if (!args.covariance.empty()) paths.input_files.push_back({args.covariance, "--covariance"});
   if (args.frame == "camera") paths.output_files.push_back({side_out, "the covariance side file of -o"});
@@ -94,7 +95,7 @@ int runFkm(const FkmArguments& args) {
   const mech::Mechanism& m = *loaded.model.mechanism;
   if (args.frame == "camera" && !loaded.has_mounting)
     throw std::runtime_error(args.params + ": no mounting (tx_CB..rz_EM) in the file nor in its side file " +
-                             mech::defaultParameterCovariancePath(args.params).string() +
+                             support::covarianceSidePath(args.params).string() +
                              ": --frame camera needs the identified mounting");
   const auto rows = mech::readJointsCsv(args.joints, m.jointColumnNames());
   std::vector<std::string> ids, failed;

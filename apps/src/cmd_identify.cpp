@@ -1,6 +1,6 @@
-// `mire identify`: geometric + external parameters of the H4 from measured target poses and
-// encoder readings (paper §2–6; doc/identification-h4.md), with the paper's evaluation criteria and an
-// optional Monte-Carlo study over random pose subsets. Everything is computed before anything
+// `mire identify`: geometric + external parameters of a mechanism from measured target poses and
+// encoder readings (paper §2–6; the stage is pipeline/identify.hpp), with the paper's evaluation
+// criteria and an optional Monte-Carlo study over random pose subsets. Everything is computed before anything
 // is written: bad input stops with a message naming the file/line and writes nothing.
 #include "commands.hpp"
 #include "identify_checks.hpp"
@@ -12,20 +12,18 @@
 
 #include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/evaluation.hpp"
-#include "mire/mechanism/gauge.hpp"
-#include "mire/mechanism/h4.hpp"
-#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/translating_target.hpp"
-#include "mire/mechanism/variants.hpp"
+#include "mire/pipeline/identify.hpp"
+#include "mire/pipeline/pose_set.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -115,194 +113,81 @@ CommandPaths checkPaths(const IdentifyArguments& args) {
   paths.input_files = {{args.poses, "--poses"}, {args.joints, "--joints"}};
   if (!args.covariances.empty())
     paths.input_files.push_back({args.covariances, "--pose-covariances"});
-  else if (fs::exists(mech::defaultCovariancePath(args.poses)))
-    paths.input_files.push_back({mech::defaultCovariancePath(args.poses), "the covariance side file"});
+  else if (fs::exists(support::covarianceSidePath(args.poses)))
+    paths.input_files.push_back({support::covarianceSidePath(args.poses), "the covariance side file"});
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
   if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
   if (!args.shared.empty())
     paths.input_files.push_back({args.shared, "--shared-term"});
-  else if (!args.independent_poses && fs::exists(mech::sharedTermPath(args.poses)))
-    paths.input_files.push_back({mech::sharedTermPath(args.poses), "the shared-term side file"});
+  else if (!args.independent_poses && fs::exists(support::sharedTermSidePath(args.poses)))
+    paths.input_files.push_back({support::sharedTermSidePath(args.poses), "the shared-term side file"});
   paths.output_files = {{args.output, "-o"},
-                        {mech::defaultParameterCovariancePath(args.output), "the covariance side file of -o"}};
+                        {support::covarianceSidePath(args.output), "the covariance side file of -o"}};
   if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
   checkCommandPaths(paths);
   return paths;
 }
 
-// The model the user chose: its name, whether it is one of the H4's, the H4 model kind and
-// the variant letter (0: none).
-struct ModelChoice {
-  std::string model;
-  bool h4 = false;
-  mech::H4ModelKind kind = mech::H4ModelKind::Model12;
-  char letter = 0;
-};
-
-ModelChoice chooseModel(const IdentifyArguments& args) {
-  ModelChoice choice;
-  char& letter = choice.letter;
-  if (!args.variant.empty()) {
-    letter = static_cast<char>(std::toupper(static_cast<unsigned char>(args.variant[0])));
-    if (args.variant.size() != 1 || letter < 'A' || letter > 'H')
-      throw UsageError("--variant '" + args.variant + "': expected one letter A..H");
+// The model the user chose (--model, --variant, --nominal for the H4 models).
+pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
+  pipeline::ModelChoice choice;
+  try {
+    choice = pipeline::chooseModel(args.model, args.variant);
+  } catch (const std::invalid_argument& error) {  // names the option at fault
+    throw UsageError(error.what());
   }
-  // Without --model, the variant's model (A–D: h4-12, E–H: h4-31c); default h4-12.
-  choice.model = !args.model.empty()                                                             ? args.model
-                 : (letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera) ? "h4-31c"
-                                                                                                 : "h4-12";
-  const std::string& model = choice.model;
-  choice.h4 = model == "h4-12" || model == "h4-31c" || model == "h4-31";
-  if (!choice.h4) {
-    try {
-      mech::makeRegisteredModel(model);
-    } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
-      throw UsageError("--model '" + model + "': " + error.what());
-    }
-    if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + model);
-  } else if (model == "h4-12") {
-    choice.kind = mech::H4ModelKind::Model12;
-    if (!letter) letter = 'D';
-  } else if (model == "h4-31c") {
-    choice.kind = mech::H4ModelKind::Model31Camera;
-    if (!letter) letter = 'H';
-  } else if (model == "h4-31") {
-    choice.kind = mech::H4ModelKind::Model31;
-    if (letter) throw UsageError("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to h4-31");
-  }
-  if (letter && mech::h4Variant(letter).model != choice.kind)
-    throw UsageError(std::string("--variant ") + letter + " does not belong to --model " + model +
-                     " (A-D: h4-12, E-H: h4-31c)");
+  const bool h4 = choice.variant || choice.model == "h4-31";
+  if (!h4 && !args.nominal.empty())
+    throw UsageError("--nominal applies to the H4 models; " + choice.model + " starts from its built-in nominal");
+  if (h4) choice.h4 = readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal);
   return choice;
 }
 
-// Everything identify reads: the nominal geometry, the model, the observations (with the
-// shared calibration term and the straight lines when given) and the solver options.
+// Everything identify reads: the observations (with the shared calibration term and the
+// straight lines when given) and the solver options.
 struct IdentifyInputs {
-  mech::H4Nominal nominal;
-  mech::RegisteredModel registered;
   mech::ObservationSet observations;
   std::optional<fs::path> covariance_path;
   std::optional<mech::SharedPoseTerm> shared;
   std::vector<mech::LineRecord> lines;
-  mech::IdentificationOptions options;
+  pipeline::IdentifyOptions options;
 };
 
-// The calibration error shared by every pose (doc/uncertainty.md): its propagation G Σ_k Gᵀ
-// is added to the parameter covariance. The weights stay the full pose covariances: weighting
-// by the independent part alone moved the demo's R, l and alpha_i 5-10x further from the truth.
-std::optional<mech::SharedPoseTerm> readSharedTerm(const IdentifyArguments& args, bool have_covariances) {
-  const fs::path shared_path = args.shared.empty() ? mech::sharedTermPath(args.poses) : fs::path(args.shared);
-  if (args.independent_poses || (args.shared.empty() && !fs::exists(shared_path))) return std::nullopt;
-  if (!have_covariances && !args.unweighted)
-    throw UsageError(shared_path.string() + " needs the full pose covariances (" +
-                     mech::defaultCovariancePath(args.poses).string() +
+// The files as the options name them, poses.csv's side files by default. The calibration
+// error shared by every pose (doc/uncertainty.md) needs the full pose covariances as weights:
+// weighting by the independent part alone moved the demo's R, l and alpha_i 5-10x further
+// from the truth.
+pipeline::PoseSetFiles poseSetFiles(const IdentifyArguments& args) {
+  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(args.poses, args.joints);
+  if (!args.covariances.empty()) files.covariances = fs::path(args.covariances);
+  if (!args.shared.empty()) files.shared = fs::path(args.shared);
+  if (args.independent_poses) files.shared.reset();
+  if (!args.lines.empty()) files.lines = fs::path(args.lines);
+  if (files.shared && !files.covariances && !args.unweighted)
+    throw UsageError(files.shared->string() + " needs the full pose covariances (" +
+                     support::covarianceSidePath(args.poses).string() +
                      " or --pose-covariances), or --independent-poses");
-  return mech::readSharedTermCsv(shared_path);
+  return files;
 }
 
-IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const ModelChoice& choice) {
-  if (!choice.h4 && !args.nominal.empty())
-    throw UsageError("--nominal applies to the H4 models; " + choice.model + " starts from its built-in nominal");
+IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const pipeline::ModelChoice& choice) {
+  const pipeline::PoseSetFiles files = poseSetFiles(args);
+  const std::vector<std::string> joint_columns =
+      mech::makeRegisteredModel(choice.model, choice.h4).mechanism->jointColumnNames();
+  pipeline::PoseSet set = pipeline::readPoseSet(files, joint_columns);
   IdentifyInputs inputs;
-  inputs.nominal =
-      choice.h4 ? readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal) : mech::H4Nominal{};
-  inputs.registered = mech::makeRegisteredModel(choice.model, inputs.nominal);
-  const std::vector<std::string> joint_columns = inputs.registered.mechanism->jointColumnNames();
-  if (!args.covariances.empty())
-    inputs.covariance_path = fs::path(args.covariances);
-  else if (fs::exists(mech::defaultCovariancePath(args.poses)))
-    inputs.covariance_path = mech::defaultCovariancePath(args.poses);
-  inputs.observations = mech::readObservations(args.poses, args.joints, inputs.covariance_path, joint_columns);
+  inputs.observations = std::move(set.observations);
+  inputs.covariance_path = files.covariances;
+  inputs.shared = std::move(set.shared);
+  inputs.lines = std::move(set.lines);
   auto& poses = inputs.observations.poses;
   checkIdentifyPoses(poses, args.poses, args.unweighted);
   if (args.unweighted)
     for (auto& p : poses) p.covariance.reset();
-  inputs.shared = readSharedTerm(args, inputs.covariance_path.has_value());
-  if (!args.lines.empty()) inputs.lines = mech::readLinesCsv(args.lines, joint_columns);
-  inputs.options.fix = args.fix;
-  for (const auto& text : args.priors) inputs.options.priors.push_back(parsePrior(text));
-  if (args.robust) inputs.options.loss = mech::RobustLoss::Huber;
+  inputs.options.fit.fix = args.fix;
+  for (const auto& text : args.priors) inputs.options.fit.priors.push_back(parsePrior(text));
+  if (args.robust) inputs.options.fit.loss = mech::RobustLoss::Huber;
   return inputs;
-}
-
-// The model identify starts from, its label, and (registry models) the gauge it fixed.
-struct InitialModel {
-  mech::IdentificationModel model;
-  std::string label;
-  std::optional<mech::GaugeAnalysis> gauge;
-};
-
-InitialModel initialModel(const ModelChoice& choice, const IdentifyInputs& inputs) {
-  const auto& poses = inputs.observations.poses;
-  const auto& options = inputs.options;
-  InitialModel initial;
-  if (!choice.h4) {
-    // Mounting from the data (motion type), user's --fix, then the gauge by pivoted QR.
-    initial.model = mech::makeInitialModel(inputs.registered.mechanism, inputs.registered.nominal, poses,
-                                           inputs.registered.external_form);
-    for (const auto& name : options.fix) initial.model.parameters.at(name);  // names an unknown one
-    initial.model.parameters.fix(options.fix);
-    initial.gauge = mech::fixGauge(initial.model, poses);
-    initial.label = choice.model;
-  } else if (choice.kind == mech::H4ModelKind::Model31) {
-    std::shared_ptr<const mech::Mechanism> mechanism = mech::makeH4Mechanism(choice.kind, inputs.nominal);
-    mech::ParameterSet geometric = mech::model31FromModel12(mech::h4Model12Parameters(inputs.nominal));
-    initial.model = mech::makeInitialModel(mechanism, geometric, poses, mech::ExternalForm::AxisAligned);
-    initial.label = "h4-31 (base frame)";
-  } else {
-    initial.model = mech::makeH4VariantModel(choice.letter, inputs.nominal, poses, options);
-    initial.label = choice.model + ", variant " + std::string(1, choice.letter);
-  }
-  // Every name given on the command line must exist (h4a's identify also checks; this names the option).
-  for (const auto& name : options.fix)
-    if (!initial.model.parameters.contains(name))
-      initial.model.parameters.at(name);  // throws naming it and the known ones
-  return initial;
-}
-
-// The shared-term refits' starting model on the shifted poses: built as the initial one, with
-// the parameters the main fit held (the gauge it chose, --fix) held at the main fit's values, so
-// that the refits measure the estimate's change within that gauge, not a change of frame
-// (doc/uncertainty.md, "the Delta and the Gough–Stewart": re-initialised, the gauge moved with
-// the shifted poses and left σ 100–1000x too small along some directions).
-mech::IdentificationModel refitStart(const ModelChoice& choice, const IdentifyInputs& inputs,
-                                     const InitialModel& initial, const std::vector<mech::PoseObservation>& shifted) {
-  if (!choice.h4) {
-    mech::IdentificationModel start = mech::makeInitialModel(inputs.registered.mechanism, inputs.registered.nominal,
-                                                             shifted, inputs.registered.external_form);
-    std::vector<std::string> held = inputs.options.fix;
-    if (initial.gauge) held.insert(held.end(), initial.gauge->gauge.begin(), initial.gauge->gauge.end());
-    for (const std::string& name : held) start.parameters.setValue(name, initial.model.parameters.value(name));
-    start.parameters.fix(held);
-    return start;
-  }
-  if (choice.kind == mech::H4ModelKind::Model31)
-    return mech::makeInitialModel(initial.model.mechanism,
-                                  mech::model31FromModel12(mech::h4Model12Parameters(inputs.nominal)), shifted,
-                                  mech::ExternalForm::AxisAligned);
-  return mech::makeH4VariantModel(choice.letter, inputs.nominal, shifted, inputs.options);
-}
-
-// The fit, with the shared calibration term's covariance when given: the whole estimator
-// (initialisation included) refitted on poses moved by the shared term, with the gauge the
-// main fit chose.
-mech::IdentificationResult identifyModel(const ModelChoice& choice, const IdentifyInputs& inputs,
-                                         const InitialModel& initial) {
-  const auto& poses = inputs.observations.poses;
-  mech::IdentificationResult result = mech::identify(initial.model, poses, inputs.options);
-  if (inputs.shared) {
-    mech::IdentificationOptions quiet = inputs.options;
-    quiet.compute_identifiability = false;
-    mech::addSharedTermCovariance(result, poses, *inputs.shared, [&](const std::vector<mech::PoseObservation>& shifted) {
-      const mech::IdentificationModel start = refitStart(choice, inputs, initial, shifted);
-      mech::IdentificationResult refit = mech::identify(start, shifted, quiet);
-      mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
-      return refit;
-    });
-  }
-  if (!result.converged) std::cerr << "mire identify: warning: the solver did not report convergence\n";
-  return result;
 }
 
 // The paper's straightness criterion V3 before and after (< 0: no lines given) and the
@@ -313,7 +198,7 @@ struct Criteria {
   std::optional<mech::MonteCarloStudy> study;
 };
 
-Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& inputs, const InitialModel& initial,
+Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& inputs, const pipeline::InitialModel& initial,
                           const mech::IdentificationResult& result) {
   const auto& poses = inputs.observations.poses;
   Criteria criteria;
@@ -334,7 +219,7 @@ Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& i
     mc.repeats = args.mc_repeats;
     mc.seed = args.mc_seed;
     mc.threads = args.threads;
-    mc.identification = inputs.options;
+    mc.identification = inputs.options.fit;
     support::Progress progress("Monte-Carlo identifications",
                                mc.subset_sizes.size() * static_cast<std::size_t>(mc.repeats));
     mc.on_run_done = [&progress] { progress.advance(); };
@@ -346,7 +231,7 @@ Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& i
 
 // The fit's quality: poses, residual RMS before and after, conditioning, χ², σ method,
 // outliers and gauge.
-void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, double rms_before,
+void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel& initial, double rms_before,
                      const mech::IdentificationResult& result, std::ostream& out) {
   const bool weighted = result.weighted;
   out << "poses: " << inputs.observations.poses.size()
@@ -391,7 +276,7 @@ void writeFitSummary(const IdentifyInputs& inputs, const InitialModel& initial, 
 }
 
 // One row per parameter: initial, identified, σ and change, in display units.
-void writeParameterTable(const InitialModel& initial, const mech::IdentificationResult& result, std::ostream& out) {
+void writeParameterTable(const pipeline::InitialModel& initial, const mech::IdentificationResult& result, std::ostream& out) {
   char line[256];
   out << "parameter      unit    initial        identified     sigma          change\n";
   for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {
@@ -445,12 +330,10 @@ void writeStudySummary(const IdentifyArguments& args, const Criteria& criteria,
 
 // What the stages computed, for the summary and the outputs.
 struct IdentifyRun {
-  ModelChoice choice;
+  pipeline::ModelChoice choice;
   IdentifyInputs inputs;
-  InitialModel initial;
+  pipeline::Identification identification;
   std::vector<mech::PoseResidual> before;  // q̄ − f per pose, initial model
-  mech::IdentificationResult result;
-  std::optional<Eigen::Matrix3d> mean_orientation_covariance;  // Delta: σ of the constant cRm
   Criteria criteria;
   CommandPaths paths;  // as checked
 };
@@ -459,15 +342,15 @@ struct IdentifyRun {
 std::string summaryText(const IdentifyArguments& args, const IdentifyRun& run) {
   const Criteria& criteria = run.criteria;
   std::ostringstream out;
-  writeFitSummary(run.inputs, run.initial, rmsOf(run.before), run.result, out);
-  writeParameterTable(run.initial, run.result, out);
+  writeFitSummary(run.inputs, run.identification.initial, rmsOf(run.before), run.identification.result, out);
+  writeParameterTable(run.identification.initial, run.identification.result, out);
   if (criteria.v3_after >= 0.0) {
     char line[256];
     std::snprintf(line, sizeof line, "straightness V3 (%zu lines): before %.4f mm, after %.4f mm\n",
                   run.inputs.lines.size(), criteria.v3_before * 1e3, criteria.v3_after * 1e3);
     out << line;
   }
-  if (criteria.study) writeStudySummary(args, criteria, run.result, out);
+  if (criteria.study) writeStudySummary(args, criteria, run.identification.result, out);
   return out.str();
 }
 
@@ -475,11 +358,11 @@ std::string summaryText(const IdentifyArguments& args, const IdentifyRun& run) {
 // report; written only now that every computation succeeded.
 void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& command_line, const IdentifyRun& run,
                           const std::string& summary) {
-  const mech::IdentificationResult& result = run.result;
-  const InitialModel& initial = run.initial;
+  const mech::IdentificationResult& result = run.identification.result;
+  const pipeline::InitialModel& initial = run.identification.initial;
   std::vector<std::pair<std::string, std::string>> metadata{
       {"model", run.choice.model},
-      {"variant", run.choice.letter ? std::string(1, run.choice.letter) : std::string("-")},
+      {"variant", run.choice.variant ? std::string(1, run.choice.variant) : std::string("-")},
       {"external_form", mech::externalFormName(result.model.external.form())},
       {"poses", std::to_string(run.inputs.observations.poses.size())},
       {"rms_joint_residual_rad", std::to_string(result.rms_joint_residual)},
@@ -500,13 +383,13 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
     data.provenance = {args.command_line, run.paths.input_files, run.paths.output_files};
     data.provenance.outputs.push_back({args.report, "--report"});
     data.model_name = run.choice.model;
-    data.variant = run.choice.letter ? std::string(1, run.choice.letter) : std::string();
+    data.variant = run.choice.variant ? std::string(1, run.choice.variant) : std::string();
     if (run.inputs.covariance_path && !args.unweighted)
       data.pose_covariance_file = run.inputs.covariance_path->string();
   }
   const mech::PredictionModel prediction =
-      mech::predictionModelFrom(run.choice.model, result, run.mean_orientation_covariance);
-  const fs::path covariance_output = mech::defaultParameterCovariancePath(args.output);
+      mech::predictionModelFrom(run.choice.model, result, run.identification.mean_orientation_covariance);
+  const fs::path covariance_output = support::covarianceSidePath(args.output);
   support::OutputTransaction outputs;
   mech::writePredictionCovarianceCsv(outputs.stageFile(covariance_output), prediction);
   mech::writeParameterFile(outputs.stageFile(args.output), result.model.parameters, result.sigma, metadata,
@@ -525,11 +408,12 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   run.paths = checkPaths(args);
   run.choice = chooseModel(args);
   run.inputs = readIdentifyInputs(args, run.choice);
-  run.initial = initialModel(run.choice, run.inputs);
-  run.before = residualsOf(run.initial.model, run.inputs.observations.poses);
-  run.result = identifyModel(run.choice, run.inputs, run.initial);
-  run.mean_orientation_covariance = mech::alignTranslatingTarget(run.result, run.inputs.observations.poses);
-  run.criteria = evaluateCriteria(args, run.inputs, run.initial, run.result);
+  const auto& poses = run.inputs.observations.poses;
+  run.identification = pipeline::identify(run.choice, poses, run.inputs.shared, run.inputs.options);
+  if (!run.identification.result.converged)
+    std::cerr << "mire identify: warning: the solver did not report convergence\n";
+  run.before = residualsOf(run.identification.initial.model, poses);
+  run.criteria = evaluateCriteria(args, run.inputs, run.identification.initial, run.identification.result);
   writeIdentifyOutputs(args, command_line, run, summaryText(args, run));
   return kOk;
 }

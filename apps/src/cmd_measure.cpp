@@ -3,7 +3,7 @@
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
 #include "detections_io.hpp"
-#include "image_folders.hpp"
+#include "mire/pipeline/image_folders.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
@@ -17,6 +17,7 @@
 #include "mire/support/constants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/statistics.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -91,13 +92,13 @@ void reportScreening(std::vector<metrology::MeasuredPose>* measured) {
 int runMeasure(const MeasureSettings& settings) {
   const fs::path output = settings.output_path;
   const fs::path covariance =
-      settings.covariance_path.empty() ? metrology::covarianceSidePath(output) : fs::path(settings.covariance_path);
+      settings.covariance_path.empty() ? support::covarianceSidePath(output) : fs::path(settings.covariance_path);
   CommandPaths paths{
       {{settings.camera_path, "--camera"}, {settings.target_path, "--target"}},
       {{settings.poses_dir, "--poses"}},
       {{output, "-o"}, {covariance, settings.covariance_path.empty() ? "the covariance side file" : "--covariance"}},
       {}};
-  const fs::path shared = metrology::sharedTermSidePath(output);
+  const fs::path shared = support::sharedTermSidePath(output);
   paths.output_files.push_back({shared, "the shared-term side file"});
   if (!settings.save_detections.empty()) paths.output_files.push_back({settings.save_detections, "--save-detections"});
   checkCommandPaths(paths);
@@ -116,12 +117,12 @@ int runMeasure(const MeasureSettings& settings) {
   options.integrity.split =
       settings.split_moving == "keep-largest" ? metrology::SplitPolicy::KeepLargest : metrology::SplitPolicy::Fail;
 
-  const std::vector<PoseFolderMeasurement> jobs =
-      measurePoseFolders(camera, target, settings.poses_dir, options, threads);
+  const std::vector<pipeline::PoseFolderMeasurement> jobs =
+      pipeline::measurePoseFolders(camera, target, settings.poses_dir, options, threads);
 
   std::vector<metrology::MeasuredPose> measured;
   int failed = 0;
-  for (const PoseFolderMeasurement& job : jobs) {
+  for (const pipeline::PoseFolderMeasurement& job : jobs) {
     for (const auto& warning : job.measurement.warnings)
       std::cerr << "mire measure: pose " << job.pose_id << ": warning: " << warning << "\n";
     for (const auto& note : job.measurement.notes)
@@ -150,7 +151,7 @@ int runMeasure(const MeasureSettings& settings) {
   if (!settings.save_detections.empty())
     support::writeFileAtomically(outputs.stageFile(settings.save_detections),
                                  metrology::detectionsCsv(target, measureDetections(jobs), camera.width, camera.height));
-  const metrology::DetectorBiasTerm bias = sharedDetectorBias(camera, target, jobs, options);
+  const metrology::DetectorBiasTerm bias = pipeline::sharedDetectorBias(camera, target, jobs, options);
   const std::string shared_text = metrology::sharedTermCsvString(camera, measured, bias);
   if (!shared_text.empty()) support::writeFileAtomically(outputs.stageFile(shared), shared_text);
   metrology::writePosesCovarianceCsv(outputs.stageFile(covariance), measured);

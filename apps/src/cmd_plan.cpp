@@ -20,7 +20,7 @@
 #include "mire/support/csv.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "output_paths.hpp"
-#include "plan_camera.hpp"
+#include "mire/pipeline/camera_plan.hpp"
 #include "plan_inputs.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
@@ -35,7 +35,7 @@ struct PlanArguments {
   std::string model, nominal, workspace, output, externals, camera, target, criterion = "D", report;
   int count = 15, candidates = 10000;
   unsigned seed = 1;
-  CameraPlanOptions camera_options;
+  pipeline::CameraPlanOptions camera_options;
   std::vector<std::string> command_line;  // as parsed, for report.json
 };
 
@@ -95,7 +95,7 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
   if (args.camera.empty()) return in;
   in.camera = calibration::readCamera(args.camera);
   in.target = metrology::Target::fromFile(args.target);
-  const CameraPlanOptions& o = args.camera_options;
+  const pipeline::CameraPlanOptions& o = args.camera_options;
   if (!(o.visibility.margin_px >= 0.0)) throw UsageError("--margin-px must be >= 0");
   if (!(o.visibility.max_tilt_deg > 0.0 && o.visibility.max_tilt_deg <= 90.0))
     throw UsageError("--max-tilt-deg must be in (0, 90]");
@@ -113,9 +113,9 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
 // `summary`), or an error (exit 1) when fewer than --count remain.
 std::vector<Eigen::VectorXd> plannableCandidates(const PlanArguments& args, const CameraInputs& in,
                                                  const mech::Mechanism& m, const mech::MountingGuess& mounting,
-                                                 std::vector<Eigen::VectorXd> poses, CameraPlanSummary* summary) {
+                                                 std::vector<Eigen::VectorXd> poses, pipeline::CameraPlanSummary* summary) {
   if (!in.target) return poses;
-  CameraCandidates seen = visibleCandidates(m, mounting, in.camera, *in.target, poses, args.camera_options);
+  pipeline::CameraCandidates seen = pipeline::visibleCandidates(m, mounting, in.camera, *in.target, poses, args.camera_options);
   if (static_cast<int>(seen.visible.size()) < args.count)
     throw std::runtime_error("--camera " + args.camera + ": only " + std::to_string(seen.visible.size()) + " of " +
                              std::to_string(poses.size()) + " candidate poses show the whole target (" +
@@ -154,20 +154,20 @@ int runPlan(const PlanArguments& args) {
   options.criterion = criterion;
   options.count = args.count;
   options.seed = args.seed;
-  CameraPlanSummary camera_summary;
+  pipeline::CameraPlanSummary camera_summary;
   const auto poses = plannableCandidates(
       args, camera, m, mounting,
       mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed),
       &camera_summary);
-  const CameraPoseModel camera_model =
-      camera.target ? cameraPoseModel(camera.camera, *camera.target, args.camera_options) : CameraPoseModel{};
+  const pipeline::CameraPoseModel camera_model =
+      camera.target ? pipeline::cameraPoseModel(camera.camera, *camera.target, args.camera_options) : pipeline::CameraPoseModel{};
   const mech::CandidateInformation info =
       mech::candidateInformation(model, mounting, poses, options, camera_model.covariance, camera_model.shared);
   camera_summary.shared_term = info.hasSharedTerm();
   const mech::DesignReport report = mech::planExperiment(info, options);
   if (camera.target)
-    camera_summary.sigmas = plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);
-  const std::string camera_text = camera.target ? cameraPlanText(camera_summary) : std::string();
+    camera_summary.sigmas = pipeline::plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);
+  const std::string camera_text = camera.target ? pipeline::cameraPlanText(camera_summary) : std::string();
   const std::string text = "model " + args.model + ": " + std::to_string(poses.size()) + " candidate poses, " +
                            std::to_string(info.free_names.size()) + " free parameters (" +
                            std::to_string(info.geometric_free) + " geometric)\n" + camera_text +
@@ -205,7 +205,7 @@ Runner addPlanCommand(CLI::App& app) {
       "--camera", args->camera,
       "camera.yaml: exclude poses where the target is not seen whole, weight by the predicted pose covariance");
   cmd->add_option("--target", args->target, "target.yaml (with --camera)");
-  CameraPlanOptions& camera = args->camera_options;
+  pipeline::CameraPlanOptions& camera = args->camera_options;
   cmd->add_option("--images-per-pose", camera.prediction.images, "images per pose (with --camera)")->capture_default_str();
   cmd->add_option("--pixel-sigma", camera.prediction.pixel_sigma,
                   "detector noise per feature per image, px (with --camera)")

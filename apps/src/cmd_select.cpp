@@ -16,6 +16,7 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 #include "mire/support/output_transaction.hpp"
+#include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
 #include "plot.hpp"
@@ -104,8 +105,8 @@ int runSelect(const SelectArguments& args) {
   std::optional<fs::path> covariance;
   if (!args.covariances.empty())
     covariance = fs::path(args.covariances);
-  else if (fs::exists(mech::defaultCovariancePath(args.poses)))
-    covariance = mech::defaultCovariancePath(args.poses);
+  else if (fs::exists(support::covarianceSidePath(args.poses)))
+    covariance = support::covarianceSidePath(args.poses);
   const mech::ObservationSet observations =
       mech::readObservations(args.poses, args.joints, covariance, m.jointColumnNames());
   std::vector<mech::LineRecord> lines;

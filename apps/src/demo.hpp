@@ -20,7 +20,7 @@
 #include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/target.hpp"
 
-#include "image_folders.hpp"
+#include "mire/pipeline/scored_stages.hpp"
 
 namespace mire::app {
 
@@ -37,29 +37,6 @@ struct StageTiming {
   double seconds = 0.0;
 };
 
-struct DemoCalibration {
-  std::vector<std::string> names;
-  std::vector<double> estimate, sigma, truth;
-  double rms_px = 0.0;
-  int views_used = 0, views_total = 0;
-  double uncertainty_centre_px = 0.0, uncertainty_corner_px = 0.0;
-  Eigen::MatrixXd covariance;  // of `estimate` (camera.yaml's), for report.json
-};
-
-struct DemoMeasurement {
-  int measured = 0, total = 0;
-  Eigen::Vector3d median_sigma_mm = Eigen::Vector3d::Zero();   // predicted, translation
-  Eigen::Vector3d median_sigma_deg = Eigen::Vector3d::Zero();  // predicted, rotation
-  Eigen::Vector3d rms_error_mm = Eigen::Vector3d::Zero();      // against truth
-  Eigen::Vector3d rms_error_deg = Eigen::Vector3d::Zero();
-  double normalized_error_std = 0.0;  // RMS of error/σ over all components (≈1 when honest)
-  // Per component: RMS of error/σ pose by pose, and whitened with the cross-pose covariance
-  // (the calibration's error is shared by every pose; demo_pose_scores.hpp).
-  Eigen::Matrix<double, 6, 1> normalized_error_rms = Eigen::Matrix<double, 6, 1>::Zero();
-  Eigen::Matrix<double, 6, 1> whitened_error_rms = Eigen::Matrix<double, 6, 1>::Zero();
-  double whitened_error_rms_all = 0.0;
-  metrology::DetectorBiasTerm detector_bias;  // the shared-term file's detector part
-};
 
 struct DemoVariant {
   char letter = 'D';
@@ -97,8 +74,8 @@ struct DemoExperimentDesign {
 
 struct DemoResults {
   std::vector<StageTiming> timings;
-  DemoCalibration calibration;
-  DemoMeasurement measurement;
+  pipeline::CalibrationScore calibration;
+  pipeline::MeasurementScore measurement;
   double nominal_v1_rad = 0, nominal_v2_rad = 0, nominal_v3_m = 0;  // before identification
   double true_v3_m = 0;  // the true robot's own straightness along the commanded lines
   std::vector<DemoVariant> variants;
@@ -142,20 +119,5 @@ DemoExperimentDesign experimentDesignStage(const DemoOptions& options, const mec
 
 // Writes report.md, report.json and the figures; returns the files written (relative names).
 std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& results);
-
-// The stages every demo shares (demo_pipeline.cpp; doc/demo-mechanisms.md reuses them).
-// Calibration from the images of `calibration_images` (camera.yaml into `output`), scored
-// against `true_camera`.
-calibration::Camera calibrateStage(const std::filesystem::path& calibration_images,
-                                   const calibration::Camera& true_camera, const metrology::Target& target,
-                                   const std::filesystem::path& output, DemoCalibration& summary);
-// One pose per subfolder of `pose_images` into poses_csv (+ covariance and shared-term side
-// files), scored against the simulator's true cTm of each pose id; returns the measurements
-// (their features, for diagnostics against the truth).
-using TrueCameraTMarker = std::function<Eigen::Isometry3d(const std::string& pose_id)>;
-std::vector<PoseFolderMeasurement> measureStage(const std::filesystem::path& pose_images,
-                                                const TrueCameraTMarker& true_pose, const calibration::Camera& camera,
-                                                const metrology::Target& target, const std::filesystem::path& poses_csv,
-                                                DemoMeasurement& summary);
 
 }  // namespace mire::app

@@ -41,8 +41,8 @@ struct MechanismDemoResults {
   std::string mechanism;  // delta, gough-stewart
   std::string truth_model;
   std::vector<StageTiming> timings;
-  DemoCalibration calibration;
-  DemoMeasurement measurement;
+  pipeline::CalibrationScore calibration;
+  pipeline::MeasurementScore measurement;
   double true_v3_m = 0.0;  // the true robot's own straightness along the recorded lines
   std::vector<MechanismModelScore> models;
   std::vector<std::string> files;  // written, relative to the output folder

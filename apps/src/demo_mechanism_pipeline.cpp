@@ -3,18 +3,17 @@
 // its images and identify each model from poses.csv + joints.csv through the library calls
 // `mire identify --model NAME` makes; the truth scores only at the end.
 #include "demo_mechanism.hpp"
-#include "demo_mechanism_identify.hpp"
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/evaluation.hpp"
-#include "mire/mechanism/gauge.hpp"
-#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
-#include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/translating_target.hpp"
-#include "mire/metrology/poses_csv.hpp"
+#include "mire/pipeline/identify.hpp"
+#include "mire/pipeline/pose_set.hpp"
+#include "mire/pipeline/scored_stages.hpp"
 #include "mire/support/progress.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -85,38 +84,41 @@ double trueStraightness(const datasets::DefectiveRobot& robot, const std::vector
 // One model: identified and written as identified_<model>.yaml (+ its covariance side file,
 // for `mire fkm` / `mire ikm`), then scored.
 MechanismModelScore identifyModel(const std::string& name, const datasets::MechanismImageCampaign& campaign,
-                                  const MeasuredData& data, const fs::path& output) {
+                                  const pipeline::PoseSet& data, const fs::path& output) {
   const Stopwatch watch;
-  const mech::RegisteredModel registered = mech::makeRegisteredModel(name);
-  const GaugedModel initial = initialModel(registered, data.poses);
-  mech::IdentificationResult result = identifyLikeTheCommand(registered, initial, data);
-  const auto orientation_covariance = mech::alignTranslatingTarget(result, data.poses);
+  const std::vector<mech::PoseObservation>& poses = data.observations.poses;
+  const pipeline::Identification identification =
+      pipeline::identify(pipeline::chooseModel(name, ""), poses, data.shared);
+  const pipeline::InitialModel& initial = identification.initial;
+  const mech::IdentificationResult& result = identification.result;
+  const auto& orientation_covariance = identification.mean_orientation_covariance;
   MechanismModelScore score;
   score.model = name;
   score.seconds = watch.seconds();
   score.file = "identified_" + name + ".yaml";
-  mech::writePredictionCovarianceCsv(mech::defaultParameterCovariancePath(output / score.file),
+  mech::writePredictionCovarianceCsv(support::covarianceSidePath(output / score.file),
                                      mech::predictionModelFrom(name, result, orientation_covariance));
   mech::writeParameterFile(
       output / score.file, result.model.parameters, result.sigma,
       {{"model", name}, {"created_by", "mire demo --mechanism " + campaign.robot.geometry_model.name}},
       "Identified by mire demo (" + name + ") from poses.csv and the campaign's joints.csv");
 
-  const mech::Mechanism& model = *registered.mechanism;
+  const mech::Mechanism& model = *initial.model.mechanism;
   score.joint_unit = model.jointUnits().front() == mech::Unit::Radian ? "rad" : "m";
   score.free_parameters = static_cast<int>(result.free_names.size());
-  score.rank = initial.gauge.report.rank;
-  score.gauge = initial.gauge.gauge;
-  score.rms_joint_before = mech::jointResidualCriteria(initial.model, data.poses).v2_rad;
+  score.rank = initial.gauge->report.rank;
+  score.gauge = initial.gauge->gauge;
+  score.rms_joint_before = mech::jointResidualCriteria(initial.model, poses).v2_rad;
   score.rms_joint_after = result.rms_joint_residual;
   score.chi2_per_dof = result.chi2 / std::max(1, result.dof);
   score.sigma_method = result.covariance_method;
   score.has_truth = name == campaign.robot.geometry_model.name;
-  scoreParameters(result, score.has_truth ? std::optional(truthInGauge(campaign, initial, data.poses)) : std::nullopt,
+  scoreParameters(result, score.has_truth ? std::optional(pipeline::truthInGauge(campaign, initial, poses)) : std::nullopt,
                   score);
-  const Eigen::VectorXd nominal = registered.nominal.values(), identified = result.model.geometricValues();
-  score.v3_before_m = straightnessOf(model, nominal, data.lines);
-  score.v3_after_m = straightnessOf(model, identified, data.lines);
+  const Eigen::VectorXd nominal = initial.model.geometricValues(), identified = result.model.geometricValues();
+  const auto lines = data.lineJoints();
+  score.v3_before_m = straightnessOf(model, nominal, lines);
+  score.v3_after_m = straightnessOf(model, identified, lines);
   score.square_before_mm = squareSides(campaign.robot, model, nominal);
   score.square_after_mm = squareSides(campaign.robot, model, identified);
   score.square_rms_before_mm = rms(score.square_before_mm);
@@ -159,15 +161,17 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;
   stage("calibrate the camera from images", [&] {
-    camera = calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
+    camera = pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
   });
   stage("measure " + std::to_string(campaign->pose_ids.size()) + " target poses from images", [&] {
-    measureStage(
+    pipeline::measureStage(
         campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
         output / "poses.csv", results.measurement);
   });
-  const MeasuredData data = readMeasuredData(*campaign, output / "poses.csv");
-  results.true_v3_m = trueStraightness(campaign->robot, data.lines);
+  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(output / "poses.csv", campaign->joints_file());
+  files.lines = campaign->lines_file();
+  const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign->robot.mechanism().jointColumnNames());
+  results.true_v3_m = trueStraightness(campaign->robot, data.lineJoints());
   const std::vector<std::string> models = options.mechanism == "delta"
                                               ? std::vector<std::string>{"delta", "delta-legs"}
                                               : std::vector<std::string>{"gough-stewart", "gough-stewart-gains"};

@@ -52,7 +52,7 @@ void writeIntroduction(const DemoOptions& options, const MechanismDemoResults& r
   demo_report::writeRunTimeTable(r.timings, md);
 }
 
-void writeMeasurementSection(const DemoMeasurement& m, std::ostream& md) {
+void writeMeasurementSection(const pipeline::MeasurementScore& m, std::ostream& md) {
   md << "\n## 2. Pose measurement (`poses.csv`)\n\n"
      << m.measured << " of " << m.total << " poses measured. Predicted σ (median over poses) against the actual "
      << "error to truth:\n\n";

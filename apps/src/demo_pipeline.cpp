@@ -2,27 +2,18 @@
 // exactly as a user would (calibrate from images, measure poses from images, identify from
 // poses.csv + joints.csv), and score against the simulator's truth only at the end.
 #include "demo.hpp"
-#include "demo_pose_scores.hpp"
-#include "image_folders.hpp"
 
-#include "mire/calibration/calibrate.hpp"
-#include "mire/calibration/camera_io.hpp"
 #include "mire/datasets/h4_campaign.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/h4.hpp"
-#include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/variants.hpp"
-#include "mire/metrology/pose_measurement.hpp"
-#include "mire/metrology/poses_csv.hpp"
-#include "mire/metrology/shared_term_csv.hpp"
-#include "mire/support/atomic_file.hpp"
-#include "mire/support/constants.hpp"
+#include "mire/pipeline/identify.hpp"
+#include "mire/pipeline/pose_set.hpp"
 #include "mire/support/progress.hpp"
 #include "mire/support/statistics.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <numeric>
@@ -35,101 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using support::kPi;
-
 using support::upperMedian;
-
-}  // namespace
-
-// Stage 2: detection on every image (parallel), then the bundle adjustment.
-calibration::Camera calibrateStage(const fs::path& calibration_images, const calibration::Camera& true_camera,
-                                   const metrology::Target& target, const fs::path& output, DemoCalibration& summary) {
-  const CalibrationFolder folder = detectCalibrationFolder(target, calibration_images, 0);
-  calibration::CalibrationOptions options;
-  options.model = calibration::DistortionModel::OpenCV5;
-  const calibration::CalibrationResult result =
-      calibration::calibrateCamera(target.points(), folder.views, folder.width, folder.height, options);
-  support::writeFileAtomically(output / "camera.yaml", calibration::cameraYamlString(result.camera));
-
-  summary.names = result.camera.parameterNames();
-  summary.estimate = result.camera.params;
-  summary.sigma = result.camera.sigmas();
-  summary.truth = true_camera.params;
-  summary.rms_px = result.camera.rms_px;
-  summary.views_used = result.used_views;
-  summary.views_total = static_cast<int>(folder.images);
-  const auto uncertainty = calibration::summarizeProjectionUncertainty(result);
-  summary.uncertainty_centre_px = uncertainty.centre_px;
-  summary.uncertainty_corner_px = uncertainty.corner_px;
-  summary.covariance = result.camera.covariance;
-  return result.camera;
-}
-
-// Stage 3: one pose per folder (parallel), written as poses.csv + covariance side file.
-std::vector<PoseFolderMeasurement> measureStage(const fs::path& pose_images, const TrueCameraTMarker& true_pose,
-                                                const calibration::Camera& camera, const metrology::Target& target,
-                                                const fs::path& poses_csv, DemoMeasurement& summary) {
-  // The simulated robot is static by construction: a static-pose test alarm (false-alarm rate
-  // 1e-3 per pose, doc/measure-integrity.md) keeps the largest consistent group, as
-  // `mire measure --split-moving keep-largest` would, instead of dropping the pose.
-  metrology::MeasurementOptions options;
-  options.integrity.split = metrology::SplitPolicy::KeepLargest;
-  std::vector<PoseFolderMeasurement> measurements = measurePoseFolders(camera, target, pose_images, options, 0);
-  std::vector<metrology::MeasuredPose> measured;
-  std::vector<double> sigma[6];
-  Eigen::Matrix<double, 6, 1> squared_error = Eigen::Matrix<double, 6, 1>::Zero();
-  std::vector<PoseErrorSample> samples;
-  for (const auto& pose : measurements) {
-    const auto& m = pose.measurement;
-    if (!m.ok) {
-      std::cerr << "mire demo: pose " << pose.pose_id << ": " << m.error << "\n";
-      continue;
-    }
-    measured.emplace_back(pose.pose_id, m.features.images_used, pose.images_total, m.estimate);
-    // Scoring against the simulator's truth.
-    const Eigen::Isometry3d truth = true_pose(pose.pose_id);
-    PoseErrorSample sample;
-    sample.error << m.estimate.translation - truth.translation(),
-        m.estimate.rotation_vector - metrology::rotationVector(truth.linear());
-    sample.independent = m.estimate.covariance_noise;
-    sample.sensitivity = m.estimate.intrinsics_sensitivity;
-    sample.sigma = metrology::PoseEstimate::sigmas(m.estimate.covariance);
-    for (int k = 0; k < 6; ++k) {
-      sigma[k].push_back(sample.sigma[k]);
-      squared_error[k] += sample.error[k] * sample.error[k];
-    }
-    samples.push_back(std::move(sample));
-  }
-  if (measured.empty()) throw std::runtime_error("no pose could be measured");
-  metrology::writePosesCsv(poses_csv, measured);
-  metrology::writePosesCovarianceCsv(metrology::covarianceSidePath(poses_csv), measured);
-  summary.detector_bias = sharedDetectorBias(camera, target, measurements, options);
-  metrology::writeSharedTermCsv(metrology::sharedTermSidePath(poses_csv), camera, measured, summary.detector_bias);
-
-  summary.measured = static_cast<int>(measured.size());
-  summary.total = static_cast<int>(measurements.size());
-  const double n = static_cast<double>(measured.size());
-  for (int k = 0; k < 3; ++k) {
-    summary.median_sigma_mm[k] = 1e3 * upperMedian(sigma[k]);
-    summary.median_sigma_deg[k] = 180.0 / kPi * upperMedian(sigma[k + 3]);
-    summary.rms_error_mm[k] = 1e3 * std::sqrt(squared_error[k] / n);
-    summary.rms_error_deg[k] = 180.0 / kPi * std::sqrt(squared_error[k + 3] / n);
-  }
-  const PoseErrorScores scores = scorePoseErrors(samples, camera.covariance);
-  summary.normalized_error_std = scores.rms_per_pose_all;
-  summary.normalized_error_rms = scores.rms_per_pose;
-  summary.whitened_error_rms = scores.rms_whitened;
-  summary.whitened_error_rms_all = scores.rms_whitened_all;
-  return measurements;
-}
-
-namespace {
-
-std::vector<std::vector<Eigen::VectorXd>> lineJoints(const fs::path& lines_csv) {
-  std::vector<std::vector<Eigen::VectorXd>> lines;
-  for (auto& record : mechanism::readLinesCsv(lines_csv)) lines.push_back(std::move(record.joints));
-  return lines;
-}
 
 // The robot's own straightness along the recorded lines: positions from the TRUE FKM.
 double trueStraightness(const datasets::H4Campaign& campaign, const std::vector<std::vector<Eigen::VectorXd>>& lines) {
@@ -161,22 +58,6 @@ std::array<double, 4> squareSides(const datasets::H4TrueRobot& robot, const mech
   return sides_mm;
 }
 
-// Variant D on all poses as `mire identify` runs it: weighted by the full pose covariances,
-// plus the calibration term shared by every pose propagated by refits (doc/uncertainty.md).
-mechanism::IdentificationResult identifyWithSharedTerm(const std::vector<mechanism::PoseObservation>& poses,
-                                                       const fs::path& poses_csv,
-                                                       const mechanism::IdentificationOptions& options) {
-  const fs::path shared_path = mechanism::sharedTermPath(poses_csv);
-  auto result = mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, poses, options);
-  if (fs::exists(shared_path))
-    mechanism::addSharedTermCovariance(result, poses, mechanism::readSharedTermCsv(shared_path),
-                                       [&](const std::vector<mechanism::PoseObservation>& shifted) {
-                                         return mechanism::identifyH4Variant('D', mechanism::H4Nominal{}, shifted,
-                                                                             options);
-                                       });
-  return result;
-}
-
 // error/σ of every identified parameter against the simulator's truth (scoring only).
 void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& campaign,
                      const mechanism::IdentificationResult& result, DemoResults& results) {
@@ -205,6 +86,7 @@ void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& cam
 // (one random set of 71 poses identifies, the other poses validate), the nominal and options.
 struct IdentificationData {
   std::vector<mechanism::PoseObservation> poses;
+  std::optional<mechanism::SharedPoseTerm> shared;  // the calibration's error every pose shares
   std::vector<std::vector<Eigen::VectorXd>> lines;
   std::vector<mechanism::PoseObservation> subset, validation;
   std::size_t train = 0;
@@ -214,10 +96,13 @@ struct IdentificationData {
 
 IdentificationData identificationData(const DemoOptions& options, const datasets::H4Campaign& campaign,
                                       const fs::path& poses_csv) {
+  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(poses_csv, campaign.joints_file());
+  files.lines = campaign.lines_file();
+  pipeline::PoseSet set = pipeline::readPoseSet(files, mechanism::makeH4Mechanism(mechanism::H4ModelKind::Model12)->jointColumnNames());
   IdentificationData data;
-  data.poses =
-      mechanism::readObservations(poses_csv, campaign.joints_file(), metrology::covarianceSidePath(poses_csv)).poses;
-  data.lines = lineJoints(campaign.lines_file());
+  data.poses = std::move(set.observations.poses);
+  data.shared = std::move(set.shared);
+  data.lines = set.lineJoints();
   std::vector<mechanism::PoseObservation> shuffled = data.poses;
   std::mt19937_64 rng(options.seed);
   std::shuffle(shuffled.begin(), shuffled.end(), rng);
@@ -316,7 +201,11 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
 
   // Square test (paper §6.4): the controller runs model 12 with nominal, then identified (D,
   // all poses) parameters; the TRUE robot draws the square.
-  const auto identified_d = identifyWithSharedTerm(poses, poses_csv, data.identification);
+  // Variant D on all poses, as `mire identify` runs it.
+  pipeline::IdentifyOptions identify_options;
+  identify_options.fit = data.identification;
+  const auto identified_d =
+      pipeline::identify(pipeline::chooseModel("h4-12", "D", data.nominal), poses, data.shared, identify_options).result;
   scoreIdentified(options, campaign, identified_d, results);
   mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
                                 {{"model", "h4-12"}, {"variant", "D"}},
@@ -352,10 +241,10 @@ DemoResults runDemo(const DemoOptions& options) {
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;
   stage("calibrate the camera from images", [&] {
-    camera = calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
+    camera = pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
   });
   stage("measure 81 target poses from images", [&] {
-    measureStage(
+    pipeline::measureStage(
         campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
         output / "poses.csv", results.measurement);
   });

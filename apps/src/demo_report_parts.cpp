@@ -31,7 +31,7 @@ void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md
   md << "| **total** | **" << fixed(total, 1) << "** |\n\n";
 }
 
-void writeCalibrationSection(const DemoCalibration& c, std::ostream& md) {
+void writeCalibrationSection(const pipeline::CalibrationScore& c, std::ostream& md) {
   md << "## 1. Camera calibration (`camera.yaml`)\n\n"
      << c.views_used << " of " << c.views_total << " views used, RMS " << fixed(c.rms_px, 3)
      << " px; projection uncertainty " << fixed(c.uncertainty_centre_px, 3) << " px at the centre, "
@@ -44,7 +44,7 @@ void writeCalibrationSection(const DemoCalibration& c, std::ostream& md) {
   }
 }
 
-void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const std::string& extra_row) {
+void writePoseMeasurementTable(const pipeline::MeasurementScore& m, std::ostream& md, const std::string& extra_row) {
   md << "| component | tx | ty | tz | rx | ry | rz |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n"
      << "| predicted σ (mm, °) |";
   for (int k = 0; k < 3; ++k) md << " " << fixed(m.median_sigma_mm[k], 3) << " |";
@@ -67,7 +67,7 @@ void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const
      << m.detector_bias.text() << ".\n";
 }
 
-Json calibrationJson(const DemoCalibration& c) {
+Json calibrationJson(const pipeline::CalibrationScore& c) {
   std::vector<std::string> units(c.names.size(), "1");
   for (std::size_t i = 0; i < units.size() && i < 4; ++i) units[i] = "px";
   Json parameters = Json::array();
@@ -87,7 +87,7 @@ Json calibrationJson(const DemoCalibration& c) {
   return out;
 }
 
-Json measurementJson(const DemoMeasurement& m) {
+Json measurementJson(const pipeline::MeasurementScore& m) {
   Json out{{"measured", m.measured}, {"total", m.total}};
   out["median_sigma_translation_mm"] = numberArray(Eigen::VectorXd(m.median_sigma_mm));
   out["median_sigma_rotation_deg"] = numberArray(Eigen::VectorXd(m.median_sigma_deg));

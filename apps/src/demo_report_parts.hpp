@@ -17,13 +17,13 @@ std::string percent(double after, double before);       // signed change, "n/a" 
 
 void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md);
 // "## 1. Camera calibration": views, RMS, projection uncertainty, estimate / σ / truth / error/σ.
-void writeCalibrationSection(const DemoCalibration& c, std::ostream& md);
+void writeCalibrationSection(const pipeline::CalibrationScore& c, std::ostream& md);
 // The pose-measurement table (predicted σ, RMS error, `extra_row` if not empty, error/σ pose by pose and
 // whitened across poses) and the paragraph that reads it (doc/uncertainty.md).
-void writePoseMeasurementTable(const DemoMeasurement& m, std::ostream& md, const std::string& extra_row = "");
+void writePoseMeasurementTable(const pipeline::MeasurementScore& m, std::ostream& md, const std::string& extra_row = "");
 
-Json calibrationJson(const DemoCalibration& c);
-Json measurementJson(const DemoMeasurement& m);
+Json calibrationJson(const pipeline::CalibrationScore& c);
+Json measurementJson(const pipeline::MeasurementScore& m);
 // out["parameters"] (name, unit, value, sigma and the truth under `truth_key`, SI) and
 // out["covariance"] of identified parameters.
 void setParameterScores(Json& out, const std::vector<DemoParameterScore>& scores, const Eigen::MatrixXd& covariance,

@@ -5,15 +5,15 @@
 
 namespace mire::app {
 
-std::vector<metrology::ImageDetections> calibrationDetections(const CalibrationFolder& folder) {
+std::vector<metrology::ImageDetections> calibrationDetections(const pipeline::CalibrationFolder& folder) {
   std::vector<metrology::ImageDetections> images;
   for (const calibration::CalibrationView& view : folder.views) images.push_back({view.name, view.ids, view.pixels});
   return images;
 }
 
-std::vector<metrology::ImageDetections> measureDetections(const std::vector<PoseFolderMeasurement>& poses) {
+std::vector<metrology::ImageDetections> measureDetections(const std::vector<pipeline::PoseFolderMeasurement>& poses) {
   std::vector<metrology::ImageDetections> images;
-  for (const PoseFolderMeasurement& pose : poses) {
+  for (const pipeline::PoseFolderMeasurement& pose : poses) {
     const std::vector<std::filesystem::path> files = metrology::listPoseImages(pose.folder);
     const auto& detections = pose.measurement.detections;
     for (std::size_t j = 0; j < detections.size() && j < files.size(); ++j) {
@@ -24,10 +24,10 @@ std::vector<metrology::ImageDetections> measureDetections(const std::vector<Pose
   return images;
 }
 
-CalibrationFolder calibrationFolderFromDetections(const metrology::Target& target, const std::filesystem::path& path,
+pipeline::CalibrationFolder calibrationFolderFromDetections(const metrology::Target& target, const std::filesystem::path& path,
                                                   const std::vector<int>& image_size) {
   const metrology::DetectionsFile file = metrology::readDetectionsFile(path, target);
-  CalibrationFolder folder;
+  pipeline::CalibrationFolder folder;
   if (!image_size.empty() && image_size.size() != 2)
     throw std::runtime_error("--image-size needs two values: width height");
   if (file.width && !image_size.empty() && (image_size[0] != *file.width || image_size[1] != *file.height))

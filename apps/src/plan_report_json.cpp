@@ -3,7 +3,7 @@
 // whole candidate set (as plan_sigma.csv, at full precision), the plan's full predicted
 // covariance (the inverse of its Fisher information) and the predicted position σ.
 #include "kinematics_files.hpp"
-#include "plan_camera.hpp"
+#include "mire/pipeline/camera_plan.hpp"
 #include "report_json.hpp"
 
 namespace mire::app {
@@ -59,8 +59,8 @@ Json summaryJson(const mech::DesignReport& r) {
 
 // With --camera: the visibility limits and counts, the pose noise assumed and the predicted
 // σ of cTm per planned pose (SI: m, rad), in plan.csv's order.
-Json cameraJson(const CameraPlanSummary& c) {
-  const CameraPlanOptions& o = c.options;
+Json cameraJson(const pipeline::CameraPlanSummary& c) {
+  const pipeline::CameraPlanOptions& o = c.options;
   Json sigmas = Json::array();
   const char* keys[6] = {"sigma_tx_m", "sigma_ty_m", "sigma_tz_m", "sigma_rx_rad", "sigma_ry_rad", "sigma_rz_rad"};
   char id[32];
@@ -97,7 +97,7 @@ void writePlanReportJson(const std::filesystem::path& path, const PlanReportSett
 
 void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
                          const mech::CandidateInformation& info, const mech::DesignReport& report,
-                         const CameraPlanSummary* camera) {
+                         const pipeline::CameraPlanSummary* camera) {
   Json doc = reportHeader("plan", settings.provenance);
   doc["model"] = settings.model;
   doc["criterion"] = mech::designCriterionName(report.criterion);

@@ -18,6 +18,7 @@
 #include "mire/calibration/calibrate.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/model_selection.hpp"
+#include "mire/pipeline/camera_plan.hpp"
 #include "output_paths.hpp"
 
 namespace mire::app {
@@ -68,6 +69,10 @@ struct PlanReportSettings {
 };
 void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
                          const mechanism::CandidateInformation& info, const mechanism::DesignReport& report);
+// The same with the `camera` section (null: none; `mire plan --camera`).
+void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
+                         const mechanism::CandidateInformation& info, const mechanism::DesignReport& report,
+                         const pipeline::CameraPlanSummary* camera);
 
 // `joint_unit`: the unit of the scores (rad or m).
 void writeSelectReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,

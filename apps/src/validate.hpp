@@ -6,6 +6,7 @@
 // std::runtime_error (exit 1) for bad input.
 #include "mire/calibration/camera_model.hpp"
 #include "mire/metrology/target.hpp"
+#include "mire/pipeline/image_check.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -24,8 +25,8 @@ struct UsageError : std::runtime_error {
 
 // Limits (doc/limits.md).
 constexpr int kMaxThreads = 256;
-constexpr long long kMaxImageSide = 16384;          // px, either side
-constexpr long long kMaxImagePixels = 100'000'000;  // 100 megapixels
+using pipeline::kMaxImageSide;
+using pipeline::kMaxImagePixels;
 constexpr std::size_t kMaxTargetFeatures = 20'000;  // features (corners, circles, tag corners)
 constexpr std::size_t kMaxPoses = 1'000'000;        // poses given to identify
 constexpr double kMaxViewDistanceM = 50.0;          // implied target distance: beyond, a unit mistake

@@ -58,10 +58,6 @@ Eigen::MatrixXd SharedPoseTerm::poseCovariance(const std::string& pose_id) const
   return it->second * covariance * it->second.transpose();
 }
 
-std::filesystem::path sharedTermPath(const std::filesystem::path& poses_csv) {
-  return poses_csv.parent_path() / (poses_csv.stem().string() + "_shared.csv");
-}
-
 SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
   const support::CsvTable table = support::readCsv(path);
   const std::size_t kind_col = table.column("kind"), id_col = table.column("id"), row_col = table.column("row");

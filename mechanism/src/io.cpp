@@ -71,10 +71,6 @@ std::map<std::string, PoseCovariance> readCovarianceCsv(const std::filesystem::p
 
 }  // namespace
 
-std::filesystem::path defaultCovariancePath(const std::filesystem::path& poses_csv) {
-  return poses_csv.parent_path() / (poses_csv.stem().string() + "_covariance.csv");
-}
-
 std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
                                   const std::optional<std::filesystem::path>& covariance_csv) {
   const support::CsvTable table = support::readCsv(poses_csv);

@@ -12,6 +12,7 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/side_files.hpp"
 
 namespace mire::mechanism {
 
@@ -264,12 +265,6 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
   return m;
 }
 
-std::filesystem::path defaultParameterCovariancePath(const std::filesystem::path& yaml) {
-  std::filesystem::path out = yaml;
-  out.replace_filename(yaml.stem().string() + "_covariance.csv");
-  return out;
-}
-
 void writePredictionCovarianceCsv(const std::filesystem::path& path, const PredictionModel& m) {
   const std::vector<std::string>& names = m.covariance_names;
   const auto n = static_cast<Eigen::Index>(names.size());
@@ -355,7 +350,7 @@ LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
     m.mounting.setValue(p.name, all.value(p.name));
   }
   out.has_mounting = mounting_in_yaml;
-  const std::filesystem::path side = covariance_csv ? *covariance_csv : defaultParameterCovariancePath(yaml);
+  const std::filesystem::path side = covariance_csv ? *covariance_csv : support::covarianceSidePath(yaml);
   if (covariance_csv || std::filesystem::exists(side)) {
     const ParameterSet yaml_mounting = m.mounting;
     readPredictionCovarianceCsv(side, m);

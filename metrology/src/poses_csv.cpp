@@ -95,10 +95,4 @@ void writePosesCovarianceCsv(const std::filesystem::path& path, const std::vecto
   support::writeFileAtomically(path, posesCovarianceCsvString(poses));
 }
 
-std::filesystem::path covarianceSidePath(const std::filesystem::path& poses_csv) {
-  std::filesystem::path result = poses_csv;
-  result.replace_filename(poses_csv.stem().string() + "_covariance.csv");
-  return result;
-}
-
 }  // namespace mire::metrology

@@ -8,10 +8,6 @@
 
 namespace mire::metrology {
 
-std::filesystem::path sharedTermSidePath(const std::filesystem::path& poses_csv) {
-  return poses_csv.parent_path() / (poses_csv.stem().string() + "_shared.csv");
-}
-
 namespace {
 
 // The camera's parameters when it carries a covariance, then the detector-bias modes.

@@ -45,5 +45,6 @@ void bindMeasurement(py::module_& m);
 void bindMechanisms(py::module_& m);  // calls bindIdentification
 void bindIdentification(py::module_& m);
 void bindExperiment(py::module_& m);  // plan / select (after bindMechanisms)
+void bindPipeline(py::module_& m);    // after bindMechanisms
 
 }  // namespace mire::python

@@ -9,6 +9,7 @@
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <memory>
 
@@ -206,7 +207,7 @@ void bindVariants(py::module_& m) {
       .def_readonly("names", &T::names)
       .def_readonly("covariance", &T::covariance)
       .def("poseCovariance", &T::poseCovariance, py::arg("pose_id"));
-  m.def("sharedTermPath", &mech::sharedTermPath, py::arg("poses_csv"));
+  m.def("sharedTermPath", &mire::support::sharedTermSidePath, py::arg("poses_csv"));
   m.def("readSharedTermCsv", &mech::readSharedTermCsv, py::arg("path"));
   m.def("addSharedTermCovariance", &mech::addSharedTermCovariance, py::arg("result"), py::arg("poses"),
         py::arg("shared"), py::arg("refit") = mech::Refit{});

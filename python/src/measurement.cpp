@@ -7,6 +7,7 @@
 #include "mire/metrology/pose_measurement.hpp"
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/shared_term_csv.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <filesystem>
 
@@ -173,7 +174,7 @@ void bindPosesCsv(py::module_& m) {
   m.def("posesCovarianceCsvString", &met::posesCovarianceCsvString, py::arg("poses"));
   m.def("writePosesCsv", &met::writePosesCsv, py::arg("path"), py::arg("poses"));
   m.def("writePosesCovarianceCsv", &met::writePosesCovarianceCsv, py::arg("path"), py::arg("poses"));
-  m.def("covarianceSidePath", &met::covarianceSidePath, py::arg("poses_csv"));
+  m.def("covarianceSidePath", &mire::support::covarianceSidePath, py::arg("poses_csv"));
   m.def(
       "screenCampaign",
       [](std::vector<MP> poses) {
@@ -212,7 +213,7 @@ void bindSharedTerm(py::module_& m) {
       },
       py::arg("camera"), py::arg("target"), py::arg("pose_ids"), py::arg("measurements"),
       py::arg("options") = met::PoseOptions{}, "As `mire measure` does over the poses that succeeded.");
-  m.def("sharedTermSidePath", &met::sharedTermSidePath, py::arg("poses_csv"));
+  m.def("sharedTermSidePath", &mire::support::sharedTermSidePath, py::arg("poses_csv"));
   m.def("sharedTermCsvString", &met::sharedTermCsvString, py::arg("camera"), py::arg("poses"), py::arg("bias") = B{});
   m.def("writeSharedTermCsv", &met::writeSharedTermCsv, py::arg("path"), py::arg("camera"), py::arg("poses"),
         py::arg("bias") = B{});

@@ -10,6 +10,7 @@
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <limits>
 #include <memory>
@@ -302,7 +303,7 @@ void bindObservations(py::module_& m) {
       .def_readonly("observation", &mech::PoseRow::observation)
       .def_readonly("line", &mech::PoseRow::line);
   m.def("readPosesCsv", &mech::readPosesCsv, py::arg("poses_csv"), py::arg("covariance_csv") = py::none());
-  m.def("defaultCovariancePath", &mech::defaultCovariancePath);
+  m.def("defaultCovariancePath", &mire::support::covarianceSidePath);
   py::class_<mech::JointRow>(m, "JointRow")
       .def_readonly("pose_id", &mech::JointRow::pose_id)
       .def_readonly("joints", &mech::JointRow::joints)

@@ -1,5 +1,5 @@
 // `import mire`: submodules named after the C++ namespaces (mire.calibration, mire.metrology,
-// mire.mechanism), the same class and function names as the C++ API (doc/python.md).
+// mire.mechanism, mire.pipeline), the same class and function names as the C++ API (doc/python.md).
 #include "bindings.hpp"
 
 PYBIND11_MODULE(mire, m) {
@@ -16,6 +16,8 @@ PYBIND11_MODULE(mire, m) {
       m.def_submodule("mechanism", "mechanisms, identification, evaluation, plan/select (mire::mechanism)");
   mp::bindMechanisms(mechanism);
   mp::bindExperiment(mechanism);
+  auto pipeline = m.def_submodule("pipeline", "the end-to-end stages: the identification recipe, pose sets (mire::pipeline)");
+  mp::bindPipeline(pipeline);
 #ifdef MIRE_VERSION
   m.attr("__version__") = MIRE_VERSION;
 #endif

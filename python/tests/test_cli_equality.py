@@ -14,6 +14,7 @@ from test_mechanisms import Robot
 cal = mire.calibration
 met = mire.metrology
 mech = mire.mechanism
+pipe = mire.pipeline
 
 POSE_COLUMNS = ("tx_m", "ty_m", "tz_m", "rx_rad", "ry_rad", "rz_rad")
 
@@ -77,6 +78,24 @@ def test_identify_equals_mire_identify(tmp_path):
     result = identify_like_the_cli(tmp_path / "poses.csv", tmp_path / "joints.csv")
     assert result.weighted and result.model.parameters.freeCount() == 19
     assert_same_parameters(result, tmp_path / "identified.yaml")
+    # The same through the stage the command runs (mire/pipeline/identify.hpp).
+    choice = pipe.chooseModel("", "", nominal_from_file(SOURCE_DIR / "datasets" / "specs" / "h4_nominal.yaml"))
+    assert choice.label() == "h4-12, variant D"
+    data = pipe.readPoseSet(pipe.PoseSetFiles.beside(tmp_path / "poses.csv", tmp_path / "joints.csv"),
+                            mech.makeRegisteredModel("h4-12").mechanism.jointColumnNames())
+    assert_same_parameters(pipe.identify(choice, data.observations.poses, data.shared).result,
+                           tmp_path / "identified.yaml")
+
+
+def test_choose_model_names_the_option_at_fault():
+    with pytest.raises(ValueError, match="--variant 'Z'"):
+        pipe.chooseModel("h4-12", "Z")
+    with pytest.raises(ValueError, match="--variant E does not belong to --model h4-12"):
+        pipe.chooseModel("h4-12", "E")
+    with pytest.raises(ValueError, match="--model 'nope'"):
+        pipe.chooseModel("nope", "")
+    assert pipe.chooseModel("", "F").model == "h4-31c"
+    assert pipe.chooseModel("delta", "").variant == ""
 
 
 @pytest.mark.skipif(os.environ.get("MIRE_SLOW_TESTS") != "1", reason="slow (the whole demo): ctest python_demo_equality, or MIRE_SLOW_TESTS=1")
@@ -117,12 +136,10 @@ def test_demo_campaign_equals_the_cli(tmp_path):
     # The shared terms (the calibration's error, the detector's bias when it shows) as the CLI wrote them.
     bias = met.estimateDetectorBias(cli_camera, target, ids, measurements, measure.pose)
     assert (out / "poses_shared.csv").read_text() == met.sharedTermCsvString(cli_camera, measured, bias)
-    result = identify_like_the_cli(tmp_path / "poses.csv", campaign / "joints.csv", nominal=mech.H4Nominal())
-    # The demo adds the calibration term shared by every pose, by refits of variant D.
-    poses = mech.readObservations(tmp_path / "poses.csv", campaign / "joints.csv", tmp_path / "poses_covariance.csv",
-                                  result.model.mechanism.jointColumnNames()).poses
-    shared = mech.readSharedTermCsv(mech.sharedTermPath(out / "poses.csv"))
-    mech.addSharedTermCovariance(result, poses, shared,
-                                 lambda shifted: mech.identifyH4Variant("D", mech.H4Nominal(), shifted))
+    # Variant D with the calibration term shared by every pose, as the demo runs `mire identify`'s stage.
+    files = pipe.PoseSetFiles.beside(tmp_path / "poses.csv", campaign / "joints.csv")
+    files.shared = out / "poses_shared.csv"
+    data = pipe.readPoseSet(files, mech.makeRegisteredModel("h4-12").mechanism.jointColumnNames())
+    result = pipe.identify(pipe.chooseModel("h4-12", "D"), data.observations.poses, data.shared).result
     assert "shared" in result.covariance_method
     assert_same_parameters(result, out / "identified_D.yaml")

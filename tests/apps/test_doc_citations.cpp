@@ -3,6 +3,7 @@
 #include "test_support.hpp"
 
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -63,4 +64,31 @@ TEST(DocCitations, NoSourceOrDocCitesTheOutsideBrief) {
     }
   }
   EXPECT_GT(scanned, 100) << "too few source files found under " << root;
+}
+
+// Comments state contracts and cite the paper or doc/, never the tracker ("issue 12") or a work
+// log; doc headings name topics, not sessions ("Stop 27"): history lives in CHANGELOG.md and the
+// dated pages of doc/studies/.
+TEST(DocCitations, NoCommentOrDocCitesTheTrackerOrAWorkLog) {
+  const fs::path root = mire::test::sourceDir();
+  const std::regex tracker(R"((^|[^A-Za-z])[Ii]ssues? +#?[0-9]+)");
+  const std::regex work_log_heading(R"(^#+ .*\b[Ss]tops? [0-9]+)");
+  int scanned = 0;
+  for (const std::string& relative : candidateFiles(root)) {
+    const std::string ext = fs::path(relative).extension().string();
+    const bool doc_page = ext == ".md" && relative.rfind("doc/", 0) == 0;  // doc/studies/ too
+    if (!isScanned(relative) && !doc_page && ext != ".sh") continue;
+    std::ifstream in(root / relative);
+    ASSERT_TRUE(in) << relative;
+    ++scanned;
+    int line_number = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++line_number;
+      EXPECT_FALSE(std::regex_search(line, tracker))
+          << relative << ":" << line_number << " cites the tracker (state the contract, cite doc/):\n  " << line;
+      EXPECT_FALSE(std::regex_search(line, work_log_heading))
+          << relative << ":" << line_number << " is a work-log heading (history: CHANGELOG.md):\n  " << line;
+    }
+  }
+  EXPECT_GT(scanned, 100) << "too few files found under " << root;
 }

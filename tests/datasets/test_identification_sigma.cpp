@@ -14,6 +14,7 @@
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/variants.hpp"
 #include "mire/metrology/shared_term_csv.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -245,7 +246,7 @@ TEST(IdentificationSigma, SharedTermFileRoundTripAndErrors) {
     const char* axes[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
     for (int r = 0; r < 6; ++r) out << "sensitivity,p1," << axes[r] << ',' << r << ",0.5\n";
   }
-  EXPECT_EQ(mech::sharedTermPath(dir / "poses.csv"), path);
+  EXPECT_EQ(mire::support::sharedTermSidePath(dir / "poses.csv"), path);
   const auto shared = mech::readSharedTermCsv(path);
   EXPECT_EQ(shared.names, (std::vector<std::string>{"fx", "cx"}));
   EXPECT_DOUBLE_EQ(shared.covariance(1, 1), 9.0);

@@ -4,6 +4,7 @@
 
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/support/side_files.hpp"
 #include "test_support.hpp"
 
 #include <fstream>
@@ -54,9 +55,9 @@ TEST(PosesCsv, SideFileCovariance) {
       for (int c = 0; c < 6; ++c) side += r == c ? (part[0] == 't' ? ",2e-8" : ",1e-8") : (r + c == 5 ? ",1e-9" : ",0");
       side += "\n";
     }
-  test::writeText(defaultCovariancePath(dir.path() / "poses.csv"), side);
-  EXPECT_EQ(defaultCovariancePath(dir.path() / "poses.csv").filename(), "poses_covariance.csv");
-  const auto rows = readPosesCsv(dir.path() / "poses.csv", defaultCovariancePath(dir.path() / "poses.csv"));
+  test::writeText(mire::support::covarianceSidePath(dir.path() / "poses.csv"), side);
+  EXPECT_EQ(mire::support::covarianceSidePath(dir.path() / "poses.csv").filename(), "poses_covariance.csv");
+  const auto rows = readPosesCsv(dir.path() / "poses.csv", mire::support::covarianceSidePath(dir.path() / "poses.csv"));
   ASSERT_TRUE(rows[0].observation.covariance.has_value());
   EXPECT_DOUBLE_EQ((*rows[0].observation.covariance)(0, 0), 2e-8);
   EXPECT_DOUBLE_EQ((*rows[0].observation.covariance)(0, 5), 1e-9);

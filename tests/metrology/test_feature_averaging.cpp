@@ -5,6 +5,7 @@
 #include "mire/metrology/poses_csv.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/side_files.hpp"
 
 #include "chessboard_views.hpp"
 #include "test_support.hpp"
@@ -95,8 +96,8 @@ TEST(PosesCsv, HeaderIsExactlyTheBriefsAndRoundTrips) {
   mire::test::TempDir dir;
   const auto path = dir.path() / "poses.csv";
   mire::metrology::writePosesCsv(path, poses);
-  mire::metrology::writePosesCovarianceCsv(mire::metrology::covarianceSidePath(path), poses);
-  EXPECT_EQ(mire::metrology::covarianceSidePath(path).filename(), "poses_covariance.csv");
+  mire::metrology::writePosesCovarianceCsv(mire::support::covarianceSidePath(path), poses);
+  EXPECT_EQ(mire::support::covarianceSidePath(path).filename(), "poses_covariance.csv");
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);
@@ -106,7 +107,7 @@ TEST(PosesCsv, HeaderIsExactlyTheBriefsAndRoundTrips) {
             0u)
       << header;
   // Read back by the reader `mire identify` uses.
-  const auto records = mire::mechanism::readPosesCsv(path, mire::metrology::covarianceSidePath(path));
+  const auto records = mire::mechanism::readPosesCsv(path, mire::support::covarianceSidePath(path));
   ASSERT_EQ(records.size(), 2u);
   EXPECT_EQ(records[1].observation.id, "p02");
   const auto table = mire::support::readCsv(path);

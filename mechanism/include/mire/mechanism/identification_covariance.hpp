@@ -51,10 +51,8 @@ struct SharedPoseTerm {
   Eigen::MatrixXd poseCovariance(const std::string& pose_id) const;
 };
 
-// <stem>_shared.csv beside poses.csv, written by `mire measure` (metrology/shared_term_csv.hpp,
-// doc/uncertainty.md "Shared terms").
-std::filesystem::path sharedTermPath(const std::filesystem::path& poses_csv);
-// Reads the side file; throws std::runtime_error naming the file, line and problem.
+// Reads the shared-term side file (support::sharedTermSidePath(), written by `mire measure`:
+// metrology/shared_term_csv.hpp); throws std::runtime_error naming the file, line and problem.
 SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path);
 
 // Adds G Σ_k Gᵀ to result.covariance (and result.shared_covariance, result.sigma). `poses` are

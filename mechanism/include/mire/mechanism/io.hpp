@@ -32,9 +32,6 @@ struct PoseRow {
 std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
                                   const std::optional<std::filesystem::path>& covariance_csv = {});
 
-// "dir/poses.csv" → "dir/poses_covariance.csv" (where `mire measure` writes the side file).
-std::filesystem::path defaultCovariancePath(const std::filesystem::path& poses_csv);
-
 // ---- joints.csv -------------------------------------------------------------------------
 // Header pose_id,q1_rad,...,qN_rad (N = joint_count; extra columns allowed). Errors:
 // missing column, duplicate id, non-finite value.

@@ -43,7 +43,6 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
 // parameters (free geometric ones, then the 12 full-form mounting values, whatever form the
 // identification used) with their values and full covariance. Header
 // `name,value,<n1>,...,<nk>`, one row per name, SI units.
-std::filesystem::path defaultParameterCovariancePath(const std::filesystem::path& parameters_yaml);
 void writePredictionCovarianceCsv(const std::filesystem::path& path, const PredictionModel& model);
 // Reads the side file into `model` (its geometric set and mechanism already set): mounting
 // values, covariance names and matrix. Throws naming path:line on a bad file (unknown or
@@ -51,7 +50,7 @@ void writePredictionCovarianceCsv(const std::filesystem::path& path, const Predi
 void readPredictionCovarianceCsv(const std::filesystem::path& path, PredictionModel& model);
 
 // An identified parameter file (its `model:` key names the registry entry) and, when it
-// exists, its side file (default defaultParameterCovariancePath()). `has_mounting` tells
+// exists, its side file (default support::covarianceSidePath()). `has_mounting` tells
 // whether the camera-frame prediction is possible (full-form keys in the YAML or the side
 // file). Errors name the file and line.
 struct LoadedPredictionModel {

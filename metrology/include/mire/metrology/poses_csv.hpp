@@ -55,9 +55,6 @@ std::string posesCovarianceCsvString(const std::vector<MeasuredPose>& poses);
 void writePosesCsv(const std::filesystem::path& path, const std::vector<MeasuredPose>& poses);
 void writePosesCovarianceCsv(const std::filesystem::path& path, const std::vector<MeasuredPose>& poses);
 
-// "poses.csv" → "poses_covariance.csv" beside it.
-std::filesystem::path covarianceSidePath(const std::filesystem::path& poses_csv);
-
 // poses.csv is read back by mechanism::readPosesCsv (mire identify), the one reader of the format.
 
 }  // namespace mire::metrology

@@ -18,7 +18,6 @@
 
 namespace mire::metrology {
 
-std::filesystem::path sharedTermSidePath(const std::filesystem::path& poses_csv);
 // Empty string when neither the camera's covariance nor a detector bias is there, or no pose has
 // a sensitivity for every column.
 std::string sharedTermCsvString(const calibration::Camera& camera, const std::vector<MeasuredPose>& poses,

@@ -1,4 +1,4 @@
-#include "plan_camera.hpp"
+#include "mire/pipeline/camera_plan.hpp"
 
 #include <array>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/support/constants.hpp"
 
-namespace mire::app {
+namespace mire::pipeline {
 namespace {
 
 namespace mech = mire::mechanism;
@@ -121,4 +121,4 @@ std::string cameraPlanText(const CameraPlanSummary& summary) {
   return out.str();
 }
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

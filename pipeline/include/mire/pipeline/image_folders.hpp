@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace mire::app {
+namespace mire::pipeline {
 
 // Runs work(i) for i in [0, count) on `threads` workers (0 = all cores), each taking the next
 // index (items differ in cost).
@@ -55,4 +55,4 @@ metrology::DetectorBiasTerm sharedDetectorBias(const calibration::Camera& camera
                                                const std::vector<PoseFolderMeasurement>& poses,
                                                const metrology::MeasurementOptions& options);
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

@@ -1,6 +1,4 @@
-#include "image_check.hpp"
-
-#include "validate.hpp"
+#include "mire/pipeline/image_check.hpp"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace mire::app {
+namespace mire::pipeline {
 namespace fs = std::filesystem;
 
 bool isImageFile(const fs::path& path) {
@@ -124,4 +122,4 @@ void checkImageFile(const fs::path& path) {
     throw std::runtime_error("image '" + path.string() + "' is truncated (no end marker): copy it again");
 }
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

@@ -9,7 +9,7 @@
 
 #include <vector>
 
-namespace mire::app {
+namespace mire::pipeline {
 
 struct PoseErrorSample {
   Eigen::Matrix<double, 6, 1> error;        // estimate − truth (t [m], r [rad])
@@ -28,4 +28,4 @@ struct PoseErrorScores {
 // `camera_covariance` is Σ_k (n × n; empty when the camera has none: then only the independent parts).
 PoseErrorScores scorePoseErrors(const std::vector<PoseErrorSample>& samples, const Eigen::MatrixXd& camera_covariance);
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

@@ -6,7 +6,11 @@
 #include <filesystem>
 #include <string>
 
-namespace mire::app {
+namespace mire::pipeline {
+
+// Image limits (doc/limits.md).
+constexpr long long kMaxImageSide = 16384;          // px, either side
+constexpr long long kMaxImagePixels = 100'000'000;  // 100 megapixels
 
 // True for the extensions mire reads as images (png, jpg, jpeg, bmp, tif, tiff, pgm, ppm,
 // pnm, pbm, webp, jp2; any case). Other files in image folders are ignored.
@@ -16,4 +20,4 @@ bool isImageFile(const std::filesystem::path& path);
 // or it is truncated. Returns silently when the format is not one whose header is read here.
 void checkImageFile(const std::filesystem::path& path);
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

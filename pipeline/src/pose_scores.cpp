@@ -1,11 +1,11 @@
-#include "demo_pose_scores.hpp"
+#include "mire/pipeline/pose_scores.hpp"
 
 #include <Eigen/Cholesky>
 
 #include <cmath>
 #include <stdexcept>
 
-namespace mire::app {
+namespace mire::pipeline {
 namespace {
 
 bool hasSharedTerm(const std::vector<PoseErrorSample>& samples, const Eigen::MatrixXd& camera_covariance) {
@@ -62,4 +62,4 @@ PoseErrorScores scorePoseErrors(const std::vector<PoseErrorSample>& samples, con
   return scores;
 }
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

@@ -1,6 +1,6 @@
-#include "image_folders.hpp"
+#include "mire/pipeline/image_folders.hpp"
 
-#include "image_check.hpp"
+#include "mire/pipeline/image_check.hpp"
 
 #include "mire/metrology/detection.hpp"
 #include "mire/support/progress.hpp"
@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
-namespace mire::app {
+namespace mire::pipeline {
 namespace fs = std::filesystem;
 
 namespace {
@@ -189,4 +189,4 @@ metrology::DetectorBiasTerm sharedDetectorBias(const calibration::Camera& camera
   return metrology::estimateDetectorBias(camera, target, ids, measurements, options.pose);
 }
 
-}  // namespace mire::app
+}  // namespace mire::pipeline

@@ -12,7 +12,7 @@
 #include "mire/metrology/pose_prediction.hpp"
 #include "mire/metrology/target.hpp"
 
-namespace mire::app {
+namespace mire::pipeline {
 
 struct CameraPlanOptions {
   metrology::VisibilityOptions visibility;
@@ -67,10 +67,4 @@ std::vector<PoseSigma> plannedPoseSigmas(const mechanism::CandidateInformation& 
 // The report's lines on the camera: the exclusions and the predicted σ per planned pose (mm, deg).
 std::string cameraPlanText(const CameraPlanSummary& summary);
 
-struct PlanReportSettings;
-// report.json of `mire plan` (plan_report_json.cpp) with the `camera` section (null: none).
-void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
-                         const mechanism::CandidateInformation& info, const mechanism::DesignReport& report,
-                         const CameraPlanSummary* camera);
-
-}  // namespace mire::app
+}  // namespace mire::pipeline

@@ -1,0 +1,87 @@
+#pragma once
+// The identification stage (paper §2–6; doc/uncertainty.md): initial model → gauge → weighted
+// fit → the calibration's shared term by refits → the translating target's orientation. The one
+// recipe `mire identify`, the demos, the benchmarks and the studies run; every σ a caller prints
+// comes out of it.
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mire/mechanism/gauge.hpp"
+#include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/identification.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
+#include "mire/mechanism/registry.hpp"
+
+namespace mire::pipeline {
+
+// The model to identify: a registered model (mechanism/registry.hpp) and, for the H4's models
+// 12 and 31c, the paper's variant (Table 2, mechanism/variants.hpp), whose fixed and tied
+// parameters replace the gauge analysis.
+struct ModelChoice {
+  std::string model = "h4-12";
+  char variant = 0;          // 'A'..'D' with h4-12, 'E'..'H' with h4-31c; 0 otherwise
+  mechanism::H4Nominal h4;   // the H4 models' nominal geometry
+  std::string label() const;  // "h4-12, variant D", "h4-31 (base frame)", "delta"
+};
+
+// Completes and checks a choice made by name: the variant's model when `model` is empty
+// (A–D: h4-12, E–H: h4-31c; default h4-12), the default variant (D for h4-12, H for h4-31c).
+// Throws std::invalid_argument naming the option at fault ("--model", "--variant").
+ModelChoice chooseModel(const std::string& model, const std::string& variant, const mechanism::H4Nominal& h4 = {});
+
+// Where the shared term's refits hold the parameters the main fit held (its gauge, --fix):
+// `HeldAtMainFit`, at the main fit's values, so that the refits measure the estimate's change
+// within one gauge; `Reinitialised`, where the refit's own initialisation puts them on the
+// shifted poses (the gauge then moves with the poses: kept for the studies that show why not,
+// doc/uncertainty.md).
+enum class RefitGauge { HeldAtMainFit, Reinitialised };
+
+struct IdentifyOptions {
+  mechanism::IdentificationOptions fit;  // --fix, --prior, --robust
+  RefitGauge refit_gauge = RefitGauge::HeldAtMainFit;
+};
+
+// The model the fit starts from: nominal geometry, the mounting from the data (motion type),
+// the user's fixed parameters, and the gauge the analysis held (models without a variant).
+struct InitialModel {
+  mechanism::IdentificationModel model;
+  std::string label;
+  std::optional<mechanism::GaugeAnalysis> gauge;
+};
+// Throws std::invalid_argument for an unknown name in options.fix.
+InitialModel initialModel(const ModelChoice& choice, const std::vector<mechanism::PoseObservation>& poses,
+                          const mechanism::IdentificationOptions& options = {});
+
+// The model a shared-term refit starts from on `shifted` poses: built as `initial` was, with
+// the parameters it held placed per `options.refit_gauge`.
+mechanism::IdentificationModel refitStart(const ModelChoice& choice, const InitialModel& initial,
+                                          const std::vector<mechanism::PoseObservation>& shifted,
+                                          const IdentifyOptions& options);
+
+// The weighted fit of `initial` on `poses`; with `shared`, its covariance G Σ_k Gᵀ added by
+// central-difference refits of the whole estimator (mechanism::addSharedTermCovariance).
+mechanism::IdentificationResult fit(const ModelChoice& choice, const InitialModel& initial,
+                                    const std::vector<mechanism::PoseObservation>& poses,
+                                    const std::optional<mechanism::SharedPoseTerm>& shared,
+                                    const IdentifyOptions& options = {});
+
+// The shared term alone, added to a result of fit() made without it.
+void addSharedTerm(const ModelChoice& choice, const InitialModel& initial,
+                   const std::vector<mechanism::PoseObservation>& poses, const mechanism::SharedPoseTerm& shared,
+                   mechanism::IdentificationResult& result, const IdentifyOptions& options = {});
+
+// The whole stage.
+struct Identification {
+  InitialModel initial;
+  mechanism::IdentificationResult result;
+  // A translating plate: the covariance of the mean measured orientation the target's rotation
+  // was set from (mechanism/translating_target.hpp); std::nullopt otherwise.
+  std::optional<Eigen::Matrix3d> mean_orientation_covariance;
+};
+Identification identify(const ModelChoice& choice, const std::vector<mechanism::PoseObservation>& poses,
+                        const std::optional<mechanism::SharedPoseTerm>& shared, const IdentifyOptions& options = {});
+
+}  // namespace mire::pipeline

@@ -1,0 +1,122 @@
+// The identification stage (identify.hpp).
+#include "mire/pipeline/identify.hpp"
+
+#include "mire/mechanism/translating_target.hpp"
+#include "mire/mechanism/variants.hpp"
+
+#include <cctype>
+#include <stdexcept>
+
+namespace mire::pipeline {
+namespace mech = mire::mechanism;
+
+namespace {
+
+char variantLetter(const std::string& variant) {
+  if (variant.empty()) return 0;
+  const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(variant[0])));
+  if (variant.size() != 1 || letter < 'A' || letter > 'H')
+    throw std::invalid_argument("--variant '" + variant + "': expected one letter A..H");
+  return letter;
+}
+
+// The registered model a choice names, with the H4's nominal geometry.
+mech::RegisteredModel registered(const ModelChoice& choice) { return mech::makeRegisteredModel(choice.model, choice.h4); }
+
+}  // namespace
+
+std::string ModelChoice::label() const {
+  if (variant) return model + ", variant " + std::string(1, variant);
+  return model == "h4-31" ? "h4-31 (base frame)" : model;
+}
+
+ModelChoice chooseModel(const std::string& model, const std::string& variant, const mech::H4Nominal& h4) {
+  ModelChoice choice;
+  choice.h4 = h4;
+  char letter = variantLetter(variant);
+  const bool camera_frame_variant = letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera;
+  choice.model = !model.empty() ? model : camera_frame_variant ? "h4-31c" : "h4-12";
+  try {
+    registered(choice);
+  } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
+    throw std::invalid_argument("--model '" + choice.model + "': " + error.what());
+  }
+  if (choice.model == "h4-12" && !letter) letter = 'D';
+  if (choice.model == "h4-31c" && !letter) letter = 'H';
+  if (letter && (choice.model != "h4-12" && choice.model != "h4-31c"))
+    throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + choice.model);
+  const mech::H4ModelKind kind =
+      choice.model == "h4-12" ? mech::H4ModelKind::Model12 : mech::H4ModelKind::Model31Camera;
+  if (letter && mech::h4Variant(letter).model != kind)
+    throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + choice.model +
+                                " (A-D: h4-12, E-H: h4-31c)");
+  choice.variant = letter;
+  return choice;
+}
+
+InitialModel initialModel(const ModelChoice& choice, const std::vector<mech::PoseObservation>& poses,
+                          const mech::IdentificationOptions& options) {
+  InitialModel initial;
+  initial.label = choice.label();
+  if (choice.variant) {
+    initial.model = mech::makeH4VariantModel(choice.variant, choice.h4, poses, options);
+  } else {
+    const mech::RegisteredModel model = registered(choice);
+    initial.model = mech::makeInitialModel(model.mechanism, model.nominal, poses, model.external_form);
+    // The axis-aligned form's gauge is its convention (z_ME held, paper eq. 24); the others' is
+    // found from the data, after the user's --fix so that the analysis keeps to it.
+    if (model.external_form != mech::ExternalForm::AxisAligned) {
+      for (const auto& name : options.fix) initial.model.parameters.at(name);  // names an unknown one
+      initial.model.parameters.fix(options.fix);
+      initial.gauge = mech::fixGauge(initial.model, poses);
+    }
+  }
+  for (const auto& name : options.fix)
+    if (!initial.model.parameters.contains(name)) initial.model.parameters.at(name);  // throws naming the known ones
+  return initial;
+}
+
+mech::IdentificationModel refitStart(const ModelChoice& choice, const InitialModel& initial,
+                                     const std::vector<mech::PoseObservation>& shifted, const IdentifyOptions& options) {
+  if (choice.variant) return mech::makeH4VariantModel(choice.variant, choice.h4, shifted, options.fit);
+  const mech::RegisteredModel model = registered(choice);
+  mech::IdentificationModel start = mech::makeInitialModel(model.mechanism, model.nominal, shifted, model.external_form);
+  if (!initial.gauge) return start;
+  std::vector<std::string> held = options.fit.fix;
+  held.insert(held.end(), initial.gauge->gauge.begin(), initial.gauge->gauge.end());
+  if (options.refit_gauge == RefitGauge::HeldAtMainFit)
+    for (const std::string& name : held) start.parameters.setValue(name, initial.model.parameters.value(name));
+  start.parameters.fix(held);
+  return start;
+}
+
+void addSharedTerm(const ModelChoice& choice, const InitialModel& initial,
+                   const std::vector<mech::PoseObservation>& poses, const mech::SharedPoseTerm& shared,
+                   mech::IdentificationResult& result, const IdentifyOptions& options) {
+  mech::IdentificationOptions quiet = options.fit;
+  quiet.compute_identifiability = false;
+  mech::addSharedTermCovariance(result, poses, shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+    mech::IdentificationResult refit = mech::identify(refitStart(choice, initial, shifted, options), shifted, quiet);
+    mech::alignTranslatingTarget(*refit.model.mechanism, refit.model.external, refit.model.parameters, shifted);
+    return refit;
+  });
+}
+
+mech::IdentificationResult fit(const ModelChoice& choice, const InitialModel& initial,
+                               const std::vector<mech::PoseObservation>& poses,
+                               const std::optional<mech::SharedPoseTerm>& shared, const IdentifyOptions& options) {
+  mech::IdentificationResult result = mech::identify(initial.model, poses, options.fit);
+  if (shared) addSharedTerm(choice, initial, poses, *shared, result, options);
+  return result;
+}
+
+Identification identify(const ModelChoice& choice, const std::vector<mech::PoseObservation>& poses,
+                        const std::optional<mech::SharedPoseTerm>& shared, const IdentifyOptions& options) {
+  Identification out;
+  out.initial = initialModel(choice, poses, options.fit);
+  out.result = fit(choice, out.initial, poses, shared, options);
+  out.mean_orientation_covariance = mech::alignTranslatingTarget(out.result, poses);
+  return out;
+}
+
+}  // namespace mire::pipeline
