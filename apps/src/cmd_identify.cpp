@@ -1,5 +1,5 @@
 // `mire identify`: geometric + external parameters of the H4 from measured target poses and
-// encoder readings (paper §2–6; doc/identification-h4.md), with the paper's evaluation criteria and an
+// encoder readings (paper §2–6; doc/mechanisms.md), with the paper's evaluation criteria and an
 // optional Monte-Carlo study over random pose subsets. Everything is computed before anything
 // is written: bad input stops with a message naming the file/line and writes nothing.
 #include "commands.hpp"
@@ -264,7 +264,7 @@ InitialModel initialModel(const ModelChoice& choice, const IdentifyInputs& input
 // The shared-term refits' starting model on the shifted poses: built as the initial one, with
 // the parameters the main fit held (the gauge it chose, --fix) held at the main fit's values, so
 // that the refits measure the estimate's change within that gauge, not a change of frame
-// (doc/uncertainty.md, "the Delta and the Gough–Stewart": re-initialised, the gauge moved with
+// (doc/studies/2026-11-24-chain-study-delta-gough-stewart.md: re-initialised, the gauge moved with
 // the shifted poses and left σ 100–1000x too small along some directions).
 mech::IdentificationModel refitStart(const ModelChoice& choice, const IdentifyInputs& inputs,
                                      const InitialModel& initial, const std::vector<mech::PoseObservation>& shifted) {
