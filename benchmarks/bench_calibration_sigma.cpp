@@ -1,5 +1,5 @@
 // Calibration σ under systematic error (run by hand, results in
-// doc/camera-models.md): over N rendered calibration sets like the demo's (new poses and
+// doc/calibration.md): over N rendered calibration sets like the demo's (new poses and
 // noise each), RMS of error/σ per parameter with pixel-noise σ ("before") and with the printed
 // σ, inflated by the view-cluster sandwich where the residuals show systematic error ("after").
 // Usage: bench_calibration_sigma [sets = 20] [views = 25]

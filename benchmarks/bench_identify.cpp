@@ -1,5 +1,5 @@
 // One H4 identification: model 12 + 7 external parameters (19 unknowns), 81 poses of the
-// 81-pose protocol (doc/identification-h4.md, "Evaluation criteria") with 0.2 mm / 0.03° noise on cTm and the pose
+// 81-pose protocol (doc/mechanisms.md, "Evaluation criteria") with 0.2 mm / 0.03° noise on cTm and the pose
 // covariances as weights. Target: < 5 ms per identification. Prints the median time of repeated runs.
 #include <Eigen/Geometry>
 

@@ -1,5 +1,5 @@
-// `mire identify` linear in the pose count (doc/mechanisms.md "Identify linear in the
-// pose count"): the library calls `mire identify --model h4-12` makes (read poses.csv +
+// `mire identify` linear in the pose count (doc/studies/2026-11-24-identify-scaling.md): the
+// library calls `mire identify --model h4-12` makes (read poses.csv +
 // joints.csv, makeH4VariantModel 'D' = axis alignment + FKM + linear mounting, identify
 // weighted by the pose covariances) on 10³, 10⁴ and 10⁵ simulated H4 poses (random poses in the
 // protocol volume, 0.2 mm / 0.03° noise), CPU time per stage and the ratios between sizes.

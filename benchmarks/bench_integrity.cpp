@@ -1,5 +1,5 @@
 // Static-pose integrity and campaign screening on the demo's campaign
-// (doc/measure-integrity.md), run by hand:
+// (doc/measurement.md, "Imperfect campaigns"), run by hand:
 //   bench_integrity [campaign_dir]   (default /tmp/mire-bench-integrity; generated if absent)
 //  1. false alarms: the 81 genuinely static poses × 10 images of the H4 reference campaign
 //     (H4CampaignSpec::reference: defocus 0.6 px, read + shot noise), measured with the true

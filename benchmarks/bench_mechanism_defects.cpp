@@ -139,7 +139,7 @@ std::vector<Case> cases(double wide_spread, double wide_reach) {
       {"Hexapod, gains + ecc., noise-free", "gough-stewart-gains", hexapod(2e-3, 0.3e-3), false},
       {"Hexapod, gains 7e-4 (C10 screws)", "gough-stewart", hexapod(7e-4, 0.0)},
       {"Hexapod, gains 7e-4 (C10 screws)", "gough-stewart-gains", hexapod(7e-4, 0.0)},
-      // Geometric errors of the paper's robot's size (3 mm / 3°, doc/identification-h4.md).
+      // Geometric errors of the paper's robot's size (3 mm / 3°, doc/mechanisms.md).
       {"Delta 3mm/3deg, equal legs, tilt", "delta", delta(false, 0.0116, 3e-3, 3 * deg)},
       {"Delta 3mm/3deg FLOOR (no defect)", "delta", delta(false, 0.0, 3e-3, 3 * deg)},
       {"Delta 3mm/3deg, legs differ, tilt", "delta", delta(true, 0.0116, 3e-3, 3 * deg)},

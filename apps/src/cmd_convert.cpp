@@ -1,5 +1,5 @@
 // `mire convert --camera IN -o OUT [--to FORMAT]`: a camera file from one tool's format to
-// another's (doc/files.md "Camera files"). The input format is detected from its content, the
+// another's (doc/file-formats.md "Camera files"). The input format is detected from its content, the
 // output format taken from --to or from OUT's extension.
 #include "commands.hpp"
 

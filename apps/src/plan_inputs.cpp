@@ -1,5 +1,5 @@
 // Readers of the plan/select inputs (doc/plan-and-select.md), on the strict YAML layer of
-// support/ (doc/files.md) and the parameter-file reader of mechanism/io.hpp.
+// support/ (doc/file-formats.md) and the parameter-file reader of mechanism/io.hpp.
 #include "plan_inputs.hpp"
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Camera files of other tools: format detection, the ViSP XML reader (ViSP's own parser), and
-// the Kalibr and mrcal writers (doc/files.md "Camera files").
+// the Kalibr and mrcal writers (doc/file-formats.md "Camera files").
 #include "mire/calibration/camera_formats.hpp"
 
 #include "mire/calibration/camera_io.hpp"

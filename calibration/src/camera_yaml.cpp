@@ -1,4 +1,4 @@
-// camera.yaml (OpenCV keys + mire's, doc/files.md) and ROS camera_info YAML, read by one
+// camera.yaml (OpenCV keys + mire's, doc/file-formats.md) and ROS camera_info YAML, read by one
 // reader through mire::support's YAML layer, and written as plain YAML.
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/calibration/camera_io.hpp"

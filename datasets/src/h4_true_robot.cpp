@@ -34,7 +34,7 @@ ArmFrame armFrame(const H4TrueLeg& leg) {
   return {m.col(0), m.col(1), m.col(2)};
 }
 
-// Nacelle offset of attachment i before tilt: ε·h·(cosθ, sinθ, 0) + σ·d·(0,1,0) (doc/mechanism-models.md, "H4
+// Nacelle offset of attachment i before tilt: ε·h·(cosθ, sinθ, 0) + σ·d·(0,1,0) (doc/mechanisms.md, "H4
 // model 12").
 template <typename T>
 Vec3<T> nacelleOffset(const H4TrueGeometry& g, int leg, const T& theta) {
@@ -44,7 +44,7 @@ Vec3<T> nacelleOffset(const H4TrueGeometry& g, int leg, const T& theta) {
   return Vec3<T>(eps * g.h * cos(theta), eps * g.h * sin(theta) + T(sig * g.d), T(0.0));
 }
 
-// Arm angle φ solving ‖A − P − L·V(φ)‖ = l, elbow-out branch (doc/mechanism-models.md, "H4 model 12", general axis):
+// Arm angle φ solving ‖A − P − L·V(φ)‖ = l, elbow-out branch (doc/mechanisms.md, "H4 model 12", general axis):
 // with w = A − P, a = −w·e1, b = −w·e2, c = (L² + ‖w‖² − l²)/(2L): a cosφ + b sinφ = c.
 // Returns false when |c| > ρ (unreachable). `clamp` keeps the result finite for the tilt model.
 template <typename T>

@@ -1,4 +1,4 @@
-// External parameters (paper §4; doc/mechanism-models.md): forms of bTc, mTe, the rotation-axis
+// External parameters (paper §4; doc/mechanisms.md): forms of bTc, mTe, the rotation-axis
 // pre-alignment and the closed-form initial estimate from the data.
 #include "mire/mechanism/external.hpp"
 

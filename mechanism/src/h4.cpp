@@ -1,4 +1,4 @@
-// H4 models 12, 31 and 31-in-the-camera-frame (paper §3.2–3.3, §4.2; doc/mechanism-models.md).
+// H4 models 12, 31 and 31-in-the-camera-frame (paper §3.2–3.3, §4.2; doc/mechanisms.md).
 #include "mire/mechanism/h4.hpp"
 
 #include <cmath>

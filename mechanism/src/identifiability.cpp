@@ -1,4 +1,4 @@
-// Identifiability of J_ξ (paper §2.2 eq. 5–12; doc/mechanism-models.md): SVD of the column-scaled Jacobian,
+// Identifiability of J_ξ (paper §2.2 eq. 5–12; doc/mechanisms.md): SVD of the column-scaled Jacobian,
 // rank, QR with column pivoting (Khalil & Besnard) and named null-space combinations.
 #include "mire/mechanism/identifiability.hpp"
 

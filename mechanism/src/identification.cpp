@@ -1,4 +1,4 @@
-// Identification with Ceres (paper eq. 2/4; doc/mechanism-models.md): weighted IKM residuals, priors,
+// Identification with Ceres (paper eq. 2/4; doc/mechanisms.md): weighted IKM residuals, priors,
 // robust loss, covariance of the estimate and the identifiability report at the solution.
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/identification_covariance.hpp"

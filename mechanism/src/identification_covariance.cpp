@@ -244,7 +244,7 @@ constexpr int kResidualSandwichPosesPerParameter = 3;
 //    detector's systematic feature error included, where the modelled independent part
 //    Σ_j − D_j Σ_k D_jᵀ misses it — on rendered H4 chains the modelled term left σ up to 2.2×
 //    too small, the residual term brought 16 of 19 parameters into [0.8, 1.25]
-//    (doc/uncertainty.md, "Rendered-image chain study");
+//    (doc/studies/2026-11-24-chain-study-h4.md);
 //  * with fewer poses (the sandwich would rest on too few residual degrees of freedom), by the
 //    modelled sandwich above, scaled when χ² lies outside the band around its expected value
 //    (only when the fit was scaled at all).
@@ -271,7 +271,7 @@ void replaceFitTerm(IdentificationResult& result, const std::vector<PoseObservat
 // covariances, as if their shared part D_j Σ_k D_jᵀ were independent per pose. The refits above
 // re-estimate the alignment from the shifted orientations, so they already carry that part,
 // as shared: the tilts' covariance is recomputed from the independent part Σ_j − D_j Σ_k D_jᵀ
-// alone (doc/uncertainty.md, "Rendered-image chain study"), and the model's alignment carries it.
+// alone (doc/uncertainty.md, "The axis-alignment term"), and the model's alignment carries it.
 void replaceAlignmentTerm(IdentificationResult& result, const std::vector<PoseObservation>& poses,
                           const SharedPoseTerm& shared) {
   const Eigen::MatrixXd& S = result.alignment_sensitivity;

@@ -1,6 +1,6 @@
 #pragma once
 // Large identification problems (`mire identify` linear in the pose count,
-// doc/mechanisms.md "Identify linear in the pose count"). Above kLargeProblemRows residual
+// doc/studies/2026-11-24-identify-scaling.md). Above kLargeProblemRows residual
 // rows (5 000 H4 poses) the stacked N×P Jacobians no longer fit in the caches, and every
 // dense pass over them (Householder QR, SVD preconditioning, copies) costs more per row than
 // at 10⁴ rows. Such problems are reduced to P×P first: the same singular values, V and

@@ -111,7 +111,7 @@ bool nested(const ModelScore& a, const ModelScore& b) {
       if (std::find(b.free_names.begin(), b.free_names.end(), n) == b.free_names.end()) return false;
     return true;
   }
-  // Model 12 is model 31 at ψ_i = α_i + π, β_i = π/2 (doc/mechanism-models.md); the Delta is
+  // Model 12 is model 31 at ψ_i = α_i + π, β_i = π/2 (doc/mechanisms.md); the Delta is
   // its per-leg model with equal legs, the hexapod its gains model at s_i = 1 (doc/mechanisms.md).
   // Only a model-31 variant that frees h and the forearms nests every model-12 variant.
   const auto frees = [&b](const char* n) {

@@ -1,4 +1,4 @@
-// Mechanism parameter files (io.hpp; keys: doc/file-formats.md, doc/files.md): read through
+// Mechanism parameter files (io.hpp; keys: doc/file-formats.md): read through
 // mire::support's YAML layer, written as plain YAML that PyYAML reads too.
 #include "mire/mechanism/io.hpp"
 

@@ -33,7 +33,7 @@ PoseVector toPoseVector(const Eigen::Isometry3d& transform) {
 
 void validatePoses(const std::vector<PoseObservation>& poses, int joint_count) {
   // Hashed views (no copies): linear in the pose count and small enough for the caches at
-  // 10⁵ poses, unlike a tree of copied strings (doc/mechanisms.md "Identify linear in the pose count").
+  // 10⁵ poses, unlike a tree of copied strings (doc/studies/2026-11-24-identify-scaling.md).
   std::unordered_set<std::string_view> ids(poses.size());
   for (const PoseObservation& p : poses) {
     const auto where = [&p] { return "pose '" + p.id + "': "; };

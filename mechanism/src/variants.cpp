@@ -1,4 +1,4 @@
-// Variants A–H of the paper's Table 2 (doc/mechanism-models.md).
+// Variants A–H of the paper's Table 2 (doc/mechanisms.md).
 #include "mire/mechanism/variants.hpp"
 
 #include <cctype>

@@ -1,4 +1,4 @@
-// `mire calibrate --model pinhole|fisheye --fix ...` (doc/camera-models.md) on real images:
+// `mire calibrate --model pinhole|fisheye --fix ...` (doc/calibration.md) on real images:
 // ViSP's circle photos with the pinhole model reproduce ViSP's published intrinsics, --fix
 // prints "fixed" and keeps the value, and --refine-target on OpenCV's left*.jpg (Debian
 // opencv-doc) writes finite numbers with cy consistent with the flat-board result.

@@ -1,4 +1,4 @@
-// `mire measure` on an imperfect campaign (doc/measure-integrity.md): a pose folder
+// `mire measure` on an imperfect campaign (doc/measurement.md, "Imperfect campaigns"): a pose folder
 // mixing two views fails naming the moved images, or with --split-moving keep-largest keeps the
 // majority and lists the rest; copied frames are counted once; the flags column and the
 // terminal say why.

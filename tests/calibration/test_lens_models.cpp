@@ -1,7 +1,7 @@
 // Every lens model, one struct each (COLMAP-style): the templated projection against its
 // reference implementation in OpenCV (cv::projectPoints, cv::fisheye::projectPoints) to
 // 1e-10 px, unproject as its exact inverse, and calibration of exact synthetic views.
-// Adding a model (lens_models.hpp, doc/camera-models.md): add a struct here with camera()
+// Adding a model (lens_models.hpp, doc/calibration.md): add a struct here with camera()
 // (a realistic camera of that model), reference() (OpenCV's projection of camera-frame
 // points) and model (calibrate's DistortionModel), and append it to LensModelTypes.
 #include "mire/calibration/calibrate.hpp"

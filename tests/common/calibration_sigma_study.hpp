@@ -1,5 +1,5 @@
 #pragma once
-// Calibration σ under systematic error (doc/camera-models.md): calibration sets
+// Calibration σ under systematic error (doc/calibration.md): calibration sets
 // rendered like the demo's (reference camera, the H4 chessboard 12 × 9 of 16 mm, blur 0.6 px,
 // read noise 1.5 grey levels + shot noise), detected by mire's detector, whose sub-pixel bias
 // on rendered corners is the systematic error; each set calibrated once, and error/σ of every

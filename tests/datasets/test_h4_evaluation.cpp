@@ -1,4 +1,4 @@
-// Identification of the simulated TRUE H4 judged by the paper's criteria (paper §6; doc/identification-h4.md,
+// Identification of the simulated TRUE H4 judged by the paper's criteria (paper §6; doc/mechanisms.md,
 // "Evaluation criteria"): V2 down to the joint-noise level, V3 straightness, the square test, the Monte-Carlo study.
 // (Lives in the datasets suite because it needs the true robot; the criteria themselves are
 // unit-tested in tests/mechanism/test_evaluation.cpp.)

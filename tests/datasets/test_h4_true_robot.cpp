@@ -12,7 +12,7 @@ namespace {
 H4TrueRobot defectiveRobot() { return H4TrueRobot(makeTrueGeometry(H4Model12Values{}, H4ErrorSizes{}, 3)); }
 
 TEST(H4TrueRobot, NominalIkmMatchesBriefClosedForm) {
-  // The model-12 closed form (doc/mechanism-models.md) on the nominal geometry at the workspace centre, leg 1.
+  // The model-12 closed form (doc/mechanisms.md) on the nominal geometry at the workspace centre, leg 1.
   const H4TrueRobot robot(geometryFromModel12(H4Model12Values{}));
   const H4Pose x(0.01, -0.02, -0.62, 0.1);
   const auto q = robot.joints(x);

@@ -202,7 +202,7 @@ TEST(IdentificationSigma, SharedTermPropagationRestoresCoverage) {
                 rms(with[name]), rms(without[name]));
     // 30 campaigns: an RMS of error/σ has a sampling spread of about ±0.13 (1/√60) around 1.
     // Measured: h 0.75 (σ too large) ... L 1.14 (L was 1.32 before the fit's term counted the
-    // shared part once: doc/uncertainty.md, "Rendered-image chain study").
+    // shared part once: doc/studies/2026-11-24-chain-study-h4.md).
     EXPECT_GT(rms(with[name]), 0.7) << name;
     EXPECT_LT(rms(with[name]), 1.25) << name;
     worst_without = std::max(worst_without, rms(without[name]));

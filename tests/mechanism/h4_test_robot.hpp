@@ -1,7 +1,7 @@
 #pragma once
 // A small simulated H4 for the mechanism tests: a "true" model-12 robot ≈1 mm / 0.5° from
-// the nominal of doc/mechanism-models.md, true camera and target transforms, the 81-pose
-// protocol of doc/identification-h4.md and cTm noise of 0.2 mm / 0.03° per component (paper §5).
+// the nominal of doc/mechanisms.md, true camera and target transforms, the 81-pose
+// protocol of doc/mechanisms.md and cTm noise of 0.2 mm / 0.03° per component (paper §5).
 #include <Eigen/Geometry>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Identification of the simulated H4 (paper §6 protocol, doc/identification-h4.md): recovery within the predicted σ,
+// Identification of the simulated H4 (paper §6 protocol, doc/mechanisms.md): recovery within the predicted σ,
 // Monte-Carlo coverage of σ, external initialisation, rank and named combinations (eq. 24),
 // variants A–H (Table 2), outliers, priors.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Large identification problems (doc/mechanisms.md "Identify linear in the pose count"): above
+// Large identification problems (doc/mechanisms.md "Large problems"): above
 // 20 000 residual rows identify() never stores the N×P Jacobian at the solution; it streams it
 // into row compressions (RᵀR = AᵀA). Here the streamed covariance and identifiability are
 // checked against the direct formulas on the whole matrices, built in the test from the public

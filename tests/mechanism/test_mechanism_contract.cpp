@@ -125,7 +125,7 @@ TYPED_TEST(MechanismContract, IdentificationRecoversPerturbedTruth) {
 // The Delta's base offsets and its legs' base positions are equivalent (a translating target):
 // the gauge holds the mounting, whatever the rounding. Before the pivot priority, rounding freed
 // tx_CB and ty_CB on 4 of 120 rendered chains, where identify then returned a base turned by up
-// to 9° (17–58σ; doc/uncertainty.md, "The base offset on a few Delta chains"), and here on seeds
+// to 9° (17–58σ; doc/studies/2026-11-25-delta-gauge-120-chains.md), and here on seeds
 // 3 and 6 (of 60 tried with the priority: none).
 TEST(MechanismContractNames, TheDeltaGaugeHoldsTheBaseOffsetsNotTheLegs) {
   for (unsigned seed = 1; seed <= 12; ++seed) {

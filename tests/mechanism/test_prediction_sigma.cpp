@@ -1,4 +1,4 @@
-// σ honesty of the FKM prediction (doc/mechanisms.md "fkm and ikm"): over exact-model
+// σ honesty of the FKM prediction (doc/mechanisms.md "`mire fkm` and `mire ikm`"): over exact-model
 // campaigns, the predicted cTm of held-out poses (joints not used by the identification)
 // against the noise-free truth, each component's error divided by its predicted σ;
 // std(error/σ) must be in [0.8, 1.25] (first-order propagation of the parameter covariance,

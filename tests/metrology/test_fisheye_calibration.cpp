@@ -1,4 +1,4 @@
-// Fisheye acceptance (doc/camera-models.md): chessboard views rendered through a
+// Fisheye acceptance (doc/calibration.md): chessboard views rendered through a
 // wide-angle fisheye camera (1024×768, fx ≈ 300: ≈ 120° across the width; k1..k4 of a real
 // lens, Kalibr's equidistant example) are detected by mire's detector and calibrated with the
 // fisheye model: fx fy cx cy within 0.3 px of the truth, and within 3σ of it.

@@ -1,5 +1,5 @@
 // Static-pose integrity, duplicates, the one-image reduced χ² and campaign screening, from
-// rendered images with known truth (doc/measure-integrity.md).
+// rendered images with known truth (doc/measurement.md, "Imperfect campaigns").
 #include "chessboard_views.hpp"
 #include "feature_displacement.hpp"
 #include "mire/datasets/feature_campaign.hpp"
@@ -214,7 +214,7 @@ TEST(PoseIntegrity, IdenticalFramesCountOnceWithTheOneImageSigma) {
 // A campaign of 10 poses (3 images each) with one downscaled and one blurred pose: the
 // downscaled one (its pose off by a fraction of a millimetre) is flagged for its reprojection
 // RMS and σ, the others not. Defocus (σ = 3 px) does not bias the chessboard corners: that pose
-// stays accurate and is rightly not flagged (doc/measure-integrity.md).
+// stays accurate and is rightly not flagged (doc/measurement.md, "Imperfect campaigns").
 TEST(CampaignScreening, DownscaledPoseIsFlaggedBlurredPoseStaysAccurate) {
   const auto camera = mire::datasets::referenceCamera();
   const auto target = mire::test::chessboard9x6();

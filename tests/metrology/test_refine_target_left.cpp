@@ -77,7 +77,7 @@ TEST(RefineTargetLeft, FiniteAndTheCyShiftIsTheBoardsDeformation) {
       refined.camera.fx(), explained.camera.fx());
   EXPECT_LT(std::abs(shift - predicted), 2.0 * sigma_flat);
   // The deformed board leaves residuals correlated within each view: the flat calibration's σ
-  // grow with that evidence (view-cluster sandwich), here cy's by ≈ 1.9 (doc/camera-models.md).
+  // grow with that evidence (view-cluster sandwich), here cy's by ≈ 1.9 (doc/calibration.md).
   std::printf("left*.jpg flat: sigma inflation fx %.2f fy %.2f cx %.2f cy %.2f k1 %.2f\n", flat.sigma_inflation[0],
               flat.sigma_inflation[1], flat.sigma_inflation[2], flat.sigma_inflation[3], flat.sigma_inflation[4]);
   EXPECT_GT(flat.sigma_inflation[3], 1.5);

@@ -27,7 +27,7 @@
 
 namespace mire::calibration {
 
-// The models calibrate estimates (doc/camera-models.md). OpenCV's distortion models:
+// The models calibrate estimates (doc/calibration.md). OpenCV's distortion models:
 // pinhole = no distortion, opencv4 = k1 k2 p1 p2 (Bouguet's toolbox, k3 = 0), opencv5 = + k3
 // (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL); fisheye = OpenCV's
 // cv::fisheye equidistant model, k1..k4.
@@ -62,7 +62,7 @@ struct CalibrationOptions {
   bool refine_target = false;
 
   // Inflate the covariance by the view-cluster (sandwich) estimate where it is larger: the
-  // σ then include systematic errors that are correlated within a view (doc/camera-models.md).
+  // σ then include systematic errors that are correlated within a view (doc/calibration.md).
   bool view_cluster_covariance = true;
 
   // Working distance for the projection uncertainty; 0 = the median distance of the target
@@ -123,7 +123,7 @@ struct CalibrationResult {
   double target_out_of_plane_max_m = 0.0;
   double target_displacement_rms_m = 0.0;  // refined − nominal (3D)
 
-  // What the σ include (doc/camera-models.md): camera.covariance and state_covariance are the
+  // What the σ include (doc/calibration.md): camera.covariance and state_covariance are the
   // classical σ² (JᵀJ)⁻¹ (pixel noise, estimated from the residuals) with each parameter's σ
   // multiplied by sigma_inflation (≥ 1; ambient order, 1 for fixed parameters): the ratio of
   // the view-cluster sandwich σ to the classical one, when residuals are correlated within

@@ -1,5 +1,5 @@
 #pragma once
-// Camera files of other tools, both ways (doc/files.md "Camera files"): one reader that
+// Camera files of other tools, both ways (doc/file-formats.md "Camera files"): one reader that
 // detects the format from the content, and a writer per format.
 //   opencv : mire's camera.yaml and OpenCV's own key variants (readCameraYaml)
 //   ros    : ROS camera_info YAML (camera_calibration, camera_info_manager)

@@ -1,5 +1,5 @@
 #pragma once
-// camera.yaml (OpenCV FileStorage, doc/file-formats.md; doc/files.md, "Camera files") and ViSP's camera XML.
+// camera.yaml (OpenCV FileStorage, doc/file-formats.md, "Camera files") and ViSP's camera XML.
 #include "mire/calibration/camera_model.hpp"
 #include "mire/support/yaml.hpp"
 
@@ -8,7 +8,7 @@
 
 namespace mire::calibration {
 
-// Reads camera.yaml (any YAML syntax, doc/files.md): OpenCV keys image_width, image_height,
+// Reads camera.yaml (any YAML syntax, doc/file-formats.md): OpenCV keys image_width, image_height,
 // camera_matrix, distortion_coefficients (0, 4, 5, 8 or 12 values; 4 with model: fisheye),
 // OpenCV's and ROS camera_info's variants of them, mire's optional keys model, rms_px,
 // covariance (with covariance_parameters naming its order) and sigma. Throws

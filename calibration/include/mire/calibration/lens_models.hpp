@@ -4,9 +4,9 @@
 // (ceres::Jet) and plain doubles share one implementation; `distortLens` dispatches on the
 // run-time LensModel and is the single entry point used by projectPoint (camera_model.hpp),
 // hence by calibration, Camera::project/unproject, pose estimation, the projection
-// uncertainty and the renderer. See doc/camera-models.md.
+// uncertainty and the renderer. See doc/calibration.md.
 //
-// Adding a model (the recipe, also in doc/camera-models.md):
+// Adding a model (the recipe, also in doc/calibration.md):
 //  1. a struct below with kLens, kName, isValidCount(count), coefficientName(i) and the
 //     templated distort(coefficients, count, x, y, xd, yd) — pure arithmetic on T, no branches
 //     on derivatives (compare only values), smooth at the optical axis;

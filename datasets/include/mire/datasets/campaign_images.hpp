@@ -49,7 +49,7 @@ std::string campaignPoseId(std::size_t index);
 Eigen::Vector3d targetCentroid(const metrology::Target& target);
 
 // `key: [16 numbers]`, the 4 × 4 matrix row by row, as the campaigns' truth files write their
-// mountings (numbers PyYAML also reads as floats, doc/files.md).
+// mountings (numbers PyYAML also reads as floats, doc/file-formats.md).
 std::string isometryYaml(const std::string& key, const Eigen::Isometry3d& transform);
 
 }  // namespace mire::datasets

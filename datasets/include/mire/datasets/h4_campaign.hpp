@@ -1,5 +1,5 @@
 #pragma once
-// The paper's experiment in simulation (paper §5–6; doc/identification-h4.md, "Evaluation criteria"): a simulated
+// The paper's experiment in simulation (paper §5–6; doc/mechanisms.md, "Evaluation criteria"): a simulated
 // true H4 carrying a target, seen by the reference camera. Generates, deterministically for a seed, everything a
 // user would have recorded on the real robot, as files in the formats of doc/file-formats.md:
 //   <dir>/target.yaml                      the target

@@ -1,7 +1,7 @@
 #pragma once
-// A simulated "true" H4 robot (doc/identification-h4.md, "The simulated true H4"): the ground truth that
+// A simulated "true" H4 robot (doc/mechanisms.md, "The simulated true H4"): the ground truth that
 // identification is tested against. It carries what model 12 can represent (R, L, l, h, α_i, q0_i errors) AND what it
-// cannot (paper §6.3; doc/identification-h4.md, "Evaluation criteria"): per-leg arm/forearm lengths, non-coplanar
+// cannot (paper §6.3; doc/mechanisms.md, "Evaluation criteria"): per-leg arm/forearm lengths, non-coplanar
 // pivots, tilted arm axes (a model-31-like geometry per leg) and imperfect parallelograms that tilt the
 // nacelle by ≈0.1°, varying over the workspace.
 //
@@ -63,22 +63,22 @@ struct H4TrueGeometry {
   double bar_spacing = 0.10;    // s: distance between the two bars of a forearm (m)
   double rotation_ratio = 1.0;  // k: effector rotation = k·θ
   // The nacelle was levelled at assembly at this pose (the workspace centre, H configuration):
-  // the tilt is zero there, so z_B (normal to the nacelle, doc/mechanism-models.md) stays well defined.
+  // the tilt is zero there, so z_B (normal to the nacelle, doc/mechanisms.md) stays well defined.
   Eigen::Vector4d level_pose{0.0, 0.0, -0.62, 0.0};
 };
 
-// The model-12 parameter values (doc/mechanism-models.md, "H4 model 12") a true geometry can be built from: the
+// The model-12 parameter values (doc/mechanisms.md, "H4 model 12") a true geometry can be built from: the
 // mechanism module's nominal struct (R, L, l, h, d, α_i, q0_i, amplification k).
 using H4Model12Values = mechanism::H4Nominal;
 
-// Leg signs (ε_i, σ_i) of doc/mechanism-models.md are the mechanism module's mechanism::kH4Epsilon, kH4Sigma.
+// Leg signs (ε_i, σ_i) of doc/mechanisms.md are the mechanism module's mechanism::kH4Epsilon, kH4Sigma.
 
 // Exactly the geometry model 12 describes for `values` (no unmodelled defect).
 H4TrueGeometry geometryFromModel12(const H4Model12Values& values);
 
 // Sizes (1σ) of the random errors drawn by makeTrueGeometry.
 struct H4ErrorSizes {
-  // Manufacturing errors model 12 CAN represent (default ≈1 mm / 0.5°, doc/identification-h4.md).
+  // Manufacturing errors model 12 CAN represent (default ≈1 mm / 0.5°, doc/mechanisms.md).
   double length_m = 1e-3;              // R, L, l, h
   double angle_rad = 0.5 * kH4Degree;  // α_i
   // q0_i: encoder zero offsets. The paper's robot was off by far more than 0.5° (V2 −98 %,
@@ -106,7 +106,7 @@ H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSiz
 // of that robot (exact when `sizes` has no unmodelled defects).
 H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes, std::uint64_t seed);
 
-// Default true mounting of the camera (doc/identification-h4.md, "The simulated true H4"): below the workspace,
+// Default true mounting of the camera (doc/mechanisms.md, "The simulated true H4"): below the workspace,
 // looking up (z_C ≈ z_B), ≈0.8 m from the target, turned by ψ_BC = 25° with a 1–2° tilt like a real bracket.
 Eigen::Isometry3d defaultBaseTCamera();
 // Default true mounting of the target: plane parallel to the nacelle (z_M = z_E), 40 mm below
@@ -153,7 +153,7 @@ class H4TrueRobot {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Protocol of paper §5–6 (doc/identification-h4.md, "Evaluation criteria").
+// Protocol of paper §5–6 (doc/mechanisms.md, "Evaluation criteria").
 
 struct H4ProtocolGrid {
   Eigen::Vector3d centre{0.0, 0.0, -0.62};

@@ -1,6 +1,6 @@
 #pragma once
 // Simulated true Delta and Gough–Stewart robots with defects their simple models cannot
-// represent (doc/mechanisms.md "Unmodelled defects"):
+// represent (doc/studies/2026-11-23-mechanisms-sigma-and-defects.md, "Unmodelled defects"):
 //  - Delta: per-leg geometry (the `delta-legs` model: pivots, arm axes, L_i, l_i, q0_i all
 //    differing by leg) and imperfect parallelograms that tilt the plate: the plate turns by
 //    ω = κ·z_B × (X − X0) (κ rad per metre of travel from the levelling pose X0), which the

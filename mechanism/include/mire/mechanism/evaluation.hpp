@@ -1,5 +1,5 @@
 #pragma once
-// Evaluation of an identification (paper §6; doc/identification-h4.md, "Evaluation criteria"):
+// Evaluation of an identification (paper §6; doc/mechanisms.md, "Evaluation criteria"):
 //  V1 mean joint residual on validation poses (eq. 27), V2 its RMS (eq. 28),
 //  V3 straightness of two straight-line motions rebuilt with the model's numerical FKM
 //  (eq. 29), the square side errors of paper §6.4 (Table 4), and the Monte-Carlo study of

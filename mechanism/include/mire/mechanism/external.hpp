@@ -1,5 +1,5 @@
 #pragma once
-// External parameters ξe (paper §4; doc/mechanism-models.md): the pose chain bTe = bTc · cTm · mTe (eq. 3)
+// External parameters ξe (paper §4; doc/mechanisms.md): the pose chain bTe = bTc · cTm · mTe (eq. 3)
 // that turns the measured target pose cTm into the effector pose X.
 //
 // Three forms:
@@ -134,7 +134,7 @@ Mounting mountingFromTranslations(const std::vector<Eigen::Isometry3d>& bTe, con
 // span less than 2°.
 Mounting mountingFromHandEye(const std::vector<Eigen::Isometry3d>& bTe, const std::vector<PoseVector>& cTm);
 
-// Initial external values from the data, never typed by users (doc/mechanism-models.md, "External parameters"):
+// Initial external values from the data, never typed by users (doc/mechanisms.md, "Mounting"):
 // the effector poses are computed with the FKM at `geometric` (nominal) and the encoder readings, then
 // bTc, mTe are solved in closed form (rotation-axis alignment, then a linear least-squares
 // fit of ψ_BC and the translations in the plane; z_BC from the mean with z_ME = `z_ME`).

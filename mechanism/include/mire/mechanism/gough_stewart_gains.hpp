@@ -3,7 +3,7 @@
 // scale per leg, s1 … s6 (leg metres per metre of reading, nominal 1): ρ_i = ρ0_i + s_i·q̄_i.
 // A leg driven by a screw reads its length through the screw lead; a lead off by δ (the
 // screw's accuracy class, the motor's steps per turn) makes every reading off by δ·q̄_i, which
-// the 42-parameter model cannot represent (doc/mechanisms.md "Unmodelled defects").
+// the 42-parameter model cannot represent (doc/studies/2026-11-23-mechanisms-sigma-and-defects.md).
 #include <memory>
 
 #include "mire/mechanism/gough_stewart.hpp"

@@ -1,7 +1,7 @@
 #pragma once
-// The H4 parallel robot (paper §3; doc/mechanism-models.md): 4 legs, effector pose X = (x, y, z, θ).
+// The H4 parallel robot (paper §3; doc/mechanisms.md): 4 legs, effector pose X = (x, y, z, θ).
 //
-// Conventions (doc/mechanism-models.md, "H4 model 12: frame, geometry, IKM"): base frame B at the nacelle centre
+// Conventions (doc/mechanisms.md, "H4 model 12"): base frame B at the nacelle centre
 // in its "H" configuration raised into the arm-pivot plane, z_B up (workspace z < 0); legs (ε, σ) = 1 (+,+),
 // 2 (−,+), 3 (−,−), 4 (+,−); nacelle attachment A_i = (x,y,z) + ε_i·h·(cosθ, sinθ, 0)
 // + σ_i·d·(0,1,0); effector rotation = k·θ about z_B (k = amplification, default 1);
@@ -29,7 +29,7 @@
 
 namespace mire::mechanism {
 
-// Reference nominal geometry used by the datasets (doc/mechanism-models.md).
+// Reference nominal geometry used by the datasets (doc/mechanisms.md).
 struct H4Nominal {
   double R = 0.22;
   double L = 0.30;
@@ -41,7 +41,7 @@ struct H4Nominal {
   double amplification = 1.0;  // effector rotation = amplification · θ
 };
 
-// Leg sign pattern (doc/mechanism-models.md).
+// Leg sign pattern (doc/mechanisms.md).
 constexpr std::array<int, 4> kH4Epsilon{+1, -1, -1, +1};
 constexpr std::array<int, 4> kH4Sigma{+1, +1, -1, -1};
 

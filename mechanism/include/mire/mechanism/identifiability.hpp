@@ -1,6 +1,6 @@
 #pragma once
 // Identifiability analysis of the identification Jacobian J_ξ = ∂ε/∂ξ (paper §2.2, eq. 5–12,
-// doc/mechanism-models.md, "Identifiability report"): SVD and condition number of the column-scaled Jacobian,
+// doc/mechanisms.md, "Identifiability"): SVD and condition number of the column-scaled Jacobian,
 // rank, QR with column pivoting (Khalil & Besnard) for a minimal identifiable set, and the unidentifiable
 // combinations written with parameter names (from the null space).
 //

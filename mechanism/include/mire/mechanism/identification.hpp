@@ -1,5 +1,5 @@
 #pragma once
-// Identification (paper eq. 2/4; doc/mechanism-models.md, "Identification"): minimise Σ‖W_j (q̄_j − f(X(ξe,
+// Identification (paper eq. 2/4; doc/mechanisms.md, "Identification"): minimise Σ‖W_j (q̄_j − f(X(ξe,
 // cTm_j), ξg))‖² over the free parameters with Ceres, optional Gaussian priors, a robust loss with outlier
 // poses reported, weighting by the measured pose covariances (Σq = J Σ_X Jᵀ, J = ∂f/∂cTm),
 // then the covariance of the estimate and the identifiability report at the solution.

@@ -24,7 +24,7 @@ class CostFunction;
 
 namespace mire::mechanism {
 
-// How the effector moves (doc/mechanisms.md, "Mounting: chosen by the motion type"). It chooses the external
+// How the effector moves (doc/mechanisms.md, "Mounting"). It chooses the external
 // parametrisation and its data-driven initialisation (external.hpp):
 //  - Schoenflies: 3 translations + rotation about one fixed axis (H4): axis alignment;
 //  - Translation: the plate keeps the base orientation (Delta): rotation fit from the

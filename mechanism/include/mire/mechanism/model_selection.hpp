@@ -53,7 +53,7 @@ struct ModelScore {
   bool weighted = false;
   int residuals = 0;
   double aic = 0.0, bic = 0.0;
-  double condition = 0.0;  // scaled Jacobian (doc/mechanism-models.md)
+  double condition = 0.0;  // scaled Jacobian (doc/mechanisms.md)
   int rank = 0;
   double v3 = std::numeric_limits<double>::quiet_NaN();  // [m], when lines are given
   std::string model_name;                                // registry name

@@ -1,5 +1,5 @@
 #pragma once
-// What an identified model predicts, with σ (doc/mechanisms.md "fkm and ikm"): from encoder
+// What an identified model predicts, with σ (doc/mechanisms.md "`mire fkm` and `mire ikm`"): from encoder
 // readings the effector pose (FKM) in the base frame and the target pose in the camera frame
 // cTm = cTb · bTe(FKM(q̄)) · eTm; from desired effector poses the joint commands (IKM).
 // σ are propagated from the parameters' covariance by first-order (Jacobian) propagation;

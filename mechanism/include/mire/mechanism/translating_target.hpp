@@ -1,5 +1,5 @@
 #pragma once
-// A plate that only translates (the Delta, doc/mechanisms.md "fkm and ikm"): its orientation
+// A plate that only translates (the Delta, doc/mechanisms.md "`mire fkm` and `mire ikm`"): its orientation
 // seen by the camera, cRm = cRb·eRm, is not a function of the joints. The identification
 // leaves the target's rotation on the effector eRm where the initialisation put it (it has
 // no influence on the joints); alignTranslatingTarget() sets it from the measured

@@ -1,5 +1,5 @@
 #pragma once
-// The identified model variants A–H of the paper's Table 2 (doc/mechanism-models.md, "Variants"), as named presets.
+// The identified model variants A–H of the paper's Table 2 (doc/mechanisms.md, "Variants"), as named presets.
 //   A: model 12, h and l fixed         10 geometric + 7 external = 17
 //   B: model 12, h fixed               11 + 7 = 18
 //   C: model 12, l fixed               11 + 7 = 18

@@ -1,5 +1,5 @@
 #pragma once
-// Campaign-level screening of measured poses (doc/measure-integrity.md): a pose whose
+// Campaign-level screening of measured poses (doc/measurement.md, "Imperfect campaigns"): a pose whose
 // reprojection RMS, image count or σ stands far from the rest of its campaign (a blurred or
 // downscaled pose, a folder with a few images left) is flagged, with the reason.
 //

@@ -1,6 +1,6 @@
 #pragma once
-// The detector's systematic feature error that every pose shares (doc/uncertainty.md "The
-// detector's shared bias").
+// The detector's systematic feature error that every pose shares (doc/uncertainty.md "Shared
+// terms").
 //
 // A corner detector's sub-pixel bias depends on how the corner looks (its neighbourhood, the
 // blur, the sampling). That changes little from pose to pose, above all on a translating target,

@@ -60,7 +60,7 @@ struct PoseEstimate {
   // Σ of the whitened residuals² / (2N − 6), whitened with the covariance actually used: the
   // features' covariance of the mean (several images), or for one image (or copies of one)
   // the isotropic σ² estimated from these same residuals, which makes it 1 by construction
-  // (no independent noise estimate; doc/measure-integrity.md). ≈ 1 when the model fits to
+  // (no independent noise estimate; doc/measurement.md, "Imperfect campaigns"). ≈ 1 when the model fits to
   // the noise; ≫ 1: systematic feature errors.
   double reduced_chi2 = 0.0;
   int feature_count = 0;

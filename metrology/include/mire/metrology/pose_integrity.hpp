@@ -1,5 +1,5 @@
 #pragma once
-// Static-pose integrity (doc/measure-integrity.md): do the images of one pose folder show one
+// Static-pose integrity (doc/measurement.md, "Imperfect campaigns"): do the images of one pose folder show one
 // static pose? A pose folder is averaged as if it did (feature_averaging.hpp), so a robot that
 // crept, or an image from another pose, would otherwise give a confident wrong pose.
 //

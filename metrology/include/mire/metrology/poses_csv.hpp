@@ -13,7 +13,7 @@
 //   features                                 features used in the fit
 //   ambiguous,ambiguity_ratio                planar flip flag (0/1) and cost(second)/cost(best)
 //   flags                                    ';'-separated codes, empty when none
-//                                            (campaign_screening.hpp, doc/measure-integrity.md)
+//                                            (campaign_screening.hpp, doc/measurement.md, "Imperfect campaigns")
 // t and r are cTm (r a rotation vector, cv::Rodrigues); σ = total (features + intrinsics).
 //
 // poses_covariance.csv: the full 6×6 covariances, 24 rows per pose, header

@@ -4,7 +4,7 @@
 // CRLF, a UTF-8 BOM, comments anywhere, flow style. Duplicate keys are errors (YAML parsers
 // commonly keep one silently). Every getter validates strictly, and every error names the file, the line and
 // the key: "target.yaml:4: key 'cols': 3000000000 is out of range (1..10000)". The file format
-// rules are documented in doc/files.md.
+// rules are documented in doc/file-formats.md.
 #include <cstdint>
 #include <filesystem>
 #include <memory>

@@ -1,5 +1,5 @@
 #pragma once
-// Templated H4 IKMs (paper §3.2–3.3; doc/mechanism-models.md) for MechanismAdapter. Each returns a bit mask of the
+// Templated H4 IKMs (paper §3.2–3.3; doc/mechanisms.md) for MechanismAdapter. Each returns a bit mask of the
 // unreachable legs (bit i set when |T/ρ| > 1 on leg i), 0 when all legs are reachable.
 // R is column-major (bTe rotation), t the effector origin, both in the model's base frame.
 #include <Eigen/Geometry>
@@ -18,7 +18,7 @@ namespace mire::mechanism {
 namespace detail {
 
 // Solves S·sinφ + C·cosφ = T for the elbow-out branch, φ = atan2(S, C) − acos(T/ρ)
-// (doc/mechanism-models.md; the half-angle solution of eq. 21–22 written with atan2 for robustness).
+// (doc/mechanisms.md; the half-angle solution of eq. 21–22 written with atan2 for robustness).
 template <class T>
 bool solveElbowOut(const T& S, const T& C, const T& rhs, T* phi) {
   using std::acos;

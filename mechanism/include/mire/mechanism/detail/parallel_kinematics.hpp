@@ -46,7 +46,7 @@ struct DeltaKinematics : TranslationPoseConvention {
     int mask = 0;
     for (int i = 0; i < 3; ++i) {
       const T ux = cos(g[4 + i]), uy = sin(g[4 + i]);
-      // w = A_i − P_i = X + (r − R)·u_i; a = w·u_i, b = −w_z (the H4's formula, doc/mechanism-models.md).
+      // w = A_i − P_i = X + (r − R)·u_i; a = w·u_i, b = −w_z (the H4's formula, doc/mechanisms.md).
       const T w[3] = {t[0] + (r - R) * ux, t[1] + (r - R) * uy, t[2]};
       const T norm2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
       T phi;
