@@ -580,13 +580,13 @@ void printIdentification(const Study& s) {
   std::printf("  the pose errors' scale error per chain: s0 mean %.3g, RMS %.3g; s1 mean %.3g, RMS %.3g\n",
               mean(s.oracle_scale), rms(s.oracle_scale), mean(s.oracle_scale_slope), rms(s.oracle_scale_slope));
   std::printf(
-      "  re-initialised: the refits re-initialise the gauge parameters on the shifted poses (`mire identify` "
-      "before stop 27); held: the refits hold them at the main fit's values (`mire identify` now)\n"
+      "  re-initialised: the refits re-initialise the gauge parameters on the shifted poses; held: the refits "
+      "hold them at the main fit's values (`mire identify`, pipeline::RefitGauge)\n"
       "  no calib: refitted on poses with the true calibration error removed (cTm - D dk), against the sigma "
       "without the shared term (sc) and against the fit's own term of the sigma with it (fit); calib: the rest of "
       "the error (the calibration's part) against the shared term, gauge held\n");
   printCounts(s, s.z_before, "without the shared term");
-  printCounts(s, s.z_after, "with it, gauge re-initialised (before stop 27)");
+  printCounts(s, s.z_after, "with it, gauge re-initialised");
   printCounts(s, s.z_held, "with it, gauge held");
   std::printf(
       "  identification Mahalanobis chi2 / p: mean %.2f without, %.2f re-initialised, %.2f gauge held (1 if honest); "

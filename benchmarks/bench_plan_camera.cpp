@@ -28,8 +28,8 @@
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/pose.hpp"
 #include "mire/metrology/pose_measurement.hpp"
-#include "mire/support/constants.hpp"
 #include "mire/pipeline/camera_plan.hpp"
+#include "mire/support/constants.hpp"
 
 namespace {
 
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   const mire::calibration::Camera truth = mire::calibration::readCamera(spec.camera_file);
   const mire::calibration::Camera camera = argc > 1 && argv[1][0] != 0 ? mire::calibration::readCamera(argv[1]) : truth;
   const metro::Target target = metro::Target::fromFile(spec.target_file);
-  pipeline::CameraPlanOptions options;
+  mire::pipeline::CameraPlanOptions options;
   options.prediction.images = argc > 2 ? std::stoi(argv[2]) : 10;
   if (argc > 3) options.prediction.pixel_sigma = std::stod(argv[3]);
   if (argc > 4 && argv[4][0] != 0) {  // a constant systematic error instead of the BoardImage model
@@ -217,18 +217,19 @@ int main(int argc, char** argv) {
   const mech::Workspace workspace = mech::protocolWorkspace(m, g);
   const mech::MountingGuess mounting = demoMounting(target);
   const auto poses = mech::generateCandidatePoses(m, g, workspace, candidates, 1);
-  const pipeline::CameraCandidates visible = pipeline::visibleCandidates(m, mounting, camera, target, poses, options);
+  const mire::pipeline::CameraCandidates visible =
+      mire::pipeline::visibleCandidates(m, mounting, camera, target, poses, options);
   mech::DesignOptions design_options;
   design_options.count = 15;
-  const pipeline::CameraPoseModel camera_model = pipeline::cameraPoseModel(camera, target, options);
+  const mire::pipeline::CameraPoseModel camera_model = mire::pipeline::cameraPoseModel(camera, target, options);
   const mech::CandidateInformation info = mech::candidateInformation(model, mounting, visible.visible, design_options,
                                                                      camera_model.covariance, camera_model.shared);
   const mech::DesignReport report = mech::planExperiment(info, design_options);
-  const auto predicted = pipeline::plannedPoseSigmas(info, report.design, camera, target, options);
+  const auto predicted = mire::pipeline::plannedPoseSigmas(info, report.design, camera, target, options);
   const double plan_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  pipeline::CameraPlanSummary summary{options,         poses.size(),    visible.visible.size(),
-                                       visible.outside, visible.oblique, predicted};
-  std::printf("%s", pipeline::cameraPlanText(summary).c_str());
+  mire::pipeline::CameraPlanSummary summary{options,         poses.size(),    visible.visible.size(),
+                                            visible.outside, visible.oblique, predicted};
+  std::printf("%s", mire::pipeline::cameraPlanText(summary).c_str());
   std::printf("plan: %.2f s wall; median geometric sigma ratio plan/random %.3f\n\n", plan_seconds,
               report.median_ratio_plan_random);
 

@@ -7,7 +7,6 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(Ceres REQUIRED)
 find_package(Threads REQUIRED)
 find_package(CLI11 REQUIRED)
-find_package(yaml-cpp REQUIRED)  # tests only: an independent YAML writer for the syntax-variant tests
 find_package(apriltag REQUIRED CONFIG)
 # apps only (report.json, doc/report-json.md): header-only, not part of any library's interface.
 find_package(nlohmann_json 3 REQUIRED)

@@ -1,6 +1,6 @@
 # `cmake --install`: the libraries and headers, the `mire` command, the specs under share/mire,
 # a CMake package (find_package(mire) → mire::calibration, mire::metrology, mire::mechanism,
-# mire::datasets, mire::support) and a pkg-config file (doc/install.md).
+# mire::datasets, mire::pipeline, mire::support) and a pkg-config file (doc/install.md).
 include(CMakePackageConfigHelpers)
 set(MIRE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/mire)
 

@@ -22,6 +22,23 @@ function(mire_target_options target)
   endif()
 endfunction()
 
+# Precompiled headers for the targets whose every file includes the same heavy headers (the
+# command, the tests, the benchmarks): Eigen, OpenCV's core and the standard
+# library (the standard library alone with STD_ONLY), plus GoogleTest with GTEST. Not for the libraries, whose files differ in what they include
+# and spend their time instantiating templates, not parsing (doc/install.md "Build time").
+function(mire_precompile_headers target)
+  cmake_parse_arguments(ARG "GTEST;STD_ONLY" "" "" ${ARGN})
+  set(headers <algorithm> <cmath> <filesystem> <functional> <iostream> <map> <memory> <optional> <sstream>
+              <string> <vector>)
+  if(NOT ARG_STD_ONLY)
+    list(APPEND headers <Eigen/Core> <Eigen/Geometry> <opencv2/core.hpp>)
+  endif()
+  if(ARG_GTEST)
+    list(APPEND headers <gtest/gtest.h>)
+  endif()
+  target_precompile_headers(${target} PRIVATE ${headers})
+endfunction()
+
 # mire_add_module(<name> PUBLIC <targets...> PRIVATE <targets...>): a static library from every
 # .cpp under the module's src/, public headers under <module>/include/mire/<module>/, exported
 # and installed as mire::<name>. PUBLIC: what the public headers include; PRIVATE: what only the

@@ -1,12 +1,13 @@
-// Identifies a parallel robot's geometry from measured target poses and encoder readings — what
-// `mire identify` does for one model: the nominal geometry, the external parameters (camera and
-// target mounting) estimated from the data, then the joint identification (Renaud et al. 2004,
-// eq. 2/4) weighted by the measured pose covariances, with σ for every parameter.
+// Identifies a parallel robot's geometry from measured target poses and encoder readings with the
+// stage `mire identify` runs (mire/pipeline/identify.hpp): the nominal geometry, the external
+// parameters (camera and target mounting) estimated from the data, the gauge found from the data,
+// then the joint identification (Renaud et al. 2004, eq. 2/4) weighted by the measured pose
+// covariances, with σ for every parameter (the camera calibration's shared error included when
+// `mire measure` wrote poses_shared.csv).
 //   identify_robot poses.csv joints.csv [model]      (model: h4-12 unless given; see mire identify --help)
 #include "mire/mechanism/identification.hpp"
-#include "mire/mechanism/io.hpp"
-#include "mire/mechanism/registry.hpp"
-#include "mire/support/side_files.hpp"
+#include "mire/pipeline/identify.hpp"
+#include "mire/pipeline/pose_set.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -35,15 +36,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const auto robot = mech::makeRegisteredModel(argc == 4 ? argv[3] : "h4-12");
-    // The poses' covariances come from the side file `mire measure` writes beside poses.csv.
-    const auto data = mech::readObservations(argv[1], argv[2], mire::support::covarianceSidePath(argv[1]),
-                                             robot.mechanism->jointColumnNames());
-    const auto initial = mech::makeInitialModel(robot.mechanism, robot.nominal, data.poses, robot.external_form);
-    const auto result = mech::identify(initial, data.poses);
+    const auto choice = mire::pipeline::chooseModel(argc == 4 ? argv[3] : "h4-12", "");
+    // poses.csv with the side files `mire measure` writes beside it (covariances, shared term).
+    const auto files = mire::pipeline::PoseSetFiles::beside(argv[1], argv[2]);
+    const auto data = mire::pipeline::readPoseSet(files, choice.registered().mechanism->jointColumnNames());
+    const auto& poses = data.observations.poses;
+    const auto identification = mire::pipeline::identify(choice, poses, data.shared);
+    const auto& initial = identification.initial.model;
+    const auto& result = identification.result;
 
     std::printf("%s, %zu poses: joint residual rms %.3g rad (nominal) -> %.3g rad (identified), %s\n",
-                robot.name.c_str(), data.poses.size(), rmsJointResidual(initial, data.poses), result.rms_joint_residual,
+                choice.label().c_str(), poses.size(), rmsJointResidual(initial, poses), result.rms_joint_residual,
                 result.converged ? "converged" : "NOT converged");
     for (const auto& name : result.free_names) {
       const auto& parameter = result.model.parameters.at(name);

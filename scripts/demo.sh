@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# The main job: set up, build, and run `mire demo` on the bundled default data.
+# The main job: install what the `mire` command needs, build it (that target only), and run
+# `mire demo` on the bundled default data.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-bash "$root/scripts/build.sh"
+bash "$root/scripts/setup.sh"
+MIRE_TARGET=mire bash "$root/scripts/build.sh"
 "$root/build/apps/mire" demo -o "${MIRE_DEMO_OUT:-$root/demo-output}" "$@"

@@ -18,8 +18,8 @@ while getopts "t:n:" option; do
     *) echo "usage: $0 [-t seconds | -n executions]" >&2; exit 2 ;;
   esac
 done
-bash "$root/scripts/setup.sh"
-command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (scripts/setup.sh installs clang)" >&2; exit 1; }
+bash "$root/scripts/setup.sh" --tests
+command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (scripts/setup.sh --tests installs clang)" >&2; exit 1; }
 # -O1 without debug info: the instrumented Ceres/Eigen code of mechanism/ compiles several times
 # faster than at -O2 -g, and parsers run fast enough (ASan still names the functions).
 cmake -S "$root" -B "$root/build-fuzz" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DMIRE_FUZZ=ON \

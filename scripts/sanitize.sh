@@ -11,7 +11,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 budget="${MIRE_SANITIZE_BUDGET:-1800}"
 per_test=900  # s; a test killed before this was stopped by the budget, not hung
 start=$(date +%s)
-bash "$root/scripts/setup.sh"
+bash "$root/scripts/setup.sh" --tests
 # -O1 -g1: the instrumented Ceres/Eigen code compiles far faster than at -O2 -g and ASan still
 # names function, file and line. NDEBUG as in the default build, so the same code is tested.
 cmake -S "$root" -B "$root/build-asan" -G Ninja -DMIRE_SANITIZE=ON -DMIRE_BUILD_BENCHMARKS=OFF -DMIRE_PYTHON=OFF \

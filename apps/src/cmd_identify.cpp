@@ -172,8 +172,7 @@ pipeline::PoseSetFiles poseSetFiles(const IdentifyArguments& args) {
 
 IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const pipeline::ModelChoice& choice) {
   const pipeline::PoseSetFiles files = poseSetFiles(args);
-  const std::vector<std::string> joint_columns =
-      mech::makeRegisteredModel(choice.model, choice.h4).mechanism->jointColumnNames();
+  const std::vector<std::string> joint_columns = choice.registered().mechanism->jointColumnNames();
   pipeline::PoseSet set = pipeline::readPoseSet(files, joint_columns);
   IdentifyInputs inputs;
   inputs.observations = std::move(set.observations);
@@ -198,8 +197,8 @@ struct Criteria {
   std::optional<mech::MonteCarloStudy> study;
 };
 
-Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& inputs, const pipeline::InitialModel& initial,
-                          const mech::IdentificationResult& result) {
+Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& inputs,
+                          const pipeline::InitialModel& initial, const mech::IdentificationResult& result) {
   const auto& poses = inputs.observations.poses;
   Criteria criteria;
   for (const auto& line : inputs.lines) criteria.line_joints.push_back(line.joints);
@@ -276,7 +275,8 @@ void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel&
 }
 
 // One row per parameter: initial, identified, σ and change, in display units.
-void writeParameterTable(const pipeline::InitialModel& initial, const mech::IdentificationResult& result, std::ostream& out) {
+void writeParameterTable(const pipeline::InitialModel& initial, const mech::IdentificationResult& result,
+                         std::ostream& out) {
   char line[256];
   out << "parameter      unit    initial        identified     sigma          change\n";
   for (std::size_t i = 0; i < result.model.parameters.size(); ++i) {

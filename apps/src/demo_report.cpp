@@ -46,7 +46,7 @@ void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::os
   for (const auto& t : r.timings)
     if (slowest == nullptr || t.seconds > slowest->seconds) slowest = &t;
   md << "# mire demo: the H4 experiment of Renaud et al. (2004), in simulation\n\n"
-     << "A simulated H4 (mire's reference nominal geometry, doc/mechanism-models.md, with manufacturing errors of "
+     << "A simulated H4 (mire's reference nominal geometry, doc/mechanisms.md, with manufacturing errors of "
         "the paper's magnitude, 1σ 5 mm on "
         "lengths, 2° on pivot angles, 5° on encoder offsets, and defects model 12 cannot represent: per-leg lengths, "
         "non-coplanar pivots, tilted axes, imperfect parallelograms) carries a "

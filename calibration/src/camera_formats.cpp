@@ -214,7 +214,7 @@ std::string cameraKalibrYamlString(const Camera& camera) {
   }
   const std::vector<double> intrinsics(camera.params.begin(), camera.params.begin() + kIntrinsicCount);
   std::ostringstream out;
-  out << "# Kalibr camchain written by mire (doc/files.md): pinhole projection, " << model << " distortion.\n"
+  out << "# Kalibr camchain written by mire (doc/file-formats.md): pinhole projection, " << model << " distortion.\n"
       << "cam0:\n"
       << "  camera_model: pinhole\n"
       << "  intrinsics: " << numberList(intrinsics) << "\n"
@@ -234,7 +234,7 @@ std::string cameraMrcalString(const Camera& camera) {
   const std::string lensmodel = count == 0 ? "LENSMODEL_PINHOLE" : "LENSMODEL_OPENCV" + std::to_string(count);
   std::ostringstream out;
   // mrcal's pixel convention is OpenCV's (integer coordinates at pixel centres): no shift.
-  out << "# mrcal camera model written by mire (doc/files.md); read it with mrcal.cameramodel(path).\n"
+  out << "# mrcal camera model written by mire (doc/file-formats.md); read it with mrcal.cameramodel(path).\n"
       << "{\n"
       << "    'lensmodel': '" << lensmodel << "',\n"
       << "    # intrinsics are fx,fy,cx,cy,distortion0,distortion1,....\n"

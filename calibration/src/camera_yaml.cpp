@@ -373,7 +373,7 @@ std::string cameraYamlString(const Camera& camera) {
   camera.validate();
   std::ostringstream out;
   out << "%YAML 1.2\n---\n"
-      << "# mire camera (doc/files.md). OpenCV keys: pixels, OpenCV's pixel convention (integer coordinates at\n"
+      << "# mire camera (doc/file-formats.md). OpenCV keys: pixels, OpenCV's pixel convention (integer coordinates at\n"
       << "# pixel centres); distortion in OpenCV's order k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4]]], or k1..k4 of\n"
       << "# cv::fisheye for model: fisheye (model: pinhole has none; its five zeros are for OpenCV). mire keys:\n"
       << "# model, rms_px (reprojection RMS, px), covariance of the parameters in the order of\n"

@@ -20,10 +20,9 @@ char variantLetter(const std::string& variant) {
   return letter;
 }
 
-// The registered model a choice names, with the H4's nominal geometry.
-mech::RegisteredModel registered(const ModelChoice& choice) { return mech::makeRegisteredModel(choice.model, choice.h4); }
-
 }  // namespace
+
+mech::RegisteredModel ModelChoice::registered() const { return mech::makeRegisteredModel(model, h4); }
 
 std::string ModelChoice::label() const {
   if (variant) return model + ", variant " + std::string(1, variant);
@@ -37,7 +36,7 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
   const bool camera_frame_variant = letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera;
   choice.model = !model.empty() ? model : camera_frame_variant ? "h4-31c" : "h4-12";
   try {
-    registered(choice);
+    choice.registered();
   } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
     throw std::invalid_argument("--model '" + choice.model + "': " + error.what());
   }
@@ -45,8 +44,7 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
   if (choice.model == "h4-31c" && !letter) letter = 'H';
   if (letter && (choice.model != "h4-12" && choice.model != "h4-31c"))
     throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + choice.model);
-  const mech::H4ModelKind kind =
-      choice.model == "h4-12" ? mech::H4ModelKind::Model12 : mech::H4ModelKind::Model31Camera;
+  const mech::H4ModelKind kind = choice.model == "h4-12" ? mech::H4ModelKind::Model12 : mech::H4ModelKind::Model31Camera;
   if (letter && mech::h4Variant(letter).model != kind)
     throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + choice.model +
                                 " (A-D: h4-12, E-H: h4-31c)");
@@ -61,7 +59,7 @@ InitialModel initialModel(const ModelChoice& choice, const std::vector<mech::Pos
   if (choice.variant) {
     initial.model = mech::makeH4VariantModel(choice.variant, choice.h4, poses, options);
   } else {
-    const mech::RegisteredModel model = registered(choice);
+    const mech::RegisteredModel model = choice.registered();
     initial.model = mech::makeInitialModel(model.mechanism, model.nominal, poses, model.external_form);
     // The axis-aligned form's gauge is its convention (z_ME held, paper eq. 24); the others' is
     // found from the data, after the user's --fix so that the analysis keeps to it.
@@ -79,7 +77,7 @@ InitialModel initialModel(const ModelChoice& choice, const std::vector<mech::Pos
 mech::IdentificationModel refitStart(const ModelChoice& choice, const InitialModel& initial,
                                      const std::vector<mech::PoseObservation>& shifted, const IdentifyOptions& options) {
   if (choice.variant) return mech::makeH4VariantModel(choice.variant, choice.h4, shifted, options.fit);
-  const mech::RegisteredModel model = registered(choice);
+  const mech::RegisteredModel model = choice.registered();
   mech::IdentificationModel start = mech::makeInitialModel(model.mechanism, model.nominal, shifted, model.external_form);
   if (!initial.gauge) return start;
   std::vector<std::string> held = options.fit.fix;

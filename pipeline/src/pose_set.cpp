@@ -10,9 +10,9 @@ PoseSetFiles PoseSetFiles::beside(const fs::path& poses, const fs::path& joints)
   PoseSetFiles files;
   files.poses = poses;
   files.joints = joints;
-  if (const fs::path covariances = support::support::covarianceSidePath(poses); fs::exists(covariances))
+  if (const fs::path covariances = support::covarianceSidePath(poses); fs::exists(covariances))
     files.covariances = covariances;
-  if (const fs::path shared = support::support::sharedTermSidePath(poses); fs::exists(shared)) files.shared = shared;
+  if (const fs::path shared = support::sharedTermSidePath(poses); fs::exists(shared)) files.shared = shared;
   return files;
 }
 

@@ -53,7 +53,7 @@ std::vector<PoseFolderMeasurement> measureStage(const fs::path& pose_images, con
                                                 const calibration::Camera& camera, const metrology::Target& target,
                                                 const fs::path& poses_csv, MeasurementScore& summary) {
   // The simulated robot is static by construction: a static-pose test alarm (false-alarm rate
-  // 1e-3 per pose, doc/measure-integrity.md) keeps the largest consistent group, as
+  // 1e-3 per pose, doc/measurement.md, "Imperfect campaigns") keeps the largest consistent group, as
   // `mire measure --split-moving keep-largest` would, instead of dropping the pose.
   metrology::MeasurementOptions options;
   options.integrity.split = metrology::SplitPolicy::KeepLargest;

@@ -13,11 +13,11 @@
 
 namespace {
 
-using pipeline::PoseErrorSample;
-using pipeline::scorePoseErrors;
+using mire::pipeline::PoseErrorSample;
+using mire::pipeline::scorePoseErrors;
 
 struct Campaign {
-  std::vector<pipeline::PoseErrorSample> samples;
+  std::vector<mire::pipeline::PoseErrorSample> samples;
   Eigen::MatrixXd camera_covariance;
 };
 
@@ -36,7 +36,7 @@ Campaign drawCampaign(std::mt19937& rng, double noise_scale_seen = 1.0) {
   const Eigen::VectorXd dk =
       c.camera_covariance.llt().matrixL() * Eigen::Vector4d(normal(rng), normal(rng), normal(rng), normal(rng));
   for (int j = 0; j < 81; ++j) {
-    pipeline::PoseErrorSample s;
+    mire::pipeline::PoseErrorSample s;
     s.sensitivity = Eigen::MatrixXd::Zero(6, 4);
     for (int i = 0; i < s.sensitivity.size(); ++i) s.sensitivity.data()[i] = 0.2 * normal(rng);
     s.sensitivity.row(1) += Eigen::RowVector4d(3.0, 0.5, 0.0, 0.0);  // ty: nearly the same for every pose
@@ -59,7 +59,7 @@ TEST(DemoPoseScores, WhitenedErrorsAreStandardWhilePoseByPoseDrawsTheSharedError
   const int trials = 200;
   for (int t = 0; t < trials; ++t) {
     const Campaign c = drawCampaign(rng);
-    const auto s = pipeline::scorePoseErrors(c.samples, c.camera_covariance);
+    const auto s = mire::pipeline::scorePoseErrors(c.samples, c.camera_covariance);
     whitened_sum2 += s.rms_whitened_all * s.rms_whitened_all;
     for (int k = 0; k < 6; ++k) whitened_outside += s.rms_whitened[k] < 0.8 || s.rms_whitened[k] > 1.25;
     pose_ty_min = std::min(pose_ty_min, s.rms_per_pose[1]);
@@ -76,7 +76,7 @@ TEST(DemoPoseScores, WhitenedErrorsExposeAnOverstatedNoiseCovariance) {
   std::mt19937 rng(6);
   for (int t = 0; t < 20; ++t) {
     const Campaign c = drawCampaign(rng, 4.0);  // the scorer sees Σ_noise × 4 (σ twice too large)
-    const auto s = pipeline::scorePoseErrors(c.samples, c.camera_covariance);
+    const auto s = mire::pipeline::scorePoseErrors(c.samples, c.camera_covariance);
     EXPECT_LT(s.rms_whitened_all, 0.65);
   }
 }
@@ -89,7 +89,7 @@ TEST(DemoPoseScores, WithoutASharedTermAndWithDiagonalNoiseBothScoresAgree) {
     s.independent = Eigen::Matrix<double, 6, 6>(s.independent.diagonal().asDiagonal());
     s.sigma = s.independent.diagonal().cwiseSqrt();
   }
-  const auto s = pipeline::scorePoseErrors(c.samples, Eigen::MatrixXd());
+  const auto s = mire::pipeline::scorePoseErrors(c.samples, Eigen::MatrixXd());
   for (int k = 0; k < 6; ++k) EXPECT_NEAR(s.rms_whitened[k], s.rms_per_pose[k], 1e-12) << k;
   EXPECT_NEAR(s.rms_whitened_all, s.rms_per_pose_all, 1e-12);
 }

@@ -66,7 +66,7 @@ TEST(DocCitations, NoSourceOrDocCitesTheOutsideBrief) {
   EXPECT_GT(scanned, 100) << "too few source files found under " << root;
 }
 
-// Comments state contracts and cite the paper or doc/, never the tracker ("issue 12") or a work
+// Comments state contracts and cite the paper or doc/, never the tracker ("issue <number>") or a work
 // log; doc headings name topics, not sessions ("Stop 27"): history lives in CHANGELOG.md and the
 // dated pages of doc/studies/.
 TEST(DocCitations, NoCommentOrDocCitesTheTrackerOrAWorkLog) {

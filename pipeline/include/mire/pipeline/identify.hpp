@@ -22,9 +22,10 @@ namespace mire::pipeline {
 // parameters replace the gauge analysis.
 struct ModelChoice {
   std::string model = "h4-12";
-  char variant = 0;          // 'A'..'D' with h4-12, 'E'..'H' with h4-31c; 0 otherwise
-  mechanism::H4Nominal h4;   // the H4 models' nominal geometry
-  std::string label() const;  // "h4-12, variant D", "h4-31 (base frame)", "delta"
+  char variant = 0;                               // 'A'..'D' with h4-12, 'E'..'H' with h4-31c; 0 otherwise
+  mechanism::H4Nominal h4;                        // the H4 models' nominal geometry
+  std::string label() const;                      // "h4-12, variant D", "h4-31 (base frame)", "delta"
+  mechanism::RegisteredModel registered() const;  // the mechanism and its nominal geometry
 };
 
 // Completes and checks a choice made by name: the variant's model when `model` is empty
