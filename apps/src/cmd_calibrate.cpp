@@ -137,10 +137,11 @@ metrology::Target readTarget(const std::string& path) {
 
 // The views: detected in the images (in parallel) or read from a detections file; the images
 // without the target are listed. At least 3 views, or an error naming the folder.
-pipeline::CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target, int threads) {
-  pipeline::CalibrationFolder folder = args.detections_path.empty()
-                                 ? pipeline::detectCalibrationFolder(target, args.images_dir, threads)
-                                 : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
+pipeline::CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target,
+                                                 int threads) {
+  pipeline::CalibrationFolder folder =
+      args.detections_path.empty() ? pipeline::detectCalibrationFolder(target, args.images_dir, threads)
+                                   : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
   if (folder.views.size() < 3)

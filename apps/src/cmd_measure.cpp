@@ -16,8 +16,8 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/output_transaction.hpp"
-#include "mire/support/statistics.hpp"
 #include "mire/support/side_files.hpp"
+#include "mire/support/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>

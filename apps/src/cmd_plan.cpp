@@ -16,11 +16,11 @@
 #include "kinematics_files.hpp"
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/mechanism/experiment_design.hpp"
+#include "mire/pipeline/camera_plan.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "output_paths.hpp"
-#include "mire/pipeline/camera_plan.hpp"
 #include "plan_inputs.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
@@ -113,9 +113,11 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
 // `summary`), or an error (exit 1) when fewer than --count remain.
 std::vector<Eigen::VectorXd> plannableCandidates(const PlanArguments& args, const CameraInputs& in,
                                                  const mech::Mechanism& m, const mech::MountingGuess& mounting,
-                                                 std::vector<Eigen::VectorXd> poses, pipeline::CameraPlanSummary* summary) {
+                                                 std::vector<Eigen::VectorXd> poses,
+                                                 pipeline::CameraPlanSummary* summary) {
   if (!in.target) return poses;
-  pipeline::CameraCandidates seen = pipeline::visibleCandidates(m, mounting, in.camera, *in.target, poses, args.camera_options);
+  pipeline::CameraCandidates seen =
+      pipeline::visibleCandidates(m, mounting, in.camera, *in.target, poses, args.camera_options);
   if (static_cast<int>(seen.visible.size()) < args.count)
     throw std::runtime_error("--camera " + args.camera + ": only " + std::to_string(seen.visible.size()) + " of " +
                              std::to_string(poses.size()) + " candidate poses show the whole target (" +
@@ -160,13 +162,15 @@ int runPlan(const PlanArguments& args) {
       mech::generateCandidatePoses(m, model.registered.nominal.values(), workspace, args.candidates, args.seed),
       &camera_summary);
   const pipeline::CameraPoseModel camera_model =
-      camera.target ? pipeline::cameraPoseModel(camera.camera, *camera.target, args.camera_options) : pipeline::CameraPoseModel{};
+      camera.target ? pipeline::cameraPoseModel(camera.camera, *camera.target, args.camera_options)
+                    : pipeline::CameraPoseModel{};
   const mech::CandidateInformation info =
       mech::candidateInformation(model, mounting, poses, options, camera_model.covariance, camera_model.shared);
   camera_summary.shared_term = info.hasSharedTerm();
   const mech::DesignReport report = mech::planExperiment(info, options);
   if (camera.target)
-    camera_summary.sigmas = pipeline::plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);
+    camera_summary.sigmas =
+        pipeline::plannedPoseSigmas(info, report.design, camera.camera, *camera.target, args.camera_options);
   const std::string camera_text = camera.target ? pipeline::cameraPlanText(camera_summary) : std::string();
   const std::string text = "model " + args.model + ": " + std::to_string(poses.size()) + " candidate poses, " +
                            std::to_string(info.free_names.size()) + " free parameters (" +

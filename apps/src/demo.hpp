@@ -37,7 +37,6 @@ struct StageTiming {
   double seconds = 0.0;
 };
 
-
 struct DemoVariant {
   char letter = 'D';
   int free_parameters = 0;

@@ -87,8 +87,7 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
                                   const pipeline::PoseSet& data, const fs::path& output) {
   const Stopwatch watch;
   const std::vector<mech::PoseObservation>& poses = data.observations.poses;
-  const pipeline::Identification identification =
-      pipeline::identify(pipeline::chooseModel(name, ""), poses, data.shared);
+  const pipeline::Identification identification = pipeline::identify(pipeline::chooseModel(name, ""), poses, data.shared);
   const pipeline::InitialModel& initial = identification.initial;
   const mech::IdentificationResult& result = identification.result;
   const auto& orientation_covariance = identification.mean_orientation_covariance;
@@ -113,8 +112,8 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
   score.chi2_per_dof = result.chi2 / std::max(1, result.dof);
   score.sigma_method = result.covariance_method;
   score.has_truth = name == campaign.robot.geometry_model.name;
-  scoreParameters(result, score.has_truth ? std::optional(pipeline::truthInGauge(campaign, initial, poses)) : std::nullopt,
-                  score);
+  scoreParameters(
+      result, score.has_truth ? std::optional(pipeline::truthInGauge(campaign, initial, poses)) : std::nullopt, score);
   const Eigen::VectorXd nominal = initial.model.geometricValues(), identified = result.model.geometricValues();
   const auto lines = data.lineJoints();
   score.v3_before_m = straightnessOf(model, nominal, lines);
@@ -161,7 +160,8 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;
   stage("calibrate the camera from images", [&] {
-    camera = pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
+    camera =
+        pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
   });
   stage("measure " + std::to_string(campaign->pose_ids.size()) + " target poses from images", [&] {
     pipeline::measureStage(

@@ -98,7 +98,8 @@ IdentificationData identificationData(const DemoOptions& options, const datasets
                                       const fs::path& poses_csv) {
   pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(poses_csv, campaign.joints_file());
   files.lines = campaign.lines_file();
-  pipeline::PoseSet set = pipeline::readPoseSet(files, mechanism::makeH4Mechanism(mechanism::H4ModelKind::Model12)->jointColumnNames());
+  pipeline::PoseSet set =
+      pipeline::readPoseSet(files, mechanism::makeH4Mechanism(mechanism::H4ModelKind::Model12)->jointColumnNames());
   IdentificationData data;
   data.poses = std::move(set.observations.poses);
   data.shared = std::move(set.shared);
@@ -241,7 +242,8 @@ DemoResults runDemo(const DemoOptions& options) {
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;
   stage("calibrate the camera from images", [&] {
-    camera = pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
+    camera =
+        pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
   });
   stage("measure 81 target poses from images", [&] {
     pipeline::measureStage(

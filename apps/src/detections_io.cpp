@@ -24,8 +24,9 @@ std::vector<metrology::ImageDetections> measureDetections(const std::vector<pipe
   return images;
 }
 
-pipeline::CalibrationFolder calibrationFolderFromDetections(const metrology::Target& target, const std::filesystem::path& path,
-                                                  const std::vector<int>& image_size) {
+pipeline::CalibrationFolder calibrationFolderFromDetections(const metrology::Target& target,
+                                                            const std::filesystem::path& path,
+                                                            const std::vector<int>& image_size) {
   const metrology::DetectionsFile file = metrology::readDetectionsFile(path, target);
   pipeline::CalibrationFolder folder;
   if (!image_size.empty() && image_size.size() != 2)

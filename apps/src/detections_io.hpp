@@ -19,7 +19,8 @@ std::vector<metrology::ImageDetections> measureDetections(const std::vector<pipe
 // A calibration folder from a detections file, without images. The image size comes from the
 // file ("# image_size_px") or from `image_size` ({width, height}; required when the file does
 // not state it, and must agree when it does). Throws std::runtime_error naming the file.
-pipeline::CalibrationFolder calibrationFolderFromDetections(const metrology::Target& target, const std::filesystem::path& path,
-                                                  const std::vector<int>& image_size);
+pipeline::CalibrationFolder calibrationFolderFromDetections(const metrology::Target& target,
+                                                            const std::filesystem::path& path,
+                                                            const std::vector<int>& image_size);
 
 }  // namespace mire::app

@@ -25,8 +25,8 @@ struct UsageError : std::runtime_error {
 
 // Limits (doc/limits.md).
 constexpr int kMaxThreads = 256;
-using pipeline::kMaxImageSide;
 using pipeline::kMaxImagePixels;
+using pipeline::kMaxImageSide;
 constexpr std::size_t kMaxTargetFeatures = 20'000;  // features (corners, circles, tag corners)
 constexpr std::size_t kMaxPoses = 1'000'000;        // poses given to identify
 constexpr double kMaxViewDistanceM = 50.0;          // implied target distance: beyond, a unit mistake

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "mire/calibration/camera_model.hpp"
-#include "mire/metrology/detector_bias.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
+#include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/image_folders.hpp"
