@@ -5,10 +5,10 @@
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config
   libopencv-dev libopencv-contrib-dev libvisp-dev libapriltag-dev
-  libeigen3-dev libceres-dev libgtest-dev libcli11-dev libyaml-dev libboost-dev
+  libeigen3-dev libceres-dev libgtest-dev libcli11-dev libyaml-dev libyaml-cpp-dev libboost-dev
   libpng-dev nlohmann-json3-dev)
 if [ "${1:-}" = "--tests" ]; then
-  packages+=(libyaml-cpp-dev python3-yaml python3-mrcal clang clang-format
+  packages+=(python3-yaml python3-mrcal clang clang-format
     pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
 fi
 missing=()

@@ -136,7 +136,7 @@ pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
   } catch (const std::invalid_argument& error) {  // names the option at fault
     throw UsageError(error.what());
   }
-  const bool h4 = choice.variant || choice.model == "h4-31";
+  const bool h4 = mech::modelInfo(choice.model).h4_nominal;
   if (!h4 && !args.nominal.empty())
     throw UsageError("--nominal applies to the H4 models; " + choice.model + " starts from its built-in nominal");
   if (h4) choice.h4 = readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal);

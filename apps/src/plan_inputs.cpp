@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mire/mechanism/io.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/yaml.hpp"
 
@@ -15,8 +16,6 @@ namespace {
 
 namespace mech = mire::mechanism;
 using support::kRadiansPerDegree;
-
-bool isH4(const std::string& name) { return name == "h4-12" || name == "h4-31" || name == "h4-31c"; }
 
 // Keys every parameter file may carry besides the model's geometry: mounting values.
 std::vector<std::string> mountingKeys() {
@@ -66,7 +65,7 @@ mech::DesignModel readDesignModel(const std::string& name, const std::filesystem
   mech::makeRegisteredModel(name);  // "unknown model 'x' (known: ...)"
   if (nominal_yaml.empty()) return mech::makeDesignModel(name);
   const mech::ParameterFile file = mech::readParameterFile(nominal_yaml);
-  if (isH4(name)) return mech::makeDesignModel(name, h4NominalFromFile(file));
+  if (mech::modelInfo(name).h4_nominal) return mech::makeDesignModel(name, h4NominalFromFile(file));
   mech::DesignModel model = mech::makeDesignModel(name);
   mech::applyParameterFile(file, model.registered.nominal, mountingKeys());
   return model;

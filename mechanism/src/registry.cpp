@@ -10,16 +10,30 @@
 namespace mire::mechanism {
 
 const std::vector<ModelInfo>& registeredModels() {
+  // name, description, label, takes an H4 nominal, the paper's variants and the default one.
   static const std::vector<ModelInfo> models{
-      {"h4-12", "H4, model 12 (paper §3.2), axis-aligned mounting"},
-      {"h4-31", "H4, model 31 in the base frame (paper §3.3), axis-aligned mounting"},
-      {"h4-31c", "H4, model 31 in the camera frame (paper eq. 25-26)"},
-      {"delta", "Delta robot, common geometry (R r L l alpha1..3 q01..3), full mounting"},
-      {"delta-legs", "Delta robot, per-leg geometry (24 parameters), full mounting"},
-      {"gough-stewart", "Gough-Stewart platform (42 parameters), full mounting"},
-      {"gough-stewart-gains", "Gough-Stewart platform + one encoder scale per leg (48 parameters), full mounting"},
+      {"h4-12", "H4, model 12 (paper §3.2), axis-aligned mounting", "h4-12", true, "ABCD", 'D'},
+      {"h4-31", "H4, model 31 in the base frame (paper §3.3), axis-aligned mounting", "h4-31 (base frame)", true, "", 0},
+      {"h4-31c", "H4, model 31 in the camera frame (paper eq. 25-26)", "h4-31c", true, "EFGH", 'H'},
+      {"delta", "Delta robot, common geometry (R r L l alpha1..3 q01..3), full mounting", "delta", false, "", 0},
+      {"delta-legs", "Delta robot, per-leg geometry (24 parameters), full mounting", "delta-legs", false, "", 0},
+      {"gough-stewart", "Gough-Stewart platform (42 parameters), full mounting", "gough-stewart", false, "", 0},
+      {"gough-stewart-gains", "Gough-Stewart platform + one encoder scale per leg (48 parameters), full mounting",
+       "gough-stewart-gains", false, "", 0},
   };
   return models;
+}
+
+const ModelInfo& modelInfo(const std::string& name) {
+  for (const ModelInfo& m : registeredModels())
+    if (m.name == name) return m;
+  throw std::invalid_argument("unknown model '" + name + "' (known: " + registeredModelList() + ")");
+}
+
+const ModelInfo& modelOfVariant(char letter) {
+  for (const ModelInfo& m : registeredModels())
+    if (letter && m.variants.find(letter) != std::string::npos) return m;
+  throw std::invalid_argument(std::string("no model has the variant '") + letter + "' (A-H)");
 }
 
 std::string registeredModelList() {

@@ -20,35 +20,45 @@ char variantLetter(const std::string& variant) {
   return letter;
 }
 
+// "h4-12 (A-D), h4-31c (E-H)": the models that take the paper's variants, for messages.
+std::string variantOwners() {
+  std::string list;
+  for (const mech::ModelInfo& m : mech::registeredModels())
+    if (!m.variants.empty())
+      list += (list.empty() ? "" : ", ") + m.name + " (" + m.variants.front() + "-" + m.variants.back() + ")";
+  return list;
+}
+
 }  // namespace
 
 mech::RegisteredModel ModelChoice::registered() const { return mech::makeRegisteredModel(model, h4); }
 
 std::string ModelChoice::label() const {
   if (variant) return model + ", variant " + std::string(1, variant);
-  return model == "h4-31" ? "h4-31 (base frame)" : model;
+  return mech::modelInfo(model).label;
 }
 
 ModelChoice chooseModel(const std::string& model, const std::string& variant, const mech::H4Nominal& h4) {
   ModelChoice choice;
   choice.h4 = h4;
-  char letter = variantLetter(variant);
-  const bool camera_frame_variant = letter && mech::h4Variant(letter).model == mech::H4ModelKind::Model31Camera;
-  choice.model = !model.empty() ? model : camera_frame_variant ? "h4-31c" : "h4-12";
+  const char letter = variantLetter(variant);
+  // Without a model, the variant's; without either, the registry's default (its first).
+  choice.model = !model.empty() ? model
+                 : letter       ? mech::modelOfVariant(letter).name
+                                : mech::registeredModels().front().name;
+  const mech::ModelInfo* info = nullptr;
   try {
+    info = &mech::modelInfo(choice.model);
     choice.registered();
   } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
     throw std::invalid_argument("--model '" + choice.model + "': " + error.what());
   }
-  if (choice.model == "h4-12" && !letter) letter = 'D';
-  if (choice.model == "h4-31c" && !letter) letter = 'H';
-  if (letter && (choice.model != "h4-12" && choice.model != "h4-31c"))
-    throw std::invalid_argument("--variant applies to h4-12 (A-D) and h4-31c (E-H), not to " + choice.model);
-  const mech::H4ModelKind kind = choice.model == "h4-12" ? mech::H4ModelKind::Model12 : mech::H4ModelKind::Model31Camera;
-  if (letter && mech::h4Variant(letter).model != kind)
+  if (letter && info->variants.empty())
+    throw std::invalid_argument("--variant applies to " + variantOwners() + ", not to " + choice.model);
+  if (letter && info->variants.find(letter) == std::string::npos)
     throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + choice.model +
-                                " (A-D: h4-12, E-H: h4-31c)");
-  choice.variant = letter;
+                                " (" + variantOwners() + ")");
+  choice.variant = letter ? letter : info->default_variant;
   return choice;
 }
 

@@ -235,7 +235,14 @@ void bindH4AndRegistry(py::module_& m) {
 
   py::class_<mech::ModelInfo>(m, "ModelInfo")
       .def_readonly("name", &mech::ModelInfo::name)
-      .def_readonly("description", &mech::ModelInfo::description);
+      .def_readonly("description", &mech::ModelInfo::description)
+      .def_readonly("label", &mech::ModelInfo::label)
+      .def_readonly("h4_nominal", &mech::ModelInfo::h4_nominal)
+      .def_readonly("variants", &mech::ModelInfo::variants)
+      .def_property_readonly("default_variant", [](const mech::ModelInfo& m) {
+        return m.default_variant ? std::string(1, m.default_variant) : std::string();
+      });
+  m.def("modelInfo", &mech::modelInfo, py::arg("name"), py::return_value_policy::reference);
   m.def("registeredModels", &mech::registeredModels);
   py::class_<mech::RegisteredModel>(m, "RegisteredModel")
       .def_readonly("name", &mech::RegisteredModel::name)

@@ -3,6 +3,7 @@
 #include "test_support.hpp"
 
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -45,50 +46,49 @@ std::vector<std::string> candidateFiles(const fs::path& root) {
   return files;
 }
 
-}  // namespace
-
-TEST(DocCitations, NoSourceOrDocCitesTheOutsideBrief) {
+// Calls check(where, line) for every line of every tracked file `selected` accepts ("path:line");
+// returns how many files it read.
+int forEachLine(const std::function<bool(const std::string&)>& selected,
+                const std::function<void(const std::string&, const std::string&)>& check) {
   const fs::path root = mire::test::sourceDir();
   int scanned = 0;
   for (const std::string& relative : candidateFiles(root)) {
-    if (!isScanned(relative)) continue;
+    if (!selected(relative)) continue;
     std::ifstream in(root / relative);
-    ASSERT_TRUE(in) << relative;
+    EXPECT_TRUE(in) << relative;
     ++scanned;
     int line_number = 0;
-    for (std::string line; std::getline(in, line);) {
-      ++line_number;
-      EXPECT_EQ(line.find(kOutsideDocument), std::string::npos)
-          << relative << ":" << line_number << " cites a document outside the repository (cite the paper's "
-          << "equation or doc/):\n  " << line;
-    }
+    for (std::string line; std::getline(in, line);) check(relative + ":" + std::to_string(++line_number), line);
   }
-  EXPECT_GT(scanned, 100) << "too few source files found under " << root;
+  return scanned;
+}
+
+}  // namespace
+
+TEST(DocCitations, NoSourceOrDocCitesTheOutsideBrief) {
+  const int scanned = forEachLine(isScanned, [](const std::string& where, const std::string& line) {
+    EXPECT_EQ(line.find(kOutsideDocument), std::string::npos)
+        << where << " cites a document outside the repository (cite the paper's equation or doc/):\n  " << line;
+  });
+  EXPECT_GT(scanned, 100) << "too few source files found under " << mire::test::sourceDir();
 }
 
 // Comments state contracts and cite the paper or doc/, never the tracker ("issue <number>") or a work
 // log; doc headings name topics, not sessions ("Stop 27"): history lives in CHANGELOG.md and the
 // dated pages of doc/studies/.
 TEST(DocCitations, NoCommentOrDocCitesTheTrackerOrAWorkLog) {
-  const fs::path root = mire::test::sourceDir();
   const std::regex tracker(R"((^|[^A-Za-z])[Ii]ssues? +#?[0-9]+)");
   const std::regex work_log_heading(R"(^#+ .*\b[Ss]tops? [0-9]+)");
-  int scanned = 0;
-  for (const std::string& relative : candidateFiles(root)) {
+  const auto selected = [](const std::string& relative) {
     const std::string ext = fs::path(relative).extension().string();
     const bool doc_page = ext == ".md" && relative.rfind("doc/", 0) == 0;  // doc/studies/ too
-    if (!isScanned(relative) && !doc_page && ext != ".sh") continue;
-    std::ifstream in(root / relative);
-    ASSERT_TRUE(in) << relative;
-    ++scanned;
-    int line_number = 0;
-    for (std::string line; std::getline(in, line);) {
-      ++line_number;
-      EXPECT_FALSE(std::regex_search(line, tracker))
-          << relative << ":" << line_number << " cites the tracker (state the contract, cite doc/):\n  " << line;
-      EXPECT_FALSE(std::regex_search(line, work_log_heading))
-          << relative << ":" << line_number << " is a work-log heading (history: CHANGELOG.md):\n  " << line;
-    }
-  }
-  EXPECT_GT(scanned, 100) << "too few files found under " << root;
+    return isScanned(relative) || doc_page || ext == ".sh";
+  };
+  const int scanned = forEachLine(selected, [&](const std::string& where, const std::string& line) {
+    EXPECT_FALSE(std::regex_search(line, tracker))
+        << where << " cites the tracker (state the contract, cite doc/):\n  " << line;
+    EXPECT_FALSE(std::regex_search(line, work_log_heading))
+        << where << " is a work-log heading (history: CHANGELOG.md):\n  " << line;
+  });
+  EXPECT_GT(scanned, 100) << "too few files found under " << mire::test::sourceDir();
 }

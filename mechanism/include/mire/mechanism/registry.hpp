@@ -12,12 +12,21 @@
 
 namespace mire::mechanism {
 
+// What the rest of mire asks of a model by name, so that no caller tests the name itself.
 struct ModelInfo {
   std::string name;  // as typed by users
   std::string description;
+  std::string label;        // in reports and on the terminal (the name, or what it adds to it)
+  bool h4_nominal = false;  // its nominal geometry is an H4's (`--nominal`: a model-12 parameter file)
+  std::string variants;     // the paper's Table 2 variants it takes (variants.hpp), "" for none
+  char default_variant = 0;
 };
-const std::vector<ModelInfo>& registeredModels();
-std::string registeredModelList();  // "h4-12, h4-31, ..."
+const std::vector<ModelInfo>& registeredModels();  // the default model first
+std::string registeredModelList();                 // "h4-12, h4-31, ..."
+// Throws std::invalid_argument "unknown model 'x' (known: ...)".
+const ModelInfo& modelInfo(const std::string& name);
+// The model whose variants include `letter` (A–H); throws std::invalid_argument for another letter.
+const ModelInfo& modelOfVariant(char letter);
 
 struct RegisteredModel {
   std::string name;

@@ -28,8 +28,8 @@ struct ModelChoice {
   mechanism::RegisteredModel registered() const;  // the mechanism and its nominal geometry
 };
 
-// Completes and checks a choice made by name: the variant's model when `model` is empty
-// (A–D: h4-12, E–H: h4-31c; default h4-12), the default variant (D for h4-12, H for h4-31c).
+// Completes and checks a choice made by name: the variant's model when `model` is empty (the
+// registry's default without either), the model's default variant (ModelInfo::default_variant).
 // Throws std::invalid_argument naming the option at fault ("--model", "--variant").
 ModelChoice chooseModel(const std::string& model, const std::string& variant, const mechanism::H4Nominal& h4 = {});
 
