@@ -49,8 +49,7 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
   const mech::ModelInfo* info = nullptr;
   try {
     info = &mech::modelInfo(choice.model);
-    choice.registered();
-  } catch (const std::exception& error) {  // "unknown model 'x' (known: ...)"
+  } catch (const std::invalid_argument& error) {  // "unknown model 'x' (known: ...)"
     throw std::invalid_argument("--model '" + choice.model + "': " + error.what());
   }
   if (letter && info->variants.empty())
