@@ -3,6 +3,5 @@
 # `mire demo` on the bundled default data.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-bash "$root/scripts/setup.sh"
 MIRE_TARGET=mire bash "$root/scripts/build.sh"
 "$root/build/apps/mire" demo -o "${MIRE_DEMO_OUT:-$root/demo-output}" "$@"
