@@ -200,9 +200,10 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
   const std::vector<mech::PoseObservation>& poses = set.observations.poses;
   if (!set.shared) throw std::runtime_error(poses_csv.string() + ": no shared-term side file");
   const mech::SharedPoseTerm& shared = *set.shared;
-  const mech::IdentificationResult before = pipeline::fit(choice, pipeline::initialModel(choice, poses), poses, {});
+  const pipeline::InitialModel initial = pipeline::initialModel(choice, poses);
+  const mech::IdentificationResult before = pipeline::fit(choice, initial, poses, {});
   mech::IdentificationResult after = before;
-  pipeline::addSharedTerm(choice, pipeline::initialModel(choice, poses), poses, shared, after);
+  pipeline::addSharedTerm(choice, initial, poses, shared, after);
   if (static_cast<Eigen::Index>(shared.names.size()) < camera_error.size())
     throw std::runtime_error("the shared-term file does not hold every camera parameter");
   std::vector<mech::PoseObservation> corrected_poses = poses;

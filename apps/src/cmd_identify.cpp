@@ -106,21 +106,28 @@ std::string human(const mech::Parameter& p, double si) {
   return buffer;
 }
 
+// The files as the options name them, poses.csv's side files by default.
+pipeline::PoseSetFiles poseSetFiles(const IdentifyArguments& args) {
+  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(args.poses, args.joints);
+  if (!args.covariances.empty()) files.covariances = fs::path(args.covariances);
+  if (!args.shared.empty()) files.shared = fs::path(args.shared);
+  if (args.independent_poses) files.shared.reset();
+  if (!args.lines.empty()) files.lines = fs::path(args.lines);
+  return files;
+}
+
 // Inputs exist and are regular files; outputs clash with none of them (output_paths.hpp).
 // Returns them (report.json's provenance).
-CommandPaths checkPaths(const IdentifyArguments& args) {
+CommandPaths checkPaths(const IdentifyArguments& args, const pipeline::PoseSetFiles& files) {
   CommandPaths paths;
   paths.input_files = {{args.poses, "--poses"}, {args.joints, "--joints"}};
-  if (!args.covariances.empty())
-    paths.input_files.push_back({args.covariances, "--pose-covariances"});
-  else if (fs::exists(support::covarianceSidePath(args.poses)))
-    paths.input_files.push_back({support::covarianceSidePath(args.poses), "the covariance side file"});
+  if (files.covariances)
+    paths.input_files.push_back(
+        {*files.covariances, args.covariances.empty() ? "the covariance side file" : "--pose-covariances"});
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
-  if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
-  if (!args.shared.empty())
-    paths.input_files.push_back({args.shared, "--shared-term"});
-  else if (!args.independent_poses && fs::exists(support::sharedTermSidePath(args.poses)))
-    paths.input_files.push_back({support::sharedTermSidePath(args.poses), "the shared-term side file"});
+  if (files.lines) paths.input_files.push_back({*files.lines, "--lines"});
+  if (files.shared)
+    paths.input_files.push_back({*files.shared, args.shared.empty() ? "the shared-term side file" : "--shared-term"});
   paths.output_files = {{args.output, "-o"},
                         {support::covarianceSidePath(args.output), "the covariance side file of -o"}};
   if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
@@ -153,25 +160,15 @@ struct IdentifyInputs {
   pipeline::IdentifyOptions options;
 };
 
-// The files as the options name them, poses.csv's side files by default. The calibration
-// error shared by every pose (doc/uncertainty.md) needs the full pose covariances as weights:
-// weighting by the independent part alone moved the demo's R, l and alpha_i 5-10x further
-// from the truth.
-pipeline::PoseSetFiles poseSetFiles(const IdentifyArguments& args) {
-  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(args.poses, args.joints);
-  if (!args.covariances.empty()) files.covariances = fs::path(args.covariances);
-  if (!args.shared.empty()) files.shared = fs::path(args.shared);
-  if (args.independent_poses) files.shared.reset();
-  if (!args.lines.empty()) files.lines = fs::path(args.lines);
+// The calibration error shared by every pose (doc/uncertainty.md) needs the full pose covariances
+// as weights: weighting by the independent part alone moved the demo's R, l and alpha_i 5-10x
+// further from the truth.
+IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const pipeline::PoseSetFiles& files,
+                                  const pipeline::ModelChoice& choice) {
   if (files.shared && !files.covariances && !args.unweighted)
     throw UsageError(files.shared->string() + " needs the full pose covariances (" +
                      support::covarianceSidePath(args.poses).string() +
                      " or --pose-covariances), or --independent-poses");
-  return files;
-}
-
-IdentifyInputs readIdentifyInputs(const IdentifyArguments& args, const pipeline::ModelChoice& choice) {
-  const pipeline::PoseSetFiles files = poseSetFiles(args);
   const std::vector<std::string> joint_columns = choice.registered().mechanism->jointColumnNames();
   pipeline::PoseSet set = pipeline::readPoseSet(files, joint_columns);
   IdentifyInputs inputs;
@@ -405,9 +402,10 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
 // then the outputs.
 int runIdentify(const IdentifyArguments& args, const std::string& command_line) {
   IdentifyRun run;
-  run.paths = checkPaths(args);
+  const pipeline::PoseSetFiles files = poseSetFiles(args);
+  run.paths = checkPaths(args, files);
   run.choice = chooseModel(args);
-  run.inputs = readIdentifyInputs(args, run.choice);
+  run.inputs = readIdentifyInputs(args, files, run.choice);
   const auto& poses = run.inputs.observations.poses;
   run.identification = pipeline::identify(run.choice, poses, run.inputs.shared, run.inputs.options);
   if (!run.identification.result.converged)
