@@ -13,10 +13,10 @@
 
 #include "commands.hpp"
 #include "mire/mechanism/model_selection.hpp"
+#include "mire/pipeline/pose_set.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 #include "mire/support/output_transaction.hpp"
-#include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
 #include "plot.hpp"
@@ -102,15 +102,13 @@ int runSelect(const SelectArguments& args) {
     if (c.model.registered.mechanism->jointCount() != m.jointCount())
       throw std::invalid_argument("--models: " + c.label + " and " + candidates.front().label +
                                   " are different mechanisms");
-  std::optional<fs::path> covariance;
-  if (!args.covariances.empty())
-    covariance = fs::path(args.covariances);
-  else if (fs::exists(support::covarianceSidePath(args.poses)))
-    covariance = support::covarianceSidePath(args.poses);
-  const mech::ObservationSet observations =
-      mech::readObservations(args.poses, args.joints, covariance, m.jointColumnNames());
-  std::vector<mech::LineRecord> lines;
-  if (!args.lines.empty()) lines = mech::readLinesCsv(args.lines, m.jointColumnNames());
+  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(args.poses, args.joints);
+  if (!args.covariances.empty()) files.covariances = fs::path(args.covariances);
+  files.shared.reset();  // select weighs each pose by its own covariance only
+  if (!args.lines.empty()) files.lines = fs::path(args.lines);
+  const pipeline::PoseSet set = pipeline::readPoseSet(files, m.jointColumnNames());
+  const mech::ObservationSet& observations = set.observations;
+  const std::vector<mech::LineRecord>& lines = set.lines;
   mech::SelectionOptions options;
   options.folds = args.folds;
   options.seed = args.seed;
@@ -124,7 +122,8 @@ int runSelect(const SelectArguments& args) {
     support::writeFileAtomically(dir / "select_scores.csv", scoresCsv(result));
     writeSelectPlot(dir / "select_cv.png", result, m.jointUnits().front());
     ReportProvenance provenance{args.command_line, paths.input_files, {{args.report, "--report"}}};
-    if (covariance && args.covariances.empty()) provenance.inputs.push_back({*covariance, "the covariance side file"});
+    if (files.covariances && args.covariances.empty())
+      provenance.inputs.push_back({*files.covariances, "the covariance side file"});
     writeSelectReportJson(dir / "report.json", provenance, result, m.jointUnits().front(), args.folds, args.seed);
     outputs.commit();
   }
