@@ -4,6 +4,8 @@
 #include "output_paths.hpp"
 #include "report_json.hpp"
 
+#include "mire/mechanism/registry.hpp"
+
 #include <iostream>
 #include <memory>
 
@@ -31,15 +33,19 @@ Runner addDemoCommand(CLI::App& app) {
       ->capture_default_str();
   demo->add_flag("--quick", options->quick, "Smaller run: 15 calibration views, 3 images per pose, fewer repeats");
   demo->add_option("--seed", options->seed, "Seed of the simulated robot, images and random subsets")->capture_default_str();
+  std::vector<std::string> mechanisms;
+  for (const mechanism::MechanismFamily& family : mechanism::mechanismFamilies()) mechanisms.push_back(family.name);
   demo->add_option("--mechanism", options->mechanism,
-                   "h4 (the paper's experiment), delta or gough-stewart (doc/demo-mechanisms.md)")
-      ->check(CLI::IsMember({"h4", "delta", "gough-stewart"}))
+                   "The paper's experiment on the first, or another robot of the table: " +
+                       mechanism::mechanismFamilyList() + " (doc/demo-mechanisms.md)")
+      ->check(CLI::IsMember(mechanisms))
       ->capture_default_str();
   return [options, demo] {
     options->command_line = commandLineOf(*demo);
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
     checkCommandPaths({{}, {}, {}, {{options->output, "-o"}}});
-    if (options->mechanism != "h4") return printMechanismDemo(runMechanismDemo(*options), options->output);
+    if (options->mechanism != mechanism::mechanismFamilies().front().name)
+      return printMechanismDemo(runMechanismDemo(*options), options->output);
     const DemoResults results = runDemo(*options);
     std::cout << "mire demo: report written to " << (options->output / "report.md").string() << "\n";
     std::cout << "  V3 straightness: " << 1e3 * results.nominal_v3_m << " mm (nominal) -> ";

@@ -135,7 +135,8 @@ CommandPaths checkPaths(const IdentifyArguments& args, const pipeline::PoseSetFi
   return paths;
 }
 
-// The model the user chose (--model, --variant, --nominal for the H4 models).
+// The model the user chose (--model, --variant) with its nominal geometry (--nominal; the H4
+// models' default is datasets/specs/h4_nominal.yaml, the others' built in).
 pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
   pipeline::ModelChoice choice;
   try {
@@ -143,10 +144,10 @@ pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
   } catch (const std::invalid_argument& error) {  // names the option at fault
     throw UsageError(error.what());
   }
-  const bool h4 = mech::modelInfo(choice.model).h4_nominal;
-  if (!h4 && !args.nominal.empty())
-    throw UsageError("--nominal applies to the H4 models; " + choice.model + " starts from its built-in nominal");
-  if (h4) choice.h4 = readH4Nominal(args.nominal.empty() ? defaultNominalPath() : args.nominal);
+  if (!args.nominal.empty())
+    pipeline::applyNominalFile(choice, args.nominal);
+  else if (mech::modelInfo(choice.model).h4_nominal)
+    pipeline::applyNominalFile(choice, defaultNominalPath());
   return choice;
 }
 
@@ -431,11 +432,14 @@ Runner addIdentifyCommand(CLI::App& app) {
                   "else the sigma_ columns)");
   cmd->add_flag("--unweighted", args->unweighted, "ignore the pose covariances (plain least squares)")
       ->excludes("--pose-covariances");
-  cmd->add_option("--nominal", args->nominal, "nominal model-12 geometry YAML (default datasets/specs/h4_nominal.yaml)");
+  cmd->add_option("--nominal", args->nominal,
+                  "nominal geometry: a parameter YAML or an identified file (the H4 models: model 12's keys, default "
+                  "datasets/specs/h4_nominal.yaml; the others: their own parameters, default built in)");
   cmd->add_option("--model", args->model,
-                  "h4-12 (variants A-D), h4-31 (base frame), h4-31c (camera frame, E-H), delta, delta-legs or "
-                  "gough-stewart; default: the variant's model, else h4-12");
-  cmd->add_option("--variant", args->variant, "paper Table 2 variant A..H (default D for h4-12, H for h4-31c)");
+                  mech::registeredModelList() + " (doc/mechanisms.md); default: the variant's model, else " +
+                      mech::registeredModels().front().name);
+  cmd->add_option("--variant", args->variant,
+                  "paper Table 2 variant A..H of " + mech::variantOwnerList() + " (default: the model's own)");
   cmd->add_option("--fix", args->fix, "also hold these parameters at their nominal values")->delimiter(',');
   cmd->add_option("--prior", args->priors, "Gaussian prior name=value:sigma (SI units); repeatable");
   cmd->add_flag("--robust", args->robust, "Huber loss (3 sigma) and outlier report");

@@ -199,8 +199,9 @@ int runPlan(const PlanArguments& args) {
 Runner addPlanCommand(CLI::App& app) {
   auto args = std::make_shared<PlanArguments>();
   CLI::App* cmd = app.add_subcommand("plan", "choose the poses to measure (optimal experiment design)");
-  cmd->add_option("--model", args->model, "h4-12, h4-31, h4-31c, delta, delta-legs, gough-stewart")->required();
-  cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)");
+  cmd->add_option("--model", args->model, mech::registeredModelList())->required();
+  cmd->add_option("--nominal", args->nominal,
+                  "nominal geometry (a parameter YAML or an identified file; default: built in)");
   cmd->add_option("--workspace", args->workspace, "workspace YAML (x_m, y_m, z_m ranges, rotations)")->required();
   cmd->add_option("--count", args->count, "number of poses to choose")->required();
   cmd->add_option("-o,--output", args->output, "plan.csv")->required();

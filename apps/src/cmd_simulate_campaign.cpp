@@ -10,6 +10,7 @@
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 
@@ -43,26 +44,32 @@ constexpr int kMaxCalibrationViews = 500;
 // The file whose presence marks a folder as a previous campaign (both generators write it).
 const char* const kCampaignMarker = "truth/robot.yaml";
 
-// What to identify: the model the simulated robot's geometry is written in (truth/<model>.yaml),
-// which of its parameters compare with the truth directly, and the mechanism's other models
-// (doc/mechanisms.md, "The registry"). The Delta's and the hexapod's joint centres and angles are
-// identified in the frame of the mounting `mire identify` holds as gauge, not the simulator's
-// (doc/demo-mechanisms.md, "Scoring"); lengths do not depend on the frame.
-struct ModelGuide {
-  std::string model, comparable, others;
-};
+// What to identify: the family's truth model (truth/<model>.yaml, registry.hpp), which of its
+// parameters compare with the truth directly, and the family's other models. The Delta's and
+// the hexapod's joint centres and angles are identified in the frame of the mounting `mire
+// identify` holds as gauge, not the simulator's (doc/demo-mechanisms.md, "Scoring"); lengths do
+// not depend on the frame.
+const mechanism::MechanismFamily* familyOf(const std::string& name) {
+  for (const mechanism::MechanismFamily& family : mechanism::mechanismFamilies())
+    if (family.name == name) return &family;
+  return nullptr;
+}
 
-std::optional<ModelGuide> guideFor(const std::string& mechanism) {
-  if (mechanism == "h4")
-    return ModelGuide{"h4-12", "its 12 geometric parameters (model 12's mounting is axis-aligned: no gauge)",
-                      "h4-31c (variants E-H: --variant)"};
-  if (mechanism == "delta")
-    return ModelGuide{"delta-legs", "L1..L3 and l1..l3 (the pivots, axes and q0i are in the frame of the gauge)",
-                      "delta (one geometry for the three legs)"};
-  if (mechanism == "gough-stewart")
-    return ModelGuide{"gough-stewart", "rho01..rho06 (the joint centres are in the frame of the gauge)",
-                      "gough-stewart-gains (one encoder scale per leg)"};
-  return std::nullopt;
+bool isH4(const mechanism::MechanismFamily& family) {
+  return family.defects == mechanism::SimulatedDefects::H4Parallelograms;
+}
+
+// `h4-31, h4-31c (variants E-H: --variant)`
+std::string otherModels(const mechanism::MechanismFamily& family) {
+  std::string list;
+  for (const std::string& name : family.models) {
+    if (name == family.truth_model) continue;
+    const mechanism::ModelInfo& info = mechanism::modelInfo(name);
+    list += (list.empty() ? "" : ", ") + name;
+    if (!info.variants.empty())
+      list += std::string(" (variants ") + info.variants.front() + "-" + info.variants.back() + ": --variant)";
+  }
+  return list;
 }
 
 void checkRange(const std::optional<int>& value, int low, int high, const std::string& option, const std::string& why) {
@@ -74,8 +81,9 @@ void checkRange(const std::optional<int>& value, int low, int high, const std::s
 // Everything is checked before the rendering starts: option values, then the output folder,
 // replaced only when it is empty or a previous campaign.
 void checkCampaignOptions(const CampaignOptions& options) {
-  if (!guideFor(options.mechanism))
-    throw UsageError("--mechanism '" + options.mechanism + "': unknown mechanism (valid: h4, delta, gough-stewart)");
+  if (!familyOf(options.mechanism))
+    throw UsageError("--mechanism '" + options.mechanism +
+                     "': unknown mechanism (valid: " + mechanism::mechanismFamilyList() + ")");
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
              " views (calibrate needs at least 3)");
@@ -114,7 +122,7 @@ WrittenCampaign generateH4(const CampaignOptions& options, const fs::path& direc
   applyOptions(options, spec);
   const datasets::H4Campaign campaign = datasets::generateH4Campaign(spec, directory, progress);
   // The model-12 part of the true robot (the demo scores model 12 against it, demo_pipeline.cpp).
-  writeTruthParameters(directory, "h4-12",
+  writeTruthParameters(directory, familyOf(options.mechanism)->truth_model,
                        mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, spec.seed)),
                        "True geometry of the simulated H4 in model 12's parameters (SI); its unmodelled defects "
                        "are in robot.yaml");
@@ -152,7 +160,7 @@ std::string shellWord(const fs::path& path) {
 // What was written, and the commands a user runs next, as on a real robot.
 void printCampaign(const CampaignOptions& options, const WrittenCampaign& written) {
   const fs::path dir = options.output;
-  const ModelGuide guide = *guideFor(options.mechanism);
+  const mechanism::MechanismFamily& family = *familyOf(options.mechanism);
   const auto in = [&](const std::string& relative) { return shellWord(dir / relative); };
   std::cout << "mire simulate campaign: a simulated " << options.mechanism << " (seed " << options.seed << ") in "
             << dir.string() << "\n"
@@ -160,17 +168,18 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << "  " << in("poses") << ": " << written.poses << " poses x " << written.images_per_pose << " images\n"
             << "  " << in("joints.csv") << " (" << written.joint_columns.front() << ".." << written.joint_columns.back()
             << "), " << in("lines.csv") << " (" << written.lines << " straight lines), " << in("target.yaml") << "\n"
-            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << guide.model << ".yaml)\n"
+            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << family.truth_model
+            << ".yaml)\n"
             << "next, as on a real robot (results in the current folder):\n"
             << "  mire calibrate --target " << in("target.yaml") << " --images " << in("calibration/images")
             << " -o camera.yaml\n"
             << "  mire measure --camera camera.yaml --target " << in("target.yaml") << " --poses " << in("poses")
             << " -o poses.csv\n"
             << "  mire identify --poses poses.csv --joints " << in("joints.csv") << " --lines " << in("lines.csv")
-            << " --model " << guide.model << " -o identified.yaml\n"
-            << "then compare identified.yaml with " << in("truth/" + guide.model + ".yaml") << ": " << guide.comparable
-            << "; doc/simulation.md, \"Whole campaigns\"\n"
-            << "other models: " << guide.others << "\n";
+            << " --model " << family.truth_model << " -o identified.yaml\n"
+            << "then compare identified.yaml with " << in("truth/" + family.truth_model + ".yaml") << ": "
+            << family.comparable << "; doc/simulation.md, \"Whole campaigns\"\n"
+            << "other models: " << otherModels(family) << "\n";
 }
 
 int runCampaign(const CampaignOptions& options) {
@@ -184,8 +193,8 @@ int runCampaign(const CampaignOptions& options) {
   };
   support::OutputTransaction outputs;
   const fs::path staged = outputs.stageFolder(options.output, support::OutputTransaction::FolderCommit::ReplaceWhole);
-  const WrittenCampaign written =
-      options.mechanism == "h4" ? generateH4(options, staged, advance) : generateMechanism(options, staged, advance);
+  const WrittenCampaign written = isH4(*familyOf(options.mechanism)) ? generateH4(options, staged, advance)
+                                                                     : generateMechanism(options, staged, advance);
   if (progress) progress->finish();
   outputs.commit();
   printCampaign(options, written);
@@ -200,7 +209,9 @@ SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
       "campaign",
       "A whole campaign as mire demo renders it (doc/simulation.md): DIR/calibration/images, DIR/poses, "
       "DIR/joints.csv, DIR/lines.csv, DIR/target.yaml, DIR/truth/");
-  campaign->add_option("--mechanism", options->mechanism, "h4, delta or gough-stewart (doc/demo-mechanisms.md)")->required();
+  campaign
+      ->add_option("--mechanism", options->mechanism, mechanism::mechanismFamilyList() + " (doc/demo-mechanisms.md)")
+      ->required();
   campaign->add_option("-o,--output", options->output, "Output folder (created; replaced if a previous campaign)")
       ->required();
   campaign->add_option("--seed", options->seed, "Seed of the simulated robot, images and encoder noise")

@@ -17,7 +17,7 @@ namespace mech = mire::mechanism;
 // 15 poses planned among the protocol volume's candidates (model 12, D criterion) against
 // random sets of 15 from the same candidates, as `mire plan --count 15` reports them.
 void planStudy(const DemoOptions& options, const mech::H4Nominal& nominal, DemoExperimentDesign& out) {
-  const mech::DesignModel model = mech::makeDesignModel("h4-12", nominal);
+  const mech::DesignModel model = mech::makeDesignModel(mech::modelOfVariant('D').name, nominal);
   const mech::Mechanism& m = *model.registered.mechanism;
   const Eigen::VectorXd geometry = model.registered.nominal.values();
   const mech::Workspace workspace = mech::protocolWorkspace(m, geometry);
@@ -37,8 +37,9 @@ void planStudy(const DemoOptions& options, const mech::H4Nominal& nominal, DemoE
 // The eight variants ranked by 10-fold cross-validated joint residual on the measured poses.
 void selectStudy(const DemoOptions& options, const mech::H4Nominal& nominal,
                  const std::vector<mech::PoseObservation>& poses, DemoExperimentDesign& out) {
-  const auto candidates = mech::parseSelectionCandidates(
-      "h4-12:A,B,C,D,h4-31c:E,F,G,H", [&](const std::string& name) { return mech::makeDesignModel(name, nominal); });
+  const auto candidates =
+      mech::parseSelectionCandidates(mech::mechanismFamily(mech::modelOfVariant('D').family).selection,
+                                     [&](const std::string& name) { return mech::makeDesignModel(name, nominal); });
   mech::SelectionOptions selection;
   selection.seed = static_cast<unsigned>(options.seed);
   out.folds = selection.folds;

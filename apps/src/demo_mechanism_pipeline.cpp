@@ -172,10 +172,7 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   files.lines = campaign->lines_file();
   const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign->robot.mechanism().jointColumnNames());
   results.true_v3_m = trueStraightness(campaign->robot, data.lineJoints());
-  const std::vector<std::string> models = options.mechanism == "delta"
-                                              ? std::vector<std::string>{"delta", "delta-legs"}
-                                              : std::vector<std::string>{"gough-stewart", "gough-stewart-gains"};
-  for (const auto& name : models)
+  for (const auto& name : mechanism::mechanismFamily(options.mechanism).models)
     stage("identify " + name + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
   results.files = writeMechanismDemoReport(options, results);

@@ -6,6 +6,7 @@
 #include "plot.hpp"
 #include "report_json.hpp"
 
+#include "mire/mechanism/registry.hpp"
 #include "mire/support/atomic_file.hpp"
 
 #include <algorithm>
@@ -21,30 +22,21 @@ using demo_report::fixed;
 using demo_report::format;
 using demo_report::percent;
 
-std::string title(const std::string& mechanism) { return mechanism == "delta" ? "Delta" : "Gough–Stewart hexapod"; }
-// The charts' Hershey fonts are ASCII only.
-std::string plotTitle(const std::string& mechanism) { return mechanism == "delta" ? "Delta" : "Gough-Stewart hexapod"; }
+const mechanism::MechanismFamily& family(const std::string& name) { return mechanism::mechanismFamily(name); }
 
-std::string robotDescription(const std::string& mechanism) {
-  if (mechanism == "delta")
-    return "a Delta (3 rotary actuators, a plate that only translates) whose three legs differ (the `delta-legs` "
-           "geometry: each leg's pivot, arm axis, arm and forearm lengths and joint offset off by about 1 mm / 0.5°) "
-           "and whose imperfect parallelograms tilt the plate by 0.0116 rad per metre of travel (no Delta model "
-           "represents it), moved through the 27 protocol positions of doc/mechanisms.md (a 300 × 300 × 150 mm grid "
-           "around z = −0.65 m), the camera 0.68 m below the workspace centre looking up";
-  return "a Gough–Stewart hexapod (6 prismatic legs, 6 DoF) with 1 mm errors on every joint centre and leg "
-         "length, per-leg encoder gains 1 ± 2·10⁻³ and 0.3 mm joint eccentricities (neither in the 42-parameter "
-         "model), moved through the 81 protocol poses of doc/mechanisms.md (27 positions ±40 mm, ±30 mm in z, × 3 "
-         "orientations with ±6° tilts and a yaw), the camera 0.45 m above the platform's home looking down";
+// The encoder noise the campaign adds follows the joints' unit (mechanism_image_campaign.hpp).
+bool revoluteJoints(const std::string& name) {
+  return mechanism::makeRegisteredModel(family(name).truth_model).mechanism->jointUnits().front() ==
+         mechanism::Unit::Radian;
 }
 
 void writeIntroduction(const DemoOptions& options, const MechanismDemoResults& r, std::ostream& md) {
-  md << "# mire demo --mechanism " << r.mechanism << ": the " << title(r.mechanism)
+  md << "# mire demo --mechanism " << r.mechanism << ": the " << family(r.mechanism).title
      << " from images to an identified robot, in simulation\n\n"
-     << "The simulated robot is " << robotDescription(r.mechanism)
+     << "The simulated robot is " << family(r.mechanism).simulated_robot
      << ". It carries the H4 demo's chessboard (12 × 9 corners of 16 mm) and is seen by the H4 demo's reference "
         "camera (1024×768, 3.8 mm lens, strong barrel distortion), rendered by the same renderer; encoder noise "
-     << (r.mechanism == "delta" ? "2·10⁻⁵ rad" : "1 µm")
+     << (revoluteJoints(r.mechanism) ? "2·10⁻⁵ rad" : "1 µm")
      << ". mire calibrated the camera from images, measured every pose from images (`poses.csv` with its "
         "covariance and shared-term side files) and identified the robot from `poses.csv` + `joints.csv` exactly "
         "as `mire identify --model NAME` does. The simulator's truth (`campaign/truth/`) is used only to score.\n\n"
@@ -130,7 +122,7 @@ void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& 
   // Before and after differ by one to two decades: a log axis keeps both readable.
   const int width = std::max(960, 300 * static_cast<int>(categories.size()));
   writePng(out / "criteria_before_after.png",
-           barChart(plotTitle(r.mechanism) + ": V3 and positioning test (square side RMS)", "mm", categories,
+           barChart(family(r.mechanism).plain_title + ": V3 and positioning test (square side RMS)", "mm", categories,
                     {before, after}, width, 540, YScale::log10));
   // The nominal geometry is the same for every model of the mechanism: one nominal series.
   std::vector<Series> sides;
@@ -146,7 +138,7 @@ void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& 
     sides.push_back(identified);
   }
   writePng(out / "positioning_test.png",
-           barChart(plotTitle(r.mechanism) + ": |side error| of a 100 mm square", "|error| (mm)",
+           barChart(family(r.mechanism).plain_title + ": |side error| of a 100 mm square", "|error| (mm)",
                     {"side 1", "side 2", "side 3", "side 4"}, sides, 960, 540, YScale::log10));
   if (!with_parameters) return;
   for (const auto& s : r.models) {

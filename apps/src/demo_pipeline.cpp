@@ -205,11 +205,11 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
   // Variant D on all poses, as `mire identify` runs it.
   pipeline::IdentifyOptions identify_options;
   identify_options.fit = data.identification;
-  const auto identified_d =
-      pipeline::identify(pipeline::chooseModel("h4-12", "D", data.nominal), poses, data.shared, identify_options).result;
+  const pipeline::ModelChoice variant_d = pipeline::chooseModel("", "D", data.nominal);
+  const auto identified_d = pipeline::identify(variant_d, poses, data.shared, identify_options).result;
   scoreIdentified(options, campaign, identified_d, results);
   mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
-                                {{"model", "h4-12"}, {"variant", "D"}},
+                                {{"model", variant_d.model}, {"variant", "D"}},
                                 "H4 model 12, variant D, identified by mire demo");
   const auto& model = *identified_d.model.mechanism;
   results.square_before_mm = squareSides(campaign.robot, model, initial.geometricValues());

@@ -8,6 +8,7 @@
 
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/pipeline/identify.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/yaml.hpp"
 
@@ -16,36 +17,6 @@ namespace {
 
 namespace mech = mire::mechanism;
 using support::kRadiansPerDegree;
-
-// Keys every parameter file may carry besides the model's geometry: mounting values.
-std::vector<std::string> mountingKeys() {
-  std::vector<std::string> keys{"amplification"};
-  for (auto form : {mech::ExternalForm::AxisAligned, mech::ExternalForm::Full, mech::ExternalForm::CameraFrame})
-    for (const auto& n : mech::ExternalParameterization(form).parameters().names()) keys.push_back(n);
-  return keys;
-}
-
-mech::H4Nominal h4NominalFrom(const mech::ParameterSet& g, const mech::ParameterFile& file) {
-  mech::H4Nominal n;
-  n.R = g.value("R");
-  n.L = g.value("L");
-  n.l = g.value("l");
-  n.h = g.value("h");
-  n.d = g.value("d");
-  for (int i = 0; i < 4; ++i) {
-    n.alpha[static_cast<std::size_t>(i)] = g.value("alpha" + std::to_string(i + 1));
-    n.q0[static_cast<std::size_t>(i)] = g.value("q0" + std::to_string(i + 1));
-  }
-  if (const auto* entry = file.find("amplification")) n.amplification = file.number(*entry);
-  return n;
-}
-
-// Model-12 values of an H4 parameter file; mounting keys (an identified file's) are ignored.
-mech::H4Nominal h4NominalFromFile(const mech::ParameterFile& file) {
-  mech::ParameterSet g = mech::h4Model12Parameters(mech::H4Nominal{});
-  mech::applyParameterFile(file, g, mountingKeys());
-  return h4NominalFrom(g, file);
-}
 
 mech::Interval interval(const support::YamlNode& map, const std::string& key, double scale) {
   const support::YamlNode node = map.at(key);
@@ -57,17 +28,12 @@ mech::Interval interval(const support::YamlNode& map, const std::string& key, do
 
 }  // namespace
 
-mech::H4Nominal readH4Nominal(const std::filesystem::path& path) {
-  return h4NominalFromFile(mech::readParameterFile(path));
-}
-
 mech::DesignModel readDesignModel(const std::string& name, const std::filesystem::path& nominal_yaml) {
-  mech::makeRegisteredModel(name);  // "unknown model 'x' (known: ...)"
-  if (nominal_yaml.empty()) return mech::makeDesignModel(name);
-  const mech::ParameterFile file = mech::readParameterFile(nominal_yaml);
-  if (mech::modelInfo(name).h4_nominal) return mech::makeDesignModel(name, h4NominalFromFile(file));
-  mech::DesignModel model = mech::makeDesignModel(name);
-  mech::applyParameterFile(file, model.registered.nominal, mountingKeys());
+  pipeline::ModelChoice choice;
+  choice.model = mech::modelInfo(name).name;  // "unknown model 'x' (known: ...)"
+  if (!nominal_yaml.empty()) pipeline::applyNominalFile(choice, nominal_yaml);
+  mech::DesignModel model = mech::makeDesignModel(name, choice.h4);
+  model.registered = choice.registered();
   return model;
 }
 

@@ -9,16 +9,9 @@
 
 namespace mire::app {
 
-// The registry entry `name` with its nominal geometry from `nominal_yaml` (empty: built-in).
-// H4 models read model-12 keys (R L l h d alpha1..4 q01..4, as `mire identify --nominal`);
-// the others their own parameter names. Identified files are accepted (mounting and sigma_
-// keys are ignored).
+// The registry entry `name` with its nominal geometry from `nominal_yaml` (empty: built-in), read
+// as `mire identify --nominal` reads it (pipeline::applyNominalFile).
 mechanism::DesignModel readDesignModel(const std::string& name, const std::filesystem::path& nominal_yaml);
-
-// The H4's nominal geometry from a model-12 parameter file (R L l h d alpha1..4 q01..4 and
-// an optional amplification; identified files accepted: mounting and sigma_ keys ignored).
-// Shared by `mire identify --nominal` and the H4 models of readDesignModel.
-mechanism::H4Nominal readH4Nominal(const std::filesystem::path& path);
 
 // workspace.yaml: x_m, y_m, z_m: [min, max] (base frame, m); theta_deg (H4) or rx_deg, ry_deg,
 // rz_deg (6 DoF) as [min, max]; none for the Delta; optional shape: box|cylinder,

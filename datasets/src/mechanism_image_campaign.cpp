@@ -18,12 +18,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool isDelta(const std::string& mechanism) { return mechanism == "delta"; }
-
-void checkMechanism(const std::string& mechanism) {
-  if (mechanism != "delta" && mechanism != "gough-stewart")
-    throw std::invalid_argument("unknown demo mechanism '" + mechanism + "' (known: h4, delta, gough-stewart)");
+// The simulated robot's defects (registry.hpp); throws std::invalid_argument naming an unknown
+// mechanism or the H4 (whose campaign is h4_campaign.hpp).
+SimulatedDefects defectsOf(const std::string& mechanism) {
+  const SimulatedDefects defects = mechanismFamily(mechanism).defects;
+  if (defects == SimulatedDefects::H4Parallelograms)
+    throw std::invalid_argument("mechanism '" + mechanism + "': its campaign is generateH4Campaign (h4_campaign.hpp)");
+  return defects;
 }
+
+// The Delta's plate only translates: its camera looks up from below, as the H4's.
+bool platformTranslates(const std::string& mechanism) { return defectsOf(mechanism) == SimulatedDefects::PlateTilt; }
 
 Eigen::Isometry3d isometry(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
@@ -48,7 +53,7 @@ SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const 
 // then along the lines (one random stream).
 void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const MechanismImageCampaign& campaign) {
   const Mechanism& mechanism = campaign.robot.mechanism();
-  const double noise = isDelta(spec.mechanism) ? spec.encoder_noise_rad : spec.encoder_noise_m;
+  const double noise = platformTranslates(spec.mechanism) ? spec.encoder_noise_rad : spec.encoder_noise_m;
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
   std::normal_distribution<double> normal(0.0, noise);
   const auto read = [&](const Eigen::VectorXd& X, const std::string& where) {
@@ -75,7 +80,7 @@ void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const Mechanis
 // The true robot of the spec's draw, with or without its unmodelled defects.
 DefectiveRobot trueRobot(const MechanismImageCampaignSpec& spec) {
   const auto seed = static_cast<unsigned>(spec.robot_seed.value_or(spec.seed));
-  if (isDelta(spec.mechanism))
+  if (platformTranslates(spec.mechanism))
     return spec.unmodelled_defects ? makeDefectiveDelta(seed, spec.delta_legs_differ)
                                    : makeDefectiveDelta(seed, spec.delta_legs_differ, 0.0);
   return spec.unmodelled_defects ? makeDefectiveHexapod(seed) : makeDefectiveHexapod(seed, 0.0, 0.0);
@@ -100,7 +105,7 @@ std::string truthYaml(const MechanismImageCampaign& campaign) {
 }  // namespace
 
 MechanismImageCampaignSpec MechanismImageCampaignSpec::reference(const std::string& mechanism) {
-  checkMechanism(mechanism);
+  defectsOf(mechanism);
   MechanismImageCampaignSpec spec;
   spec.mechanism = mechanism;
   spec.camera_file = specPath("reference_camera.yaml");
@@ -118,14 +123,14 @@ MechanismImageCampaignSpec MechanismImageCampaignSpec::reference(const std::stri
 // not found by the chessboard detector). Hexapod: 0.45 m above the platform's home looking
 // down (its protocol spans ±40 mm). Both slightly tilted.
 Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism) {
-  checkMechanism(mechanism);
+  const bool below = platformTranslates(mechanism);
   const double degree = kCampaignDeg;
-  const double yaw = isDelta(mechanism) ? -12.0 : 25.0;
+  const double yaw = below ? -12.0 : 25.0;
   const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(yaw * degree, Eigen::Vector3d::UnitZ()) *
                                 Eigen::AngleAxisd(1.5 * degree, Eigen::Vector3d::UnitX()) *
                                 Eigen::AngleAxisd(-1.0 * degree, Eigen::Vector3d::UnitY()))
                                    .toRotationMatrix();
-  if (isDelta(mechanism)) return isometry(tilt, Eigen::Vector3d(0.03, -0.02, -1.33));
+  if (below) return isometry(tilt, Eigen::Vector3d(0.03, -0.02, -1.33));
   const Eigen::Matrix3d down = tilt * Eigen::AngleAxisd(180.0 * degree, Eigen::Vector3d::UnitX()).toRotationMatrix();
   return isometry(down, Eigen::Vector3d(0.02, -0.01, 0.85));
 }
@@ -133,10 +138,10 @@ Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism) {
 // The board centred on the effector, 40 mm from it along the board's normal, facing the camera
 // (the board's z axis points away from the camera, OpenCV's convention).
 Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target) {
-  checkMechanism(mechanism);
+  const bool below = platformTranslates(mechanism);
   const Eigen::Vector3d centroid = targetCentroid(target);
   Eigen::Matrix3d rotation = Eigen::AngleAxisd(10.0 * kCampaignDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  if (!isDelta(mechanism)) rotation = Eigen::AngleAxisd(kCampaignDeg * 180.0, Eigen::Vector3d::UnitX()) * rotation;
+  if (!below) rotation = Eigen::AngleAxisd(kCampaignDeg * 180.0, Eigen::Vector3d::UnitX()) * rotation;
   return isometry(rotation, Eigen::Vector3d(centroid.x(), centroid.y(), 0.04));
 }
 
@@ -149,7 +154,6 @@ Eigen::Isometry3d MechanismImageCampaign::trueCameraTMarker(const std::string& p
 // the truth.
 MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampaignSpec& spec, const fs::path& directory,
                                                       const ProgressCallback& progress) {
-  checkMechanism(spec.mechanism);
   const MechanismImageCampaignSpec defaults = MechanismImageCampaignSpec::reference(spec.mechanism);
   const calibration::Camera camera =
       calibration::readCamera(spec.camera_file.empty() ? defaults.camera_file : spec.camera_file);

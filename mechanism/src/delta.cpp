@@ -43,7 +43,8 @@ ParameterSet deltaLegsFromDelta(const ParameterSet& d) {
     set.add({indexed("px", i), reach * std::cos(a), Unit::Metre, false, "effective pivot x" + leg});
     set.add({indexed("py", i), reach * std::sin(a), Unit::Metre, false, "effective pivot y" + leg});
     set.add({indexed("pz", i), 0.0, Unit::Metre, false, "effective pivot z" + leg});
-    set.add({indexed("psi", i), a + kPi, Unit::Radian, false, "arm axis azimuth" + leg});
+    // In (−π, π], where every parameter-file reader takes it (a leg at α = 240° has ψ = 60°).
+    set.add({indexed("psi", i), std::remainder(a + kPi, 2.0 * kPi), Unit::Radian, false, "arm axis azimuth" + leg});
     set.add({indexed("beta", i), 0.5 * kPi, Unit::Radian, false, "arm axis tilt" + leg});
     set.add({indexed("L", i), d.value("L"), Unit::Metre, false, "arm length" + leg});
     set.add({indexed("l", i), d.value("l"), Unit::Metre, false, "forearm length" + leg});
@@ -56,13 +57,16 @@ std::unique_ptr<Mechanism> makeDeltaMechanism(DeltaModelKind kind, const DeltaNo
   if (!(nominal.l > nominal.L && nominal.L > 0.0 && nominal.R > nominal.r))
     throw std::invalid_argument("delta nominal: expected l > L > 0 and R > r");
   const ParameterSet simple = deltaParameters(nominal);
+  // The built-in Delta's reference pose is 0.65 m below its base, 4 % below its level-arm depth.
+  constexpr double kBuiltInHomeZ = -0.65;
+  const double home_ratio = kBuiltInHomeZ / DeltaKinematics::levelDepth(deltaParameters(DeltaNominal{}).values());
   if (kind == DeltaModelKind::Simple) {
     DeltaKinematics k;
-    k.reference_z = -0.65;
+    k.home_ratio = home_ratio;
     return std::make_unique<MechanismAdapter<DeltaKinematics>>(k, simple);
   }
   DeltaLegsKinematics k;
-  k.reference_z = -0.65;
+  k.home_ratio = home_ratio;
   return std::make_unique<MechanismAdapter<DeltaLegsKinematics>>(k, deltaLegsFromDelta(simple));
 }
 

@@ -56,8 +56,9 @@ Eigen::Isometry3d transformOf(const Eigen::Vector3d& rotation_vector, const Eige
 IdentificationModel initialModelFor(const DesignModel& model, const std::vector<PoseObservation>& observations) {
   const RegisteredModel& r = model.registered;
   IdentificationModel out;
-  if (r.name == "h4-31c") {
-    out = makeH4VariantModel('H', model.h4, observations);
+  // The camera-frame model starts from its default variant's preset (paper eq. 25-26).
+  if (r.external_form == ExternalForm::CameraFrame) {
+    out = makeH4VariantModel(modelInfo(r.name).default_variant, model.h4, observations);
   } else {
     out = makeInitialModel(r.mechanism, r.nominal, observations, r.external_form);
   }

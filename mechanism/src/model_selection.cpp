@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/variants.hpp"
 
 namespace mire::mechanism {
@@ -111,15 +112,16 @@ bool nested(const ModelScore& a, const ModelScore& b) {
       if (std::find(b.free_names.begin(), b.free_names.end(), n) == b.free_names.end()) return false;
     return true;
   }
-  // Model 12 is model 31 at ψ_i = α_i + π, β_i = π/2 (doc/mechanisms.md); the Delta is
-  // its per-leg model with equal legs, the hexapod its gains model at s_i = 1 (doc/mechanisms.md).
-  // Only a model-31 variant that frees h and the forearms nests every model-12 variant.
-  const auto frees = [&b](const char* n) {
+  // The table's containments (registry.hpp): model 12 is model 31 at ψ_i = α_i + π, β_i = π/2,
+  // the Delta its per-leg model with equal legs, the hexapod its gains model at s_i = 1
+  // (doc/mechanisms.md); a model-31 variant nests model 12 only when it frees h and the forearms.
+  const ModelInfo& richer = modelInfo(b.model_name);
+  const auto contained = std::find(richer.contains.begin(), richer.contains.end(), a.model_name);
+  const auto frees = [&b](const std::string& n) {
     return std::find(b.free_names.begin(), b.free_names.end(), n) != b.free_names.end();
   };
-  return (a.model_name == "h4-12" && (b.model_name == "h4-31c" || b.model_name == "h4-31") && frees("h") && frees("l1")) ||
-         (a.model_name == "delta" && b.model_name == "delta-legs") ||
-         (a.model_name == "gough-stewart" && b.model_name == "gough-stewart-gains");
+  return contained != richer.contains.end() &&
+         std::all_of(richer.contains_when_free.begin(), richer.contains_when_free.end(), frees);
 }
 
 // F-tests between nested pairs, each model against the smallest richer model nesting it.
@@ -167,8 +169,8 @@ std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text
     if (colon != std::string::npos) {
       current = item.substr(0, colon);
       item = item.substr(colon + 1);
-      if (current != "h4-12" && current != "h4-31c")
-        throw std::invalid_argument("--models: variants (letters) belong to h4-12 (A-D) and h4-31c (E-H), not to '" +
+      if (modelInfo(current).variants.empty())
+        throw std::invalid_argument("--models: variants (letters) belong to " + variantOwnerList() + ", not to '" +
                                     current + "'");
     } else if (item.size() != 1) {
       current.clear();
@@ -181,10 +183,10 @@ std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text
     if (current.empty() || item.size() != 1)
       throw std::invalid_argument("--models: '" + item + "' is neither a model name nor a variant letter after model:");
     const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(item[0])));
-    const H4Variant& v = h4Variant(letter);  // throws outside A–H
-    if ((v.model == H4ModelKind::Model12) != (current == "h4-12"))
-      throw std::invalid_argument(std::string("--models: variant ") + letter + " does not belong to " + current +
-                                  " (A-D: h4-12, E-H: h4-31c)");
+    h4Variant(letter);  // throws outside A–H
+    if (modelInfo(current).variants.find(letter) == std::string::npos)
+      throw std::invalid_argument(std::string("--models: variant ") + letter + " does not belong to " + current + " (" +
+                                  variantOwnerList() + ")");
     SelectionCandidate c;
     c.label = std::string(1, letter);
     c.model = make(current);
@@ -196,9 +198,11 @@ std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text
 }
 
 std::string defaultSelectionModels(int joint_count, Unit unit) {
-  if (joint_count == 4 && unit == Unit::Radian) return "h4-12:A,B,C,D,h4-31c:E,F,G,H";
-  if (joint_count == 3 && unit == Unit::Radian) return "delta,delta-legs";
-  if (joint_count == 6 && unit == Unit::Metre) return "gough-stewart,gough-stewart-gains";
+  for (const MechanismFamily& family : mechanismFamilies()) {
+    const RegisteredModel simplest = makeRegisteredModel(family.models.front());
+    if (simplest.mechanism->jointCount() == joint_count && simplest.mechanism->jointUnits().front() == unit)
+      return family.selection;
+  }
   throw std::invalid_argument("no registered mechanism has " + std::to_string(joint_count) + " joints in " +
                               unitName(unit) + ": give --models");
 }

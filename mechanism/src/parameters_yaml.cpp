@@ -46,6 +46,12 @@ std::vector<std::string> knownKeys(const ParameterSet& parameters, const std::ve
       (hint.empty() ? " (known: " + joined(parameters.names()) + ")" : " (did you mean '" + hint + "'?)"));
 }
 
+// `.inf` (or `inf`): the σ of a parameter the data do not determine, as parameterFileString writes it.
+bool isInfinite(const ParameterFileEntry& entry) {
+  const auto value = support::parseYamlNumber(entry.text);
+  return value && std::isinf(*value) && *value > 0.0;
+}
+
 // An angle beyond one turn is degrees typed where radians are expected (alpha1: 45).
 void checkAngle(const ParameterFile& file, const ParameterFileEntry& entry, const Parameter& parameter, double value) {
   if (parameter.unit != Unit::Radian || std::abs(value) <= kTwoPi) return;
@@ -120,6 +126,8 @@ std::vector<std::string> applyParameterFile(const ParameterFile& file, Parameter
     if (listed(metadata, entry.key)) continue;
     const bool is_sigma = entry.key.rfind("sigma_", 0) == 0;
     const std::string name = is_sigma ? entry.key.substr(6) : entry.key;
+    const bool known = parameters.contains(name) || listed(also_allowed, name);
+    if (known && is_sigma && isInfinite(entry)) continue;  // a σ mire writes for what the data do not determine
     if (parameters.contains(name)) {
       const double value = file.number(entry);
       if (is_sigma) {
@@ -163,7 +171,9 @@ std::string parameterFileString(const ParameterSet& parameters, const Eigen::Vec
     if (!(sigma[static_cast<Eigen::Index>(i)] > 0.0)) continue;
     const double s = sigma[static_cast<Eigen::Index>(i)];
     out << "sigma_" << p.name << ": " << support::formatYamlNumber(s) << "  # " << unitName(p.unit) << ", "
-        << support::formatNumber(toDisplay(p.unit, s), 4) << ' ' << displayUnitName(p.unit) << '\n';
+        << (std::isfinite(s) ? support::formatNumber(toDisplay(p.unit, s), 4) + ' ' + displayUnitName(p.unit)
+                             : "not determined by the data")
+        << '\n';
   }
   return out.str();
 }

@@ -1,6 +1,7 @@
-// Name -> model registry (doc/mechanisms.md).
+// The table of mechanisms (registry.hpp, doc/architecture.md): the one place a model's name is spelled.
 #include "mire/mechanism/registry.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "mire/mechanism/delta.hpp"
@@ -9,18 +10,157 @@
 
 namespace mire::mechanism {
 
-const std::vector<ModelInfo>& registeredModels() {
-  // name, description, label, takes an H4 nominal, the paper's variants and the default one.
-  static const std::vector<ModelInfo> models{
-      {"h4-12", "H4, model 12 (paper §3.2), axis-aligned mounting", "h4-12", true, "ABCD", 'D'},
-      {"h4-31", "H4, model 31 in the base frame (paper §3.3), axis-aligned mounting", "h4-31 (base frame)", true, "", 0},
-      {"h4-31c", "H4, model 31 in the camera frame (paper eq. 25-26)", "h4-31c", true, "EFGH", 'H'},
-      {"delta", "Delta robot, common geometry (R r L l alpha1..3 q01..3), full mounting", "delta", false, "", 0},
-      {"delta-legs", "Delta robot, per-leg geometry (24 parameters), full mounting", "delta-legs", false, "", 0},
-      {"gough-stewart", "Gough-Stewart platform (42 parameters), full mounting", "gough-stewart", false, "", 0},
-      {"gough-stewart-gains", "Gough-Stewart platform + one encoder scale per leg (48 parameters), full mounting",
-       "gough-stewart-gains", false, "", 0},
+namespace {
+
+RegisteredModel ofMechanism(std::shared_ptr<const Mechanism> mechanism, ExternalForm form = ExternalForm::Full) {
+  ParameterSet nominal = mechanism->nominal();
+  return {mechanism->name(), std::move(mechanism), std::move(nominal), form};
+}
+
+RegisteredModel h4Model(H4ModelKind kind, const H4Nominal& h4) {
+  switch (kind) {
+    case H4ModelKind::Model12:
+      return {"", makeH4Mechanism(kind, h4), h4Model12Parameters(h4), ExternalForm::AxisAligned};
+    case H4ModelKind::Model31:
+      return {"", makeH4Mechanism(kind, h4), model31FromModel12(h4Model12Parameters(h4)), ExternalForm::AxisAligned};
+    case H4ModelKind::Model31Camera:
+      return ofMechanism(makeH4Mechanism(kind, h4), ExternalForm::CameraFrame);
+  }
+  throw std::logic_error("unknown H4 model kind");
+}
+
+std::vector<ModelInfo> builtInModels() {
+  const auto other = [](auto make) { return [make](const H4Nominal&) { return ofMechanism(make()); }; };
+  const auto h4 = [](H4ModelKind kind) { return [kind](const H4Nominal& n) { return h4Model(kind, n); }; };
+  return {
+      {"h4-12",
+       "H4, model 12 (paper §3.2), axis-aligned mounting",
+       "h4-12",
+       "h4",
+       true,
+       "ABCD",
+       'D',
+       {},
+       {},
+       h4(H4ModelKind::Model12)},
+      {"h4-31",
+       "H4, model 31 in the base frame (paper §3.3), axis-aligned mounting",
+       "h4-31 (base frame)",
+       "h4",
+       true,
+       "",
+       0,
+       {"h4-12"},
+       {"h", "l1"},
+       h4(H4ModelKind::Model31)},
+      {"h4-31c",
+       "H4, model 31 in the camera frame (paper eq. 25-26)",
+       "h4-31c",
+       "h4",
+       true,
+       "EFGH",
+       'H',
+       {"h4-12"},
+       {"h", "l1"},
+       h4(H4ModelKind::Model31Camera)},
+      {"delta",
+       "Delta robot, common geometry (R r L l alpha1..3 q01..3), full mounting",
+       "delta",
+       "delta",
+       false,
+       "",
+       0,
+       {},
+       {},
+       other([] { return makeDeltaMechanism(DeltaModelKind::Simple); })},
+      {"delta-legs",
+       "Delta robot, per-leg geometry (24 parameters), full mounting",
+       "delta-legs",
+       "delta",
+       false,
+       "",
+       0,
+       {"delta"},
+       {},
+       other([] { return makeDeltaMechanism(DeltaModelKind::Legs); })},
+      {"gough-stewart",
+       "Gough-Stewart platform (42 parameters), full mounting",
+       "gough-stewart",
+       "gough-stewart",
+       false,
+       "",
+       0,
+       {},
+       {},
+       other([] { return makeGoughStewartMechanism(); })},
+      {"gough-stewart-gains",
+       "Gough-Stewart platform + one encoder scale per leg (48 parameters), full mounting",
+       "gough-stewart-gains",
+       "gough-stewart",
+       false,
+       "",
+       0,
+       {"gough-stewart"},
+       {},
+       other([] { return makeGoughStewartGainsMechanism(); })},
   };
+}
+
+std::vector<MechanismFamily> builtInFamilies() {
+  MechanismFamily h4{"h4",
+                     "H4",
+                     "H4",
+                     {},
+                     "h4-12:A,B,C,D,h4-31c:E,F,G,H",
+                     "h4-12",
+                     "its 12 geometric parameters (model 12's mounting is axis-aligned: no gauge)",
+                     SimulatedDefects::H4Parallelograms,
+                     "an H4 whose legs differ, with tilted arm axes and imperfect parallelograms (doc/mechanisms.md)"};
+  MechanismFamily delta{
+      "delta",
+      "Delta",
+      "Delta",
+      {},
+      "delta,delta-legs",
+      "delta-legs",
+      "L1..L3 and l1..l3 (the pivots, axes and q0i are in the frame of the gauge)",
+      SimulatedDefects::PlateTilt,
+      "a Delta (3 rotary actuators, a plate that only translates) whose three legs differ (the `delta-legs` "
+      "geometry: each leg's pivot, arm axis, arm and forearm lengths and joint offset off by about 1 mm / 0.5°) "
+      "and whose imperfect parallelograms tilt the plate by 0.0116 rad per metre of travel (no Delta model "
+      "represents it), moved through the 27 protocol positions of doc/mechanisms.md (a 300 × 300 × 150 mm grid "
+      "around z = −0.65 m), the camera 0.68 m below the workspace centre looking up"};
+  MechanismFamily hexapod{
+      "gough-stewart",
+      "Gough–Stewart hexapod",
+      "Gough-Stewart hexapod",
+      {},
+      "gough-stewart,gough-stewart-gains",
+      "gough-stewart",
+      "rho01..rho06 (the joint centres are in the frame of the gauge)",
+      SimulatedDefects::GainsAndEccentricity,
+      "a Gough–Stewart hexapod (6 prismatic legs, 6 DoF) with 1 mm errors on every joint centre and leg "
+      "length, per-leg encoder gains 1 ± 2·10⁻³ and 0.3 mm joint eccentricities (neither in the 42-parameter "
+      "model), moved through the 81 protocol poses of doc/mechanisms.md (27 positions ±40 mm, ±30 mm in z, × 3 "
+      "orientations with ±6° tilts and a yaw), the camera 0.45 m above the platform's home looking down"};
+  std::vector<MechanismFamily> families{h4, delta, hexapod};
+  for (MechanismFamily& family : families)
+    for (const ModelInfo& model : registeredModels())
+      if (model.family == family.name) family.models.push_back(model.name);
+  return families;
+}
+
+template <class Entry>
+std::string nameList(const std::vector<Entry>& entries) {
+  std::string list;
+  for (const Entry& e : entries) list += (list.empty() ? "" : ", ") + e.name;
+  return list;
+}
+
+}  // namespace
+
+const std::vector<ModelInfo>& registeredModels() {
+  static const std::vector<ModelInfo> models = builtInModels();
   return models;
 }
 
@@ -36,40 +176,40 @@ const ModelInfo& modelOfVariant(char letter) {
   throw std::invalid_argument(std::string("no model has the variant '") + letter + "' (A-H)");
 }
 
-std::string registeredModelList() {
+std::string registeredModelList() { return nameList(registeredModels()); }
+
+std::string variantOwnerList() {
   std::string list;
-  for (const ModelInfo& m : registeredModels()) list += (list.empty() ? "" : ", ") + m.name;
+  for (const ModelInfo& m : registeredModels())
+    if (!m.variants.empty())
+      list += (list.empty() ? "" : ", ") + m.name + " (" + m.variants.front() + "-" + m.variants.back() + ")";
   return list;
 }
 
+const std::vector<MechanismFamily>& mechanismFamilies() {
+  static const std::vector<MechanismFamily> families = builtInFamilies();
+  return families;
+}
+
+std::string mechanismFamilyList() { return nameList(mechanismFamilies()); }
+
+const MechanismFamily& mechanismFamily(const std::string& name) {
+  for (const MechanismFamily& f : mechanismFamilies())
+    if (f.name == name) return f;
+  throw std::invalid_argument("unknown mechanism '" + name + "' (known: " + mechanismFamilyList() + ")");
+}
+
+const MechanismFamily& familyWithDefects(SimulatedDefects defects) {
+  const auto& families = mechanismFamilies();
+  const auto it = std::find_if(families.begin(), families.end(),
+                               [defects](const MechanismFamily& f) { return f.defects == defects; });
+  if (it == families.end()) throw std::logic_error("no mechanism family simulates these defects");
+  return *it;
+}
+
 RegisteredModel makeRegisteredModel(const std::string& name, const H4Nominal& h4) {
-  RegisteredModel out;
+  RegisteredModel out = modelInfo(name).make(h4);
   out.name = name;
-  out.external_form = ExternalForm::Full;
-  if (name == "h4-12") {
-    out.mechanism = makeH4Mechanism(H4ModelKind::Model12, h4);
-    out.nominal = h4Model12Parameters(h4);
-    out.external_form = ExternalForm::AxisAligned;
-  } else if (name == "h4-31") {
-    out.mechanism = makeH4Mechanism(H4ModelKind::Model31, h4);
-    out.nominal = model31FromModel12(h4Model12Parameters(h4));
-    out.external_form = ExternalForm::AxisAligned;
-  } else if (name == "h4-31c") {
-    out.mechanism = makeH4Mechanism(H4ModelKind::Model31Camera, h4);
-    out.nominal = out.mechanism->nominal();
-    out.external_form = ExternalForm::CameraFrame;
-  } else if (name == "delta" || name == "delta-legs") {
-    out.mechanism = makeDeltaMechanism(name == "delta" ? DeltaModelKind::Simple : DeltaModelKind::Legs);
-    out.nominal = out.mechanism->nominal();
-  } else if (name == "gough-stewart") {
-    out.mechanism = makeGoughStewartMechanism();
-    out.nominal = out.mechanism->nominal();
-  } else if (name == "gough-stewart-gains") {
-    out.mechanism = makeGoughStewartGainsMechanism();
-    out.nominal = out.mechanism->nominal();
-  } else {
-    throw std::invalid_argument("unknown model '" + name + "' (known: " + registeredModelList() + ")");
-  }
   return out;
 }
 

@@ -20,18 +20,13 @@ char variantLetter(const std::string& variant) {
   return letter;
 }
 
-// "h4-12 (A-D), h4-31c (E-H)": the models that take the paper's variants, for messages.
-std::string variantOwners() {
-  std::string list;
-  for (const mech::ModelInfo& m : mech::registeredModels())
-    if (!m.variants.empty())
-      list += (list.empty() ? "" : ", ") + m.name + " (" + m.variants.front() + "-" + m.variants.back() + ")";
-  return list;
-}
-
 }  // namespace
 
-mech::RegisteredModel ModelChoice::registered() const { return mech::makeRegisteredModel(model, h4); }
+mech::RegisteredModel ModelChoice::registered() const {
+  mech::RegisteredModel registered = mech::makeRegisteredModel(model, h4);
+  if (nominal) registered.nominal = *nominal;
+  return registered;
+}
 
 std::string ModelChoice::label() const {
   if (variant) return model + ", variant " + std::string(1, variant);
@@ -53,10 +48,10 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
     throw std::invalid_argument("--model '" + choice.model + "': " + error.what());
   }
   if (letter && info->variants.empty())
-    throw std::invalid_argument("--variant applies to " + variantOwners() + ", not to " + choice.model);
+    throw std::invalid_argument("--variant applies to " + mech::variantOwnerList() + ", not to " + choice.model);
   if (letter && info->variants.find(letter) == std::string::npos)
     throw std::invalid_argument(std::string("--variant ") + letter + " does not belong to --model " + choice.model +
-                                " (" + variantOwners() + ")");
+                                " (" + mech::variantOwnerList() + ")");
   choice.variant = letter ? letter : info->default_variant;
   return choice;
 }
@@ -66,6 +61,11 @@ InitialModel initialModel(const ModelChoice& choice, const std::vector<mech::Pos
   InitialModel initial;
   initial.label = choice.label();
   if (choice.variant) {
+    if (choice.nominal)  // the variants start from model 12's values (mechanism/variants.hpp)
+      throw std::invalid_argument("--nominal: variant " + std::string(1, choice.variant) + " of " + choice.model +
+                                  " starts from model 12's values: give a " +
+                                  mech::mechanismFamily(mech::modelInfo(choice.model).family).models.front() +
+                                  " parameter file (R L l h d alpha1..4 q01..4)");
     initial.model = mech::makeH4VariantModel(choice.variant, choice.h4, poses, options);
   } else {
     const mech::RegisteredModel model = choice.registered();
@@ -123,6 +123,7 @@ Identification identify(const ModelChoice& choice, const std::vector<mech::PoseO
   out.initial = initialModel(choice, poses, options.fit);
   out.result = fit(choice, out.initial, poses, shared, options);
   out.mean_orientation_covariance = mech::alignTranslatingTarget(out.result, poses);
+  mech::wrapPeriodicAngles(out.result.model, out.initial.model.geometricValues());
   return out;
 }
 

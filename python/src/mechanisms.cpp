@@ -238,19 +238,31 @@ void bindH4AndRegistry(py::module_& m) {
       .def_readonly("description", &mech::ModelInfo::description)
       .def_readonly("label", &mech::ModelInfo::label)
       .def_readonly("h4_nominal", &mech::ModelInfo::h4_nominal)
+      .def_readonly("family", &mech::ModelInfo::family)
       .def_readonly("variants", &mech::ModelInfo::variants)
+      .def_readonly("contains", &mech::ModelInfo::contains)
+      .def_readonly("contains_when_free", &mech::ModelInfo::contains_when_free)
       .def_property_readonly("default_variant", [](const mech::ModelInfo& m) {
         return m.default_variant ? std::string(1, m.default_variant) : std::string();
       });
   m.def("modelInfo", &mech::modelInfo, py::arg("name"), py::return_value_policy::reference);
   m.def("registeredModels", &mech::registeredModels);
+  py::class_<mech::MechanismFamily>(m, "MechanismFamily")
+      .def_readonly("name", &mech::MechanismFamily::name)
+      .def_readonly("title", &mech::MechanismFamily::title)
+      .def_readonly("models", &mech::MechanismFamily::models)
+      .def_readonly("selection", &mech::MechanismFamily::selection)
+      .def_readonly("truth_model", &mech::MechanismFamily::truth_model);
+  m.def("mechanismFamilies", &mech::mechanismFamilies);
+  m.def("mechanismFamily", &mech::mechanismFamily, py::arg("name"), py::return_value_policy::reference);
   py::class_<mech::RegisteredModel>(m, "RegisteredModel")
       .def_readonly("name", &mech::RegisteredModel::name)
       .def_property_readonly("mechanism", [](const mech::RegisteredModel& r) { return mutablePtr(r.mechanism); })
       .def_readonly("nominal", &mech::RegisteredModel::nominal)
       .def_readonly("external_form", &mech::RegisteredModel::external_form);
+  static const std::string make_doc = "A mechanism by name: " + mech::registeredModelList() + ".";
   m.def("makeRegisteredModel", &mech::makeRegisteredModel, py::arg("name"), py::arg("h4") = mech::H4Nominal{},
-        "A mechanism by name: h4-12, h4-31, h4-31c, delta, delta-legs, gough-stewart.");
+        make_doc.c_str());
 }
 
 mech::PoseObservation makeObservation(std::string id, const mech::PoseVector& cTm, const Eigen::VectorXd& joints,

@@ -4,6 +4,7 @@
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,7 +22,17 @@ void bindPipeline(py::module_& m) {
           "variant", [](const pipe::ModelChoice& c) { return c.variant ? std::string(1, c.variant) : std::string(); },
           [](pipe::ModelChoice& c, const std::string& v) { c.variant = v.empty() ? 0 : v[0]; })
       .def_readwrite("h4", &pipe::ModelChoice::h4)
-      .def("label", &pipe::ModelChoice::label);
+      .def_readwrite("nominal", &pipe::ModelChoice::nominal)
+      .def("label", &pipe::ModelChoice::label)
+      .def("registered", &pipe::ModelChoice::registered);
+  m.def(
+      "applyNominalFile",
+      [](pipe::ModelChoice choice, const std::filesystem::path& file) {
+        pipe::applyNominalFile(choice, file);
+        return choice;
+      },
+      py::arg("choice"), py::arg("file"),
+      "a copy of `choice` starting from the geometry of a parameter file, as `--nominal` reads it");
   m.def("chooseModel", &pipe::chooseModel, py::arg("model") = "", py::arg("variant") = "",
         py::arg("h4") = mech::H4Nominal{},
         "the model by name, completed as `mire identify --model --variant` does (ValueError names the option)");

@@ -9,7 +9,7 @@ import pytest
 
 import mire
 from conftest import SOURCE_DIR, assert_relative, read_csv, run_cli
-from test_mechanisms import Robot
+from test_mechanisms import Robot, rot, transform
 
 cal = mire.calibration
 met = mire.metrology
@@ -143,3 +143,40 @@ def test_demo_campaign_equals_the_cli(tmp_path):
     result = pipe.identify(pipe.chooseModel("h4-12", "D"), data.observations.poses, data.shared).result
     assert "shared" in result.covariance_method
     assert_same_parameters(result, out / "identified_D.yaml")
+
+
+@pytest.mark.parametrize("name", ["delta", "delta-legs", "gough-stewart", "gough-stewart-gains"])
+def test_an_identified_file_is_a_nominal_in_python(tmp_path, name):
+    """`mire identify --model NAME` writes a file Python's readers take as it is (every angle
+    included), and pipeline.applyNominalFile starts the same model from it."""
+    model = mech.makeRegisteredModel(name)
+    truth = model.nominal.values().copy()
+    rng = np.random.default_rng(5)
+    truth[[not p.fixed for p in model.nominal.parameters()]] += rng.uniform(-1e-3, 1e-3, sum(
+        not p.fixed for p in model.nominal.parameters()))
+    reference = model.mechanism.referencePose(truth)
+    spread = np.array([0.08, 0.08, 0.05, 0.05, 0.05, 0.05][:model.mechanism.poseDof()])
+    if model.mechanism.poseDof() == 6:
+        spread[:3] = 0.03
+    poses = reference + rng.uniform(-1, 1, (60, model.mechanism.poseDof())) * spread
+    joints = model.mechanism.ikm(truth, poses)
+    keep = np.isfinite(joints).all(axis=1)
+    poses, joints = poses[keep], joints[keep]
+    bTc = transform(rot(0, 0.02) @ rot(2, 0.4), [0.03, -0.02, 1.3 if model.mechanism.poseDof() == 6 else -1.3])
+    cTm = [mech.toPoseVector(np.linalg.inv(bTc) @ model.mechanism.poseToTransform(p)) for p in poses]
+    ids = [f"p{j + 1}" for j in range(len(poses))]
+    header = "pose_id,images_used,images_total," + ",".join(POSE_COLUMNS) + "\n"
+    rows = [",".join([i, "10", "10", *map(repr, map(float, c))]) for i, c in zip(ids, cTm)]
+    (tmp_path / "poses.csv").write_text(header + "\n".join(rows) + "\n")
+    columns = model.mechanism.jointColumnNames()
+    rows = [",".join([i, *map(repr, map(float, q))]) for i, q in zip(ids, joints)]
+    (tmp_path / "joints.csv").write_text("pose_id," + ",".join(columns) + "\n" + "\n".join(rows) + "\n")
+    identified = tmp_path / "identified.yaml"
+    run_cli("identify", "--model", name, "--poses", tmp_path / "poses.csv", "--joints", tmp_path / "joints.csv",
+            "-o", identified, "--unweighted")
+    ignored = []
+    for form in (mech.ExternalForm.AxisAligned, mech.ExternalForm.Full, mech.ExternalForm.CameraFrame):
+        ignored += mech.ExternalParameterization(form).parameters().names()
+    values = mech.applyParameterFile(mech.readParameterFile(identified), model.nominal, ignored + ["amplification"])
+    choice = pipe.applyNominalFile(pipe.chooseModel(name), identified)
+    np.testing.assert_array_equal(choice.registered().nominal.values(), values.values())

@@ -2,9 +2,13 @@
 // repository. Scans every tracked C++, Python and CMake file and doc/*.md.
 #include "test_support.hpp"
 
+#include "mire/mechanism/registry.hpp"
+
+#include <algorithm>
 #include <fstream>
 #include <functional>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -91,4 +95,29 @@ TEST(DocCitations, NoCommentOrDocCitesTheTrackerOrAWorkLog) {
         << where << " is a work-log heading (history: CHANGELOG.md):\n  " << line;
   });
   EXPECT_GT(scanned, 100) << "too few files found under " << mire::test::sourceDir();
+}
+
+// A model's name is spelled once, in the table of mechanisms (mechanism/src/registry.cpp), and in
+// the kinematics that carry it (Mechanism::name()); every other product file asks the table
+// (doc/architecture.md, "Adding a mechanism"). Tests, benchmarks and examples choose models by
+// name as a user does.
+TEST(DocCitations, ModelNamesAreSpelledOnlyInTheTableOfMechanisms) {
+  const std::vector<std::string> product{"apps/",      "calibration/", "datasets/", "mechanism/",
+                                         "metrology/", "pipeline/",    "support/",  "python/src/"};
+  const auto selected = [&](const std::string& relative) {
+    const std::string ext = fs::path(relative).extension().string();
+    if (ext != ".cpp" && ext != ".hpp") return false;
+    return std::any_of(product.begin(), product.end(),
+                       [&](const std::string& dir) { return relative.rfind(dir, 0) == 0; });
+  };
+  std::set<std::string> spelling;
+  const int scanned = forEachLine(selected, [&](const std::string& where, const std::string& line) {
+    for (const mire::mechanism::ModelInfo& model : mire::mechanism::registeredModels())
+      if (line.find('"' + model.name + '"') != std::string::npos) spelling.insert(where.substr(0, where.find(':')));
+  });
+  EXPECT_GT(scanned, 100) << "too few files found under " << mire::test::sourceDir();
+  EXPECT_EQ(spelling,
+            (std::set<std::string>{"mechanism/src/registry.cpp",
+                                   "mechanism/include/mire/mechanism/detail/parallel_kinematics.hpp",
+                                   "mechanism/include/mire/mechanism/detail/gough_stewart_gains_kinematics.hpp"}));
 }

@@ -2,10 +2,12 @@
 // testing a model's name.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <stdexcept>
 
 #include "mire/mechanism/h4.hpp"
+#include "mire/mechanism/model_selection.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/variants.hpp"
 
@@ -43,4 +45,41 @@ TEST(Registry, TheH4NominalReachesExactlyTheModelsThatSayTheyTakeIt) {
   }
   EXPECT_EQ(&mech::modelInfo(mech::registeredModels().front().name), &mech::registeredModels().front());
   EXPECT_THROW(mech::modelInfo("nope"), std::invalid_argument);
+}
+
+// Every family's entries point at models of the table, and select's default list for its joints
+// is its own selection, parseable into candidates of its models.
+TEST(Registry, EveryFamilyNamesItsOwnModelsAndItsSelectionParses) {
+  std::set<std::string> in_a_family;
+  for (const mech::MechanismFamily& family : mech::mechanismFamilies()) {
+    ASSERT_FALSE(family.models.empty()) << family.name;
+    EXPECT_EQ(&mech::mechanismFamily(family.name), &family);
+    EXPECT_NE(std::find(family.models.begin(), family.models.end(), family.truth_model), family.models.end())
+        << family.name;
+    for (const std::string& name : family.models) {
+      EXPECT_EQ(mech::modelInfo(name).family, family.name);
+      in_a_family.insert(name);
+    }
+    const mech::RegisteredModel simplest = mech::makeRegisteredModel(family.models.front());
+    EXPECT_EQ(mech::defaultSelectionModels(simplest.mechanism->jointCount(), simplest.mechanism->jointUnits().front()),
+              family.selection);
+    for (const mech::SelectionCandidate& c :
+         mech::parseSelectionCandidates(family.selection, [](const std::string& n) { return mech::makeDesignModel(n); }))
+      EXPECT_EQ(mech::modelInfo(c.model.registered.name).family, family.name) << c.label;
+    EXPECT_EQ(&mech::familyWithDefects(family.defects), &family);
+  }
+  EXPECT_EQ(in_a_family.size(), mech::registeredModels().size());
+  EXPECT_THROW(mech::mechanismFamily("scara"), std::invalid_argument);
+}
+
+// A richer model contains only simpler models of its own family (select's F-tests).
+TEST(Registry, ContainmentsAreBetweenModelsOfOneFamilyWithFewerParameters) {
+  for (const mech::ModelInfo& richer : mech::registeredModels())
+    for (const std::string& name : richer.contains) {
+      const mech::ModelInfo& simpler = mech::modelInfo(name);
+      EXPECT_EQ(simpler.family, richer.family) << richer.name << " contains " << name;
+      EXPECT_LT(mech::makeRegisteredModel(name).nominal.size(), mech::makeRegisteredModel(richer.name).nominal.size());
+      for (const std::string& free : richer.contains_when_free)
+        EXPECT_TRUE(mech::makeRegisteredModel(richer.name).nominal.contains(free)) << free;
+    }
 }

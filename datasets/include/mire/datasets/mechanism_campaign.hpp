@@ -35,7 +35,8 @@ inline Eigen::Isometry3d makeTransform(const Eigen::Vector3d& rotation_vector, c
 }
 
 // Protocol poses bTe: H4 27 positions × 3 angles; Delta 27 positions on a 300×300×150 mm grid
-// around z = −0.65 m; Gough–Stewart 27 positions (±40 mm, ±30 mm in z) × 3 orientations.
+// around its reference pose (z = −0.65 m for the built-in one; scaled with that depth for a Delta
+// of another size); Gough–Stewart 27 positions (±40 mm, ±30 mm in z) × 3 orientations.
 inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, const Eigen::VectorXd& g) {
   std::vector<Eigen::Isometry3d> out;
   const Eigen::VectorXd ref = mechanism.referencePose(g);
@@ -44,7 +45,9 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
     for (int iy = -1; iy <= 1; ++iy)
       for (int iz = -1; iz <= 1; ++iz) {
         if (motion == MotionType::Translation) {
-          out.push_back(makeTransform(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.15 * ix, 0.15 * iy, -0.65 + 0.075 * iz)));
+          const double size = std::abs(ref[2]) / 0.65;
+          out.push_back(makeTransform(Eigen::Vector3d::Zero(),
+                                      Eigen::Vector3d(0.15 * size * ix, 0.15 * size * iy, ref[2] + 0.075 * size * iz)));
           continue;
         }
         for (int k = -1; k <= 1; ++k) {
@@ -85,12 +88,13 @@ struct Campaign {
   std::vector<Eigen::Isometry3d> bTe;  // true effector poses
 };
 
-// `extra` random poses inside the protocol volume are appended (held-out checks); with
+// A robot of `model` (its nominal geometry perturbed by 1 mm / 0.5°) measured at the protocol
+// poses. `extra` random poses inside the protocol volume are appended (held-out checks); with
 // `count` > 0 the campaign has `count` random poses instead of the protocol.
-inline Campaign simulateCampaign(const std::string& name, unsigned seed, double noise_t = 0.2e-3,
+inline Campaign simulateCampaign(const RegisteredModel& model, unsigned seed, double noise_t = 0.2e-3,
                                  double noise_r = 0.03 * kCampaignDeg, int extra = 0, int count = 0) {
   Campaign c;
-  c.model = makeRegisteredModel(name);
+  c.model = model;
   c.truth = perturbed(c.model.nominal, seed);
   const Mechanism& m = *c.model.mechanism;
   const bool up = m.motionType() == MotionType::Spatial;  // hexapod: camera above looking down
@@ -141,6 +145,12 @@ inline Campaign simulateCampaign(const std::string& name, unsigned seed, double 
     c.poses.push_back(p);
   }
   return c;
+}
+
+// The registered model `name` at its built-in nominal geometry.
+inline Campaign simulateCampaign(const std::string& name, unsigned seed, double noise_t = 0.2e-3,
+                                 double noise_r = 0.03 * kCampaignDeg, int extra = 0, int count = 0) {
+  return simulateCampaign(makeRegisteredModel(name), seed, noise_t, noise_r, extra, count);
 }
 
 // Writes poses [first, first + count) as poses.csv (σ columns from the noise) and joints.csv

@@ -27,7 +27,9 @@
 namespace mire::datasets {
 
 struct MechanismImageCampaignSpec {
-  std::string mechanism = "delta";    // "delta" (legs differ, plate tilts) or "gough-stewart"
+  // A family of the table (registry.hpp) other than the H4: the Delta (legs differ, plate tilts) or
+  // the hexapod (gains, eccentricities); set by reference().
+  std::string mechanism;
   std::filesystem::path camera_file;  // true camera; default: the reference camera
   std::filesystem::path target_file;  // default: datasets/specs/target_h4.yaml
   int calibration_views = 25;

@@ -24,7 +24,7 @@
 namespace mire::datasets {
 
 struct DefectiveRobot {
-  RegisteredModel geometry_model;  // delta-legs or gough-stewart
+  RegisteredModel geometry_model;  // its family's truth model (registry.hpp)
   ParameterSet geometry;           // true values
   double tilt_per_m = 0.0;         // Delta plate tilt κ [rad/m]
   Eigen::Vector3d level_pose = Eigen::Vector3d(0, 0, -0.65);
@@ -103,9 +103,10 @@ inline ParameterSet perturbedBy(const ParameterSet& nominal, unsigned seed, doub
 // `legs_differ`, else only the common-geometry errors of that size) and whose plate tilts by κ.
 inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double tilt_per_m = 0.0116,
                                          double metre = 1e-3, double radian = 0.5 * kCampaignDeg) {
+  const MechanismFamily& delta = familyWithDefects(SimulatedDefects::PlateTilt);
   DefectiveRobot robot;
-  robot.geometry_model = makeRegisteredModel("delta-legs");
-  const ParameterSet common = perturbedBy(makeRegisteredModel("delta").nominal, seed, metre, radian);
+  robot.geometry_model = makeRegisteredModel(delta.truth_model);
+  const ParameterSet common = perturbedBy(makeRegisteredModel(delta.models.front()).nominal, seed, metre, radian);
   robot.geometry =
       legs_differ ? perturbedBy(deltaLegsFromDelta(common), seed + 1, metre, radian) : deltaLegsFromDelta(common);
   robot.tilt_per_m = tilt_per_m;
@@ -118,7 +119,7 @@ inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double
 inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e-3, double eccentricity = 0.3e-3,
                                            double metre = 1e-3) {
   DefectiveRobot robot;
-  robot.geometry_model = makeRegisteredModel("gough-stewart");
+  robot.geometry_model = makeRegisteredModel(familyWithDefects(SimulatedDefects::GainsAndEccentricity).truth_model);
   robot.geometry = perturbedBy(robot.geometry_model.nominal, seed, metre, 0.0);
   std::mt19937 rng(seed + 7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

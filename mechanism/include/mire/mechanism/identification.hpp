@@ -42,6 +42,13 @@ IdentificationModel makeIdentificationModel(std::shared_ptr<const Mechanism> mec
 IdentificationModel makeInitialModel(std::shared_ptr<const Mechanism> mechanism, const ParameterSet& geometric,
                                      const std::vector<PoseObservation>& poses, ExternalForm form, double z_ME = 0.0);
 
+// Brings each geometric angle more than π from its `reference` value (the nominal geometry) that
+// the kinematics sees only through its sine and cosine (the IKM unchanged by a whole turn: an
+// arm axis's ψ_i, not a revolute joint's offset q0_i) back within π of it, so that an identified
+// angle reads as its nominal plus the change and files hold angles every reader takes
+// (doc/file-formats.md). Returns the names of the angles it moved; their covariance is unchanged.
+std::vector<std::string> wrapPeriodicAngles(IdentificationModel& model, const Eigen::VectorXd& reference);
+
 // Ids of the poses whose IKM is unreachable at the model's current values.
 std::vector<std::string> unreachablePoses(const IdentificationModel& model, const std::vector<PoseObservation>& poses);
 

@@ -19,18 +19,18 @@
 namespace mire::mechanism {
 
 struct SelectionCandidate {
-  std::string label;  // a variant letter ("D") or a model name ("delta-legs")
+  std::string label;  // a variant letter (D) or a model name (`delta-legs`)
   DesignModel model;  // registry entry + nominal geometry
   char variant = 0;   // H4 variant A–H, 0 for a plain registry model
 };
 
-// "h4-12:A,B,C,D,h4-31c:E,F,G,H" (a model name, then its variant letters) or plain model
-// names ("delta,delta-legs"). `make` builds the model of a name (its nominal geometry).
+// `h4-12:A,B,C,D,h4-31c:E,F,G,H` (a model name, then its variant letters) or plain model
+// names (`delta,delta-legs`). `make` builds the model of a name (its nominal geometry).
 // Throws std::invalid_argument naming the bad item.
 std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text,
                                                          const std::function<DesignModel(const std::string&)>& make);
-// The default list for a mechanism with `joint_count` joints of `unit`: the H4's eight
-// variants, the Delta's two models, the Gough–Stewart model.
+// The default list for a mechanism with `joint_count` joints of `unit`: the selection of the
+// table's family whose simplest model has such joints (registry.hpp).
 std::string defaultSelectionModels(int joint_count, Unit unit);
 
 struct SelectionOptions {

@@ -1,6 +1,9 @@
 #pragma once
-// Name -> model registry shared by the CLI (`--model`) and the parameter files (`model:`):
-// h4-12, h4-31, h4-31c, delta, delta-legs, gough-stewart (doc/mechanisms.md).
+// The table of mechanisms (doc/architecture.md, "Adding a mechanism"): every built-in model and
+// every robot mire simulates, with what the rest of mire asks of them, so that no other file
+// tests or spells a model's name. The CLI (`--model`, `--mechanism`), the parameter files
+// (`model:`), select, simulate, the demos and Python read it.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,22 +15,6 @@
 
 namespace mire::mechanism {
 
-// What the rest of mire asks of a model by name, so that no caller tests the name itself.
-struct ModelInfo {
-  std::string name;  // as typed by users
-  std::string description;
-  std::string label;        // in reports and on the terminal (the name, or what it adds to it)
-  bool h4_nominal = false;  // its nominal geometry is an H4's (`--nominal`: a model-12 parameter file)
-  std::string variants;     // the paper's Table 2 variants it takes (variants.hpp), "" for none
-  char default_variant = 0;
-};
-const std::vector<ModelInfo>& registeredModels();  // the default model first
-std::string registeredModelList();                 // "h4-12, h4-31, ..."
-// Throws std::invalid_argument "unknown model 'x' (known: ...)".
-const ModelInfo& modelInfo(const std::string& name);
-// The model whose variants include `letter` (A–H); throws std::invalid_argument for another letter.
-const ModelInfo& modelOfVariant(char letter);
-
 struct RegisteredModel {
   std::string name;
   std::shared_ptr<const Mechanism> mechanism;
@@ -35,9 +22,63 @@ struct RegisteredModel {
   ExternalForm external_form;  // the form identify uses for this model
 };
 
+// One built-in model.
+struct ModelInfo {
+  std::string name;  // as typed by users
+  std::string description;
+  std::string label;        // in reports and on the terminal (the name, or what it adds to it)
+  std::string family;       // the robot it describes (MechanismFamily::name)
+  bool h4_nominal = false;  // its nominal geometry is an H4's (`--nominal`: a model-12 parameter file)
+  std::string variants;     // the paper's Table 2 variants it takes (variants.hpp), "" for none
+  char default_variant = 0;
+  // Nesting for select's F-tests: the simpler models this one contains, and the parameters a
+  // variant of this one must free for the containment to hold (doc/mechanisms.md, "Families and nesting").
+  std::vector<std::string> contains;
+  std::vector<std::string> contains_when_free;
+  // Its kinematics and nominal geometry (the H4 models from `h4`, the others ignore it).
+  std::function<RegisteredModel(const H4Nominal& h4)> make;
+};
+
+// How a simulated robot of a family departs from its models (datasets/mechanism_true_robots.hpp).
+enum class SimulatedDefects {
+  H4Parallelograms,      // per-leg H4 geometry, tilted arm axes, bar mismatch (datasets/h4_true_robot.hpp)
+  PlateTilt,             // legs that differ, a plate tilting with travel
+  GainsAndEccentricity,  // per-leg encoder gains, joint eccentricities
+};
+
+// A robot mire simulates (`demo --mechanism`, `simulate campaign --mechanism`) and its models.
+struct MechanismFamily {
+  std::string name;
+  std::string title;                // in reports
+  std::string plain_title;          // ASCII, for the charts' Hershey fonts
+  std::vector<std::string> models;  // its registered models, simplest first (the demo identifies each)
+  std::string selection;            // select's default `--models` for its joints
+  // The model its simulated robot's true geometry is written in (truth/<model>.yaml) and which
+  // of that model's parameters compare with the truth directly (the others are in the gauge's frame).
+  std::string truth_model;
+  std::string comparable;
+  SimulatedDefects defects = SimulatedDefects::H4Parallelograms;
+  std::string simulated_robot;  // the demo report's description of the simulated robot
+};
+
+const std::vector<ModelInfo>& registeredModels();  // the default model first
+std::string registeredModelList();                 // the names, comma-separated
+// Throws std::invalid_argument "unknown model 'x' (known: ...)".
+const ModelInfo& modelInfo(const std::string& name);
+// The model whose variants include `letter` (A–H); throws std::invalid_argument for another letter.
+const ModelInfo& modelOfVariant(char letter);
+// The models that take the paper's variants, for messages: `h4-12 (A-D), h4-31c (E-H)`.
+std::string variantOwnerList();
+
+const std::vector<MechanismFamily>& mechanismFamilies();  // the paper's robot first
+std::string mechanismFamilyList();
+// Throws std::invalid_argument "unknown mechanism 'x' (known: ...)".
+const MechanismFamily& mechanismFamily(const std::string& name);
+const MechanismFamily& familyWithDefects(SimulatedDefects defects);
+
 // Throws std::invalid_argument "unknown model 'x' (known: ...)". The H4 models take their
-// nominal geometry from `h4` (model 31 values are its model-12 equivalent; h4-31c's are
-// expressed in the base frame itself until an identification re-expresses them).
+// nominal geometry from `h4` (model 31 values are its model-12 equivalent; the camera-frame
+// model's are expressed in the base frame itself until an identification re-expresses them).
 RegisteredModel makeRegisteredModel(const std::string& name, const H4Nominal& h4 = {});
 
 }  // namespace mire::mechanism

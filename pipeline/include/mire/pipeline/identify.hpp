@@ -5,6 +5,7 @@
 // comes out of it.
 #include <Eigen/Core>
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,10 +22,12 @@ namespace mire::pipeline {
 // 12 and 31c, the paper's variant (Table 2, mechanism/variants.hpp), whose fixed and tied
 // parameters replace the gauge analysis.
 struct ModelChoice {
-  std::string model = "h4-12";
-  char variant = 0;                               // 'A'..'D' with h4-12, 'E'..'H' with h4-31c; 0 otherwise
-  mechanism::H4Nominal h4;                        // the H4 models' nominal geometry
-  std::string label() const;                      // "h4-12, variant D", "h4-31 (base frame)", "delta"
+  std::string model = mechanism::registeredModels().front().name;
+  char variant = 0;         // one of the model's ModelInfo::variants, or 0
+  mechanism::H4Nominal h4;  // the H4 models' nominal geometry
+  // The other models' nominal geometry when not the built-in one (`--nominal`, applyNominalFile).
+  std::optional<mechanism::ParameterSet> nominal;
+  std::string label() const;                      // `h4-12, variant D`, `h4-31 (base frame)`, `delta`
   mechanism::RegisteredModel registered() const;  // the mechanism and its nominal geometry
 };
 
@@ -32,6 +35,14 @@ struct ModelChoice {
 // registry's default without either), the model's default variant (ModelInfo::default_variant).
 // Throws std::invalid_argument naming the option at fault ("--model", "--variant").
 ModelChoice chooseModel(const std::string& model, const std::string& variant, const mechanism::H4Nominal& h4 = {});
+
+// Sets the choice's nominal geometry from a parameter file (`--nominal`, doc/file-formats.md): a
+// file of the model's own parameters sets `nominal`; for the H4 models, a file of model 12's keys
+// (R L l h d alpha1..4 q01..4, amplification; no `model:` or `model: h4-12`) sets `h4`, from
+// which every H4 model and variant starts. An identified file is accepted (its mounting and
+// sigma_ keys are ignored); a file of another model (`model:`), an unknown key or a missing
+// parameter throws std::runtime_error naming the file, the line and the key.
+void applyNominalFile(ModelChoice& choice, const std::filesystem::path& file);
 
 // Where the shared term's refits hold the parameters the main fit held (its gauge, --fix):
 // `HeldAtMainFit`, at the main fit's values, so that the refits measure the estimate's change

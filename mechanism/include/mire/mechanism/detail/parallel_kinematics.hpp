@@ -14,17 +14,28 @@
 
 namespace mire::mechanism {
 
-// Translation-only pose convention: X = (x, y, z), bTe = [I, X].
+// The depth below the base of a Delta's plate when its arms are level, from the arm's reach
+// (pivot radius − plate radius + arm length) and the forearm; 0 where the forearm is too short.
+inline double levelArmDepth(double reach, double forearm) {
+  return forearm > reach ? -std::sqrt(forearm * forearm - reach * reach) : 0.0;
+}
+
+// Translation-only pose convention: X = (x, y, z), bTe = [I, X]. The reference pose is on the
+// z axis at `home_ratio` times the level-arm depth of the geometry it is given, so that a Delta
+// of another size (`--nominal`) starts inside its own workspace (1.04: −0.65 m for the built-in).
+template <class Depth>
 struct TranslationPoseConvention {
   static constexpr MotionType kMotion = MotionType::Translation;
   static constexpr Unit kJointUnit = Unit::Radian;
   static constexpr int kPoseDof = 3;
-  double reference_z = -0.65;
+  double home_ratio = 1.0;
 
   std::vector<std::string> poseComponentNames() const { return {"x", "y", "z"}; }
   std::vector<Unit> poseComponentUnits() const { return {Unit::Metre, Unit::Metre, Unit::Metre}; }
   Eigen::VectorXd transformToPose(const Eigen::Isometry3d& bTe) const { return bTe.translation(); }
-  Eigen::VectorXd referencePose(const Eigen::VectorXd&) const { return Eigen::Vector3d(0.0, 0.0, reference_z); }
+  Eigen::VectorXd referencePose(const Eigen::VectorXd& g) const {
+    return Eigen::Vector3d(0.0, 0.0, home_ratio * Depth::levelDepth(g));
+  }
   template <class T>
   void poseToTransform(const T* pose, T* R, T* t) const {
     for (int k = 0; k < 9; ++k) R[k] = T(k % 4 == 0 ? 1 : 0);
@@ -33,7 +44,8 @@ struct TranslationPoseConvention {
 };
 
 // Model `delta`: R r L l alpha1..3 q01..3.
-struct DeltaKinematics : TranslationPoseConvention {
+struct DeltaKinematics : TranslationPoseConvention<DeltaKinematics> {
+  static double levelDepth(const Eigen::VectorXd& g) { return levelArmDepth(g[0] - g[1] + g[2], g[3]); }
   static constexpr int kGeometric = 10;
   static constexpr int kJoints = 3;
   std::string name() const { return "delta"; }
@@ -62,7 +74,14 @@ struct DeltaKinematics : TranslationPoseConvention {
 };
 
 // Model `delta-legs`: per leg i (8 values from 8·i): px py pz psi beta L l q0.
-struct DeltaLegsKinematics : TranslationPoseConvention {
+struct DeltaLegsKinematics : TranslationPoseConvention<DeltaLegsKinematics> {
+  // The legs' mean level-arm depth below their mean pivot height.
+  static double levelDepth(const Eigen::VectorXd& g) {
+    double depth = 0.0;
+    for (int i = 0; i < 3; ++i)
+      depth += g[8 * i + 2] + levelArmDepth(std::hypot(g[8 * i], g[8 * i + 1]) + g[8 * i + 5], g[8 * i + 6]);
+    return depth / 3.0;
+  }
   static constexpr int kGeometric = 24;
   static constexpr int kJoints = 3;
   std::string name() const { return "delta-legs"; }
