@@ -67,7 +67,8 @@ void rejectForeignKeys(const YamlNode& leg, LegActuator kind, std::size_t index)
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
     const bool known = key == "rod" || key == "axis" || key == "arm" || key == "branch";
     if (!known) break;  // checkKeys() names it with a suggestion
-    leg.at(key).fail(legLabel(index) + ": a " + legActuatorName(kind) + " leg has no '" + key + "'" +
+    const char* article = kind == LegActuator::Extensible ? ": an " : ": a ";
+    leg.at(key).fail(legLabel(index) + article + legActuatorName(kind) + " leg has no '" + key + "'" +
                      (kind == LegActuator::Extensible ? " (its length is the joint: q = |w| - offset)" : ""));
   }
   leg.checkKeys(allowed);

@@ -350,5 +350,255 @@ TEST(DescribedBuiltIn, GoughStewartFileIsTheBuiltInHexapod) {
               worst_joint, worst_position, worst_rotation);
 }
 
+// ----- the file: parameters, round trip, syntax variants, bad input -----
+
+// A 3-leg translation platform; tests replace some of its lines (1-based).
+const std::vector<std::string> kSmall = {
+    "name: small",                      // 1
+    "platform: translation",            // 2
+    "legs:",                            // 3
+    "  - actuator: prismatic",          // 4
+    "    base: [0, 0.2, 0]",            // 5
+    "    axis: [0, 0, 1]",              // 6
+    "    rod: 0.25",                    // 7
+    "    platform: [0, 0.04, 0]",       // 8
+    "  - actuator: prismatic",          // 9
+    "    base: [-0.17, -0.1, 0]",       // 10
+    "    axis: [0, 0, 1]",              // 11
+    "    rod: 0.25",                    // 12
+    "    platform: [-0.03, -0.02, 0]",  // 13
+    "  - actuator: prismatic",          // 14
+    "    base: [0.17, -0.1, 0]",        // 15
+    "    axis: [0, 0, 1]",              // 16
+    "    rod: 0.25",                    // 17
+    "    platform: [0.03, -0.02, 0]",   // 18
+};
+
+// kSmall with lines replaced ("" deletes a line; a replacement may hold several lines).
+std::string smallWith(const std::vector<std::pair<int, std::string>>& edits) {
+  std::vector<std::string> lines = kSmall;
+  for (const auto& [line, text] : edits) lines[static_cast<std::size_t>(line - 1)] = text;
+  std::string out;
+  for (const std::string& line : lines)
+    if (!line.empty()) out += line + "\n";
+  return out;
+}
+
+std::filesystem::path writeFile(const test::TempDir& dir, const std::string& name, const std::string& text) {
+  const std::filesystem::path path = dir.path() / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+void expectSame(const MechanismDescription& a, const MechanismDescription& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.platform, b.platform);
+  EXPECT_EQ(a.gains, b.gains);
+  ASSERT_EQ(a.home.has_value(), b.home.has_value());
+  if (a.home) {
+    EXPECT_EQ(*a.home, *b.home);
+  }
+  ASSERT_EQ(a.legs.size(), b.legs.size());
+  for (std::size_t i = 0; i < a.legs.size(); ++i) {
+    const LegDescription &x = a.legs[i], &y = b.legs[i];
+    EXPECT_EQ(x.actuator, y.actuator) << i;
+    EXPECT_EQ(x.base, y.base) << i;
+    EXPECT_LT((x.axis - y.axis).norm(), 1e-15) << i;  // normalised again on read
+    EXPECT_EQ(x.arm, y.arm) << i;
+    EXPECT_EQ(x.rod, y.rod) << i;
+    EXPECT_EQ(x.platform, y.platform) << i;
+    EXPECT_EQ(x.branch, y.branch) << i;
+    EXPECT_EQ(x.offset, y.offset) << i;
+    EXPECT_EQ(x.gain, y.gain) << i;
+  }
+}
+
+TEST(DescribedFile, ParametersAreNamedPerLegWithTheirUnits) {
+  const RegisteredModel model = makeDescribedModel(examplesDir() / "delta.yaml");
+  const std::vector<std::string> leg1 = {"ax1",   "ay1", "az1", "ua1", "ub1", "armx1", "army1",
+                                         "armz1", "l1",  "px1", "py1", "pz1", "q01"};
+  const std::vector<std::string> names = model.nominal.names();
+  ASSERT_EQ(names.size(), 39u);
+  EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + 13), leg1);
+  EXPECT_EQ(model.nominal.at("q01").unit, Unit::Radian);
+  EXPECT_EQ(model.nominal.at("ua1").unit, Unit::Radian);
+  EXPECT_EQ(model.nominal.at("armx1").unit, Unit::Metre);
+  EXPECT_EQ(model.nominal.freeCount(), names.size());  // the gauge is the analysis's to find
+  EXPECT_EQ(model.external_form, ExternalForm::Full);
+  EXPECT_EQ(model.name, "delta-described");
+
+  const RegisteredModel printer = makeDescribedModel(examplesDir() / "linear-delta.yaml");
+  EXPECT_EQ(printer.nominal.at("q01").unit, Unit::Metre);
+  EXPECT_EQ(printer.nominal.at("g3").unit, Unit::Dimensionless);
+  EXPECT_EQ(printer.nominal.value("g3"), 1.0);
+  EXPECT_EQ(printer.mechanism->jointColumnNames(), (std::vector<std::string>{"q1_m", "q2_m", "q3_m"}));
+  const RegisteredModel hexapod = makeDescribedModel(examplesDir() / "gough-stewart.yaml");
+  EXPECT_EQ(hexapod.nominal.at("rho06").unit, Unit::Metre);
+  EXPECT_FALSE(hexapod.nominal.contains("l1"));
+}
+
+// One mechanism with all three leg kinds: the joint units are per leg, and the contract holds.
+TEST(DescribedFile, LegKindsMixOnOnePlatform) {
+  MechanismDescription d = readMechanismDescription(examplesDir() / "6-pus.yaml");
+  const Eigen::Vector3d home = d.home->head<3>();
+  const std::unique_ptr<Mechanism> pus = makeDescribedMechanism(d);
+  const Eigen::VectorXd q_home =
+      pus->inverseKinematics(pus->nominal().values(), pus->poseToTransform(pus->referencePose(pus->nominal().values()))).joints;
+  for (int i : {4, 5}) {  // extensible legs from the carriage at home, reading 0.05 m there
+    LegDescription& leg = d.legs[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d carriage = leg.base + q_home[i] * leg.axis;
+    leg.actuator = LegActuator::Extensible;
+    leg.offset = (home + leg.platform - carriage).norm() - 0.05;
+    leg.base = carriage;
+  }
+  for (int i : {0, 1}) {  // revolute legs whose elbow at q = 0 is the carriage at home
+    LegDescription& leg = d.legs[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d carriage = leg.base + q_home[i] * leg.axis;
+    const Eigen::Vector3d radial = Eigen::Vector3d(carriage.x(), carriage.y(), 0).normalized();
+    leg.actuator = LegActuator::Revolute;
+    leg.arm = 0.10 * radial;
+    leg.base = carriage - leg.arm;
+    leg.axis = Eigen::Vector3d::UnitZ().cross(radial);
+    leg.branch = 1;
+    const IkmResult q = makeDescribedMechanism(d)->inverseKinematics(describedParameters(d).values(),
+                                                                     transform(Eigen::Vector3d::Zero(), home));
+    if (!(std::abs(q.joints[i]) < 1e-9)) leg.branch = -1;
+  }
+  const RegisteredModel model = makeDescribedModel(d);
+  const Mechanism& m = *model.mechanism;
+  EXPECT_EQ(m.jointColumnNames(), (std::vector<std::string>{"q1_rad", "q2_rad", "q3_m", "q4_m", "q5_m", "q6_m"}));
+  const Eigen::VectorXd g = model.nominal.values();
+  const IkmResult at_home = m.inverseKinematics(g, transform(Eigen::Vector3d::Zero(), home));
+  EXPECT_NEAR(at_home.joints[0], 0.0, 1e-12);
+  EXPECT_NEAR(at_home.joints[5], 0.05, 1e-12);
+  const Example box{"", 0, 0.01, 2.0};
+  double worst = 0.0;
+  for (const Eigen::Isometry3d& pose : gridPoses(m, box)) {
+    const IkmResult q = m.inverseKinematics(g, pose);
+    ASSERT_TRUE(q.reachable());
+    const FkmResult fkm = m.forwardKinematics(g, q.joints, m.referencePose(g));
+    ASSERT_TRUE(fkm.converged) << fkm.message;
+    worst = std::max(worst, (fkm.bTe.translation() - pose.translation()).norm());
+  }
+  EXPECT_LT(worst, 1e-10);
+}
+
+TEST(DescribedFile, WrittenDescriptionsReadBackTheSame) {
+  const test::TempDir dir;
+  for (const Example& e : kExamples) {
+    const MechanismDescription d = readMechanismDescription(examplesDir() / e.file);
+    const MechanismDescription again = readMechanismDescription(writeFile(dir, e.file, d.yamlString()));
+    SCOPED_TRACE(e.file);
+    expectSame(d, again);
+    EXPECT_EQ(describedParameters(again).values(), describedParameters(d).values());
+    expectSame(describedWithParameters(d, describedParameters(d)), d);
+  }
+}
+
+// An identified geometry written as a description is the identified model: the axis tilts folded
+// into the axes give the same IKM.
+TEST(DescribedFile, IdentifiedValuesWrittenAsADescriptionGiveTheSameModel) {
+  for (const Example& e : kExamples) {
+    SCOPED_TRACE(e.file);
+    const MechanismDescription d = readMechanismDescription(examplesDir() / e.file);
+    const std::unique_ptr<Mechanism> original = makeDescribedMechanism(d);
+    const ParameterSet values = perturbed(original->nominal(), 5);
+    const MechanismDescription identified =
+        parseMechanismDescription(describedWithParameters(d, values).yamlString(), "identified.yaml");
+    const std::unique_ptr<Mechanism> rewritten = makeDescribedMechanism(identified);
+    double worst = 0.0;
+    for (const Eigen::Isometry3d& pose : gridPoses(*original, e)) {
+      const IkmResult a = original->inverseKinematics(values.values(), pose);
+      const IkmResult b = rewritten->inverseKinematics(rewritten->nominal().values(), pose);
+      ASSERT_TRUE(a.reachable() && b.reachable());
+      worst = std::max(worst, (a.joints - b.joints).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst, 1e-12);
+  }
+}
+
+TEST(DescribedFile, YamlAsPeopleWriteIt) {
+  const std::string flow =
+      "%YAML 1.2\n---\n"
+      "{name: small, platform: translation, legs: [\n"
+      "  {actuator: prismatic, base: [0, 0.2, 0], axis: [0, 0, 2], rod: 0.25, platform: [0, 0.04, 0], branch: +1},\n"
+      "  {actuator: prismatic, base: [-0.17, -0.1, 0], axis: [0, 0, 1], rod: 0.25, platform: [-0.03, -0.02, 0]},\n"
+      "  {actuator: prismatic, base: [0.17, -0.1, 0], axis: [0, 0, 1.0], rod: 0.25, platform: [0.03, -0.02, 0],\n"
+      "   branch: 1}]}\n";
+  const std::string block =
+      smallWith({{5, "    base:\n      - 0\n      - 0.2\n      - 0"}, {7, "    rod: 0.25   # m\n    branch: 1"}});
+  const MechanismDescription reference = parseMechanismDescription(smallWith({}), "small.yaml");
+  expectSame(parseMechanismDescription(flow, "flow.yaml"), reference);
+  expectSame(parseMechanismDescription(block, "block.yaml"), reference);
+  const MechanismDescription minus = parseMechanismDescription(smallWith({{7, "    rod: 0.25\n    branch: -1"}}), "m");
+  EXPECT_EQ(minus.legs[0].branch, -1);
+  const MechanismDescription homed =
+      parseMechanismDescription(smallWith({{3, "home: {t: [0, 0, 0.1]}\nlegs:"}}), "home.yaml");
+  EXPECT_EQ(homed.home->head<3>(), Eigen::Vector3d(0, 0, 0.1));
+}
+
+struct BadFile {
+  std::vector<std::pair<int, std::string>> edits;
+  int line;
+  std::string key;
+  std::string what;
+};
+
+TEST(DescribedFile, BadInputNamesTheFileTheLineAndTheKey) {
+  const std::vector<BadFile> cases = {
+      {{{7, ""}}, 4, "legs[0].rod", "missing key"},
+      {{{9, "  - actuator: linear"}}, 9, "legs[1].actuator", "prismatic, revolute or extensible"},
+      {{{10, "    base: [-0.17, -0.1]"}}, 10, "legs[1].base", "expected 3 numbers"},
+      {{{16, "    axis: [0, 0, 0]"}}, 16, "legs[2].axis", "the axis is zero"},
+      {{{14, "  - actuator: extensible"}, {16, "    offset: 0.3"}}, 17, "legs[2].rod", "has no 'rod'"},
+      {{{14, "  - actuator: extensible"}}, 16, "legs[2].axis", "has no 'axis'"},
+      {{{8, "    platform: [0, 0.04, 0]\n    branch: 2"}}, 9, "legs[0].branch", "not +1 or -1"},
+      {{{8, "    platform: [0, 0.04, 0]\n    branch: 0"}}, 9, "legs[0].branch", "not +1 or -1"},
+      {{{13, "    platform: [-0.03, .nan, 0]"}}, 13, "legs[1].platform[1]", "finite"},
+      {{{15, "    base: [0.17, .inf, 0]"}}, 15, "legs[2].base[1]", "finite"},
+      {{{7, "    rod: -0.25"}}, 7, "legs[0].rod", "out of range"},
+      {{{7, "    rood: 0.25"}}, 7, "legs[0].rood", "did you mean 'rod'"},
+      {{{14, ""}, {15, ""}, {16, ""}, {17, ""}, {18, ""}}, 3, "legs", "exactly 3 legs, not 2"},
+      {{{2, "platform: full"}}, 3, "legs", "exactly 6 legs, not 3"},
+      {{{2, "platform: planar"}}, 2, "platform", "translation or full"},
+      {{{1, ""}}, 1, "name", "missing key"},
+      {{{4, "  - actuator: revolute"}, {6, "    axis: [0, 0, 1]\n    arm: [0, 0, 0.1]"}},
+       7,
+       "legs[0].arm",
+       "along the axis"},
+      {{{4, "  - actuator: revolute"}}, 4, "legs[0].arm", "missing key"},
+      {{{8, "    platform: [0, 0.04, 0]\n    gain: 1.01"}}, 9, "legs[0].gain", "gains: true"},
+      {{{3, "home: {t: [0, 0, 0.1], r: [0, 0, 0.1]}\nlegs:"}}, 3, "home.r", "no rotation"},
+      {{{3, "home: [0, 0]\nlegs:"}}, 3, "home", "expected 3 numbers"},
+      {{{3, "gains: maybe\nlegs:"}}, 3, "gains", ""},
+  };
+  const test::TempDir dir;
+  for (const BadFile& bad : cases) {
+    const std::filesystem::path file = writeFile(dir, "robot.yaml", smallWith(bad.edits));
+    try {
+      readMechanismDescription(file);
+      ADD_FAILURE() << "accepted: " << bad.key << " (" << bad.what << ")";
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("robot.yaml:" + std::to_string(bad.line) + ":"), std::string::npos) << message;
+      EXPECT_NE(message.find("'" + bad.key + "'"), std::string::npos) << message;
+      EXPECT_NE(message.find(bad.what), std::string::npos) << message;
+    }
+  }
+  EXPECT_THROW(readMechanismDescription(dir.path() / "absent.yaml"), std::invalid_argument);
+}
+
+TEST(DescribedFile, DescriptionsBuiltInCodeAreChecked) {
+  MechanismDescription d = readMechanismDescription(examplesDir() / "6-pus.yaml");
+  d.legs[2].branch = 0;
+  EXPECT_THROW(makeDescribedModel(d), std::invalid_argument);
+  d.legs[2].branch = 1;
+  d.legs[2].axis = Eigen::Vector3d(0, 0, 2);
+  EXPECT_THROW(makeDescribedModel(d), std::invalid_argument);
+  d.legs[2].axis = Eigen::Vector3d::UnitZ();
+  d.legs.pop_back();
+  EXPECT_THROW(makeDescribedModel(d), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace mire::mechanism
