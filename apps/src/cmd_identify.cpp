@@ -11,6 +11,7 @@
 #include "validate.hpp"
 
 #include "mire/datasets/data_dir.hpp"
+#include "mire/mechanism/described.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
@@ -18,6 +19,7 @@
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
+#include "mire/support/atomic_file.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
@@ -125,11 +127,14 @@ CommandPaths checkPaths(const IdentifyArguments& args, const pipeline::PoseSetFi
     paths.input_files.push_back(
         {*files.covariances, args.covariances.empty() ? "the covariance side file" : "--pose-covariances"});
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
+  if (mech::isDescriptionFile(args.model)) paths.input_files.push_back({args.model, "--model"});
   if (files.lines) paths.input_files.push_back({*files.lines, "--lines"});
   if (files.shared)
     paths.input_files.push_back({*files.shared, args.shared.empty() ? "the shared-term side file" : "--shared-term"});
   paths.output_files = {{args.output, "-o"},
                         {support::covarianceSidePath(args.output), "the covariance side file of -o"}};
+  if (mech::isDescriptionFile(args.model))
+    paths.output_files.push_back({support::mechanismSidePath(args.output), "the mechanism side file of -o"});
   if (!args.report.empty()) paths.output_folders = {{args.report, "--report"}};
   checkCommandPaths(paths);
   return paths;
@@ -358,8 +363,11 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
                           const std::string& summary) {
   const mech::IdentificationResult& result = run.identification.result;
   const pipeline::InitialModel& initial = run.identification.initial;
+  // A described mechanism travels with its parameters: a copy of its description beside -o.
+  const bool described = mech::isDescriptionFile(run.choice.model);
+  const fs::path description_output = support::mechanismSidePath(args.output);
   std::vector<std::pair<std::string, std::string>> metadata{
-      {"model", run.choice.model},
+      {"model", described ? description_output.filename().string() : run.choice.model},
       {"variant", run.choice.variant ? std::string(1, run.choice.variant) : std::string("-")},
       {"external_form", mech::externalFormName(result.model.external.form())},
       {"poses", std::to_string(run.inputs.observations.poses.size())},
@@ -390,6 +398,9 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
   const fs::path covariance_output = support::covarianceSidePath(args.output);
   support::OutputTransaction outputs;
   mech::writePredictionCovarianceCsv(outputs.stageFile(covariance_output), prediction);
+  if (described)
+    support::writeFileAtomically(outputs.stageFile(description_output),
+                                 mech::readMechanismDescription(run.choice.model).yamlString());
   mech::writeParameterFile(outputs.stageFile(args.output), result.model.parameters, result.sigma, metadata,
                            "Identified by mire identify (" + initial.label + ") from " + args.poses + " and " +
                                args.joints + "\nsigma_<name>: standard deviation of the estimate (same unit as <name>)");

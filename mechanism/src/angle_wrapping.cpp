@@ -15,9 +15,8 @@ bool sameJoints(const Mechanism& mechanism, const Eigen::VectorXd& a, const Eige
   const Eigen::VectorXd reference = mechanism.referencePose(a);
   for (int k = 0; k <= reference.size(); ++k) {
     Eigen::VectorXd pose = reference;
-    if (k < reference.size()) pose[k] += (mechanism.poseComponentUnits()[static_cast<std::size_t>(k)] == Unit::Metre)
-                                             ? 0.01
-                                             : 0.02;
+    if (k < reference.size())
+      pose[k] += (mechanism.poseComponentUnits()[static_cast<std::size_t>(k)] == Unit::Metre) ? 0.01 : 0.02;
     const Eigen::Isometry3d bTe = mechanism.poseToTransform(pose);
     const IkmResult qa = mechanism.inverseKinematics(a, bTe);
     const IkmResult qb = mechanism.inverseKinematics(b, bTe);

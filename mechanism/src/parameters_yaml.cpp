@@ -2,6 +2,7 @@
 // mire::support's YAML layer, written as plain YAML that PyYAML reads too.
 #include "mire/mechanism/io.hpp"
 
+#include "mire/mechanism/registry.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
 #include "mire/support/yaml.hpp"
@@ -108,6 +109,14 @@ ParameterFile readParameterFile(const std::filesystem::path& path) {
     file.entries.push_back(std::move(entry));
   }
   return file;
+}
+
+std::string parameterFileModel(const ParameterFile& file) {
+  const ParameterFileEntry* entry = file.find("model");
+  if (!entry) return {};
+  const std::filesystem::path model(entry->text);
+  if (!isDescriptionFile(entry->text) || model.is_absolute()) return entry->text;
+  return (file.path.parent_path() / model).string();
 }
 
 const std::vector<std::string>& parameterFileMetadataKeys() {

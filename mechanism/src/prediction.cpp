@@ -326,7 +326,7 @@ LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
     throw std::runtime_error(yaml.string() + ": no 'model' key (expected one of " + registeredModelList() + ")");
   RegisteredModel registered;
   try {
-    registered = makeRegisteredModel(model_key->text);
+    registered = makeRegisteredModel(parameterFileModel(file));
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(file.where(*model_key) + ": " + e.what());
   }

@@ -2,9 +2,12 @@
 #include "mire/mechanism/registry.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <stdexcept>
 
 #include "mire/mechanism/delta.hpp"
+#include "mire/mechanism/described.hpp"
 #include "mire/mechanism/gough_stewart.hpp"
 #include "mire/mechanism/gough_stewart_gains.hpp"
 
@@ -164,10 +167,27 @@ const std::vector<ModelInfo>& registeredModels() {
   return models;
 }
 
-const ModelInfo& modelInfo(const std::string& name) {
+bool isDescriptionFile(const std::string& model) {
+  std::string extension = std::filesystem::path(model).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".yaml" || extension == ".yml";
+}
+
+ModelInfo modelInfo(const std::string& name) {
+  if (isDescriptionFile(name)) {  // a user's robot (doc/mechanisms.md, "Described mechanisms")
+    const MechanismDescription description = readMechanismDescription(name);
+    ModelInfo info;
+    info.name = name;
+    info.description = description.name + ", described in " + name + ", full mounting";
+    info.label = description.name;
+    info.make = [description](const H4Nominal&) { return makeDescribedModel(description); };
+    return info;
+  }
   for (const ModelInfo& m : registeredModels())
     if (m.name == name) return m;
-  throw std::invalid_argument("unknown model '" + name + "' (known: " + registeredModelList() + ")");
+  throw std::invalid_argument("unknown model '" + name + "' (known: " + registeredModelList() +
+                              ", or a mechanism description file *.yaml)");
 }
 
 const ModelInfo& modelOfVariant(char letter) {

@@ -41,9 +41,9 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
   choice.model = !model.empty() ? model
                  : letter       ? mech::modelOfVariant(letter).name
                                 : mech::registeredModels().front().name;
-  const mech::ModelInfo* info = nullptr;
+  std::optional<mech::ModelInfo> info;
   try {
-    info = &mech::modelInfo(choice.model);
+    info = mech::modelInfo(choice.model);
   } catch (const std::invalid_argument& error) {  // "unknown model 'x' (known: ...)"
     throw std::invalid_argument("--model '" + choice.model + "': " + error.what());
   }

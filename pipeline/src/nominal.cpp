@@ -40,8 +40,10 @@ std::string h4KeyModel(const mech::ModelInfo& info) { return mech::mechanismFami
 // The parameters a nominal file for `chosen` may give: its own, or model 12's for an H4 model.
 // A file written for another model (its `model:` key) is refused before its keys are compared.
 bool givesModel12Keys(const mech::ParameterFile& file, const std::string& chosen) {
-  const mech::ModelInfo& info = mech::modelInfo(chosen);
+  const mech::ModelInfo info = mech::modelInfo(chosen);
   const mech::ParameterFileEntry* entry = file.find("model");
+  // A described model's identified file names its own copy of the description.
+  if (entry && mech::isDescriptionFile(chosen) && mech::isDescriptionFile(entry->text)) return false;
   const std::string file_model = entry ? entry->text : info.h4_nominal ? h4KeyModel(info) : chosen;
   if (file_model == chosen && info.h4_nominal && file_model != h4KeyModel(info) && !info.variants.empty())
     throw std::runtime_error(file.where(*entry) + ": --model " + chosen + " is identified through its variants (" +

@@ -245,7 +245,8 @@ void bindH4AndRegistry(py::module_& m) {
       .def_property_readonly("default_variant", [](const mech::ModelInfo& m) {
         return m.default_variant ? std::string(1, m.default_variant) : std::string();
       });
-  m.def("modelInfo", &mech::modelInfo, py::arg("name"), py::return_value_policy::reference);
+  m.def("modelInfo", &mech::modelInfo, py::arg("name"));
+  m.def("isDescriptionFile", &mech::isDescriptionFile, py::arg("model"));
   m.def("registeredModels", &mech::registeredModels);
   py::class_<mech::MechanismFamily>(m, "MechanismFamily")
       .def_readonly("name", &mech::MechanismFamily::name)

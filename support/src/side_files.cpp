@@ -20,4 +20,8 @@ std::filesystem::path sharedTermSidePath(const std::filesystem::path& poses_csv)
   return withSuffix(poses_csv, "_shared.csv");
 }
 
+std::filesystem::path mechanismSidePath(const std::filesystem::path& parameters_yaml) {
+  return withSuffix(parameters_yaml, "_mechanism.yaml");
+}
+
 }  // namespace mire::support

@@ -63,12 +63,11 @@ TEST(NominalCli, EveryModelsIdentifiedFileGoesThroughEveryReader) {
               0)
         << test::readText(d / "stderr.txt");
     test::writeText(d / "workspace.yaml", workspaceAround(model));
-    const std::string plan = "plan --model " + info.name + " --nominal " + (d / "id.yaml").string() +
-                             " --workspace " + (d / "workspace.yaml").string() +
-                             " --count 20 --candidates 400 -o " + (d / "plan.csv").string();
-    const std::string again =
-        "identify --model " + info.name + " --nominal " + (d / "id.yaml").string() + data + " -o " +
-        (d / "again.yaml").string();
+    const std::string plan = "plan --model " + info.name + " --nominal " + (d / "id.yaml").string() + " --workspace " +
+                             (d / "workspace.yaml").string() + " --count 20 --candidates 400 -o " +
+                             (d / "plan.csv").string();
+    const std::string again = "identify --model " + info.name + " --nominal " + (d / "id.yaml").string() + data +
+                              " -o " + (d / "again.yaml").string();
     if (!info.variants.empty() && info.name != mech::mechanismFamily(info.family).models.front()) {
       // Its variants start from model 12's values: the error says which file to give.
       EXPECT_EQ(test::runMireIn(dir, again), 1);
@@ -89,8 +88,8 @@ TEST(NominalCli, AFileOfAnotherModelIsNamed) {
   mech::writeParameterFile(d / "hexapod.yaml", mech::makeRegisteredModel("gough-stewart").nominal, {},
                            {{"model", "gough-stewart"}}, "a hexapod");
   EXPECT_EQ(test::runMireIn(dir, "identify --model delta --nominal " + (d / "hexapod.yaml").string() + " --poses " +
-                                     (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
-                                     " -o " + (d / "id.yaml").string()),
+                                     (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() + " -o " +
+                                     (d / "id.yaml").string()),
             1);
   const std::string err = test::readText(d / "stderr.txt");
   EXPECT_NE(err.find("hexapod.yaml:"), std::string::npos) << err;
@@ -112,8 +111,8 @@ TEST(NominalCli, ADeltaOfAnotherSizeIsIdentifiedFromItsNominal) {
   datasets::writeCampaignFiles(c, d, train, 20, "held_poses.csv", "held_joints.csv");
   mech::writeParameterFile(d / "my_delta.yaml", small.nominal, {}, {{"model", "delta"}}, "a small Delta");
   ASSERT_EQ(test::runMireIn(dir, "identify --model delta --nominal " + (d / "my_delta.yaml").string() + " --poses " +
-                                     (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() +
-                                     " -o " + (d / "id.yaml").string()),
+                                     (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() + " -o " +
+                                     (d / "id.yaml").string()),
             0)
       << test::readText(d / "stderr.txt");
   ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
@@ -122,10 +121,10 @@ TEST(NominalCli, ADeltaOfAnotherSizeIsIdentifiedFromItsNominal) {
       << test::readText(d / "stderr.txt");
   // The FKM gives the pose in the identified base frame (a gauge): compare the distances between
   // held-out positions, which do not depend on it, and the absolute error through --frame camera.
-  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
-                                     (d / "held_joints.csv").string() + " --frame camera -o " +
-                                     (d / "pred_c.csv").string()),
-            0)
+  ASSERT_EQ(
+      test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                               (d / "held_joints.csv").string() + " --frame camera -o " + (d / "pred_c.csv").string()),
+      0)
       << test::readText(d / "stderr.txt");
   const support::CsvTable table = support::readCsv(d / "pred_c.csv");
   ASSERT_EQ(table.rows.size(), 20u);
@@ -145,6 +144,63 @@ TEST(NominalCli, ADeltaOfAnotherSizeIsIdentifiedFromItsNominal) {
   EXPECT_LT(rms_mm, 0.3);
   EXPECT_GT(ratio, 0.5);
   EXPECT_LT(ratio, 2.0);
+}
+
+// Every shipped description is a model `identify`, `fkm` and `ikm` take by its file name; the
+// identified file carries a copy of the description, so it is all fkm needs.
+TEST(NominalCli, DescribedMechanismsGoThroughIdentifyFkmAndIkm) {
+  for (const auto& entry : fs::directory_iterator(test::sourceDir() / "examples" / "mechanisms")) {
+    SCOPED_TRACE(entry.path().filename().string());
+    test::TempDir dir;
+    const fs::path d = dir.path();
+    const datasets::Campaign c = datasets::simulateCampaign(mech::makeRegisteredModel(entry.path().string()), 24,
+                                                            0.2e-3, 0.03 * datasets::kCampaignDeg, 20);
+    const std::size_t train = c.poses.size() - 20;
+    datasets::writeCampaignFiles(c, d, 0, train);
+    datasets::writeCampaignFiles(c, d, train, 20, "held_poses.csv", "held_joints.csv");
+    ASSERT_EQ(test::runMireIn(dir, "identify --model " + entry.path().string() + " --poses " + (d / "poses.csv").string() +
+                                       " --joints " + (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
+              0)
+        << test::readText(d / "stderr.txt");
+    EXPECT_NE(test::readText(d / "id.yaml").find("id_mechanism.yaml"), std::string::npos);
+    ASSERT_TRUE(fs::exists(d / "id_mechanism.yaml"));
+    ASSERT_EQ(
+        test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                                 (d / "held_joints.csv").string() + " --frame camera -o " + (d / "pred.csv").string()),
+        0)
+        << test::readText(d / "stderr.txt");
+    const support::CsvTable table = support::readCsv(d / "pred.csv");
+    ASSERT_EQ(table.rows.size(), 20u);
+    double err2 = 0, sig2 = 0;
+    for (std::size_t r = 0; r < table.rows.size(); ++r) {
+      const Eigen::Isometry3d truth = c.bTc.inverse() * c.bTe[train + r] * c.mTe.inverse();
+      const Eigen::Vector3d t(table.number(r, table.column("tx_m")), table.number(r, table.column("ty_m")),
+                              table.number(r, table.column("tz_m")));
+      err2 += (t - truth.translation()).squaredNorm();
+      for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"})
+        sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
+    }
+    const double ratio = std::sqrt(err2 / sig2);
+    std::printf("%s: 20 held-out poses, RMS position error %.3f mm, error / predicted sigma %.2f\n",
+                entry.path().filename().string().c_str(), 1e3 * std::sqrt(err2 / 20.0), ratio);
+    EXPECT_GT(ratio, 0.5);
+    EXPECT_LT(ratio, 2.0);
+    // ikm of the base-frame FKM poses gives the held-out joints back.
+    ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                                       (d / "held_joints.csv").string() + " -o " + (d / "effector.csv").string()),
+              0)
+        << test::readText(d / "stderr.txt");
+    ASSERT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " +
+                                       (d / "effector.csv").string() + " -o " + (d / "commands.csv").string()),
+              0)
+        << test::readText(d / "stderr.txt");
+    const support::CsvTable commands = support::readCsv(d / "commands.csv");
+    const support::CsvTable held = support::readCsv(d / "held_joints.csv");
+    ASSERT_EQ(commands.rows.size(), 20u);
+    for (std::size_t r = 0; r < commands.rows.size(); ++r)
+      for (std::size_t k = 1; k < held.header.size(); ++k)
+        EXPECT_NEAR(commands.number(r, commands.column(held.header[k])), held.number(r, k), 1e-8);
+  }
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ TEST(Registry, TheH4NominalReachesExactlyTheModelsThatSayTheyTakeIt) {
     EXPECT_EQ(changed, info.h4_nominal) << info.name;
     EXPECT_FALSE(info.label.empty()) << info.name;
   }
-  EXPECT_EQ(&mech::modelInfo(mech::registeredModels().front().name), &mech::registeredModels().front());
+  EXPECT_EQ(mech::modelInfo(mech::registeredModels().front().name).name, mech::registeredModels().front().name);
   EXPECT_THROW(mech::modelInfo("nope"), std::invalid_argument);
 }
 

@@ -4,6 +4,7 @@
 // (doc/mechanisms.md) and measured cTm with noise 0.2 mm / 0.03° and its covariance.
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -36,7 +37,8 @@ inline Eigen::Isometry3d makeTransform(const Eigen::Vector3d& rotation_vector, c
 
 // Protocol poses bTe: H4 27 positions × 3 angles; Delta 27 positions on a 300×300×150 mm grid
 // around its reference pose (z = −0.65 m for the built-in one; scaled with that depth for a Delta
-// of another size); Gough–Stewart 27 positions (±40 mm, ±30 mm in z) × 3 orientations.
+// of another size); Gough–Stewart 27 positions (±40 mm, ±30 mm in z) × 3 orientations (scaled
+// down for a platform whose home is lower than 0.40 m).
 inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, const Eigen::VectorXd& g) {
   std::vector<Eigen::Isometry3d> out;
   const Eigen::VectorXd ref = mechanism.referencePose(g);
@@ -55,12 +57,14 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
             out.push_back(makeTransform(Eigen::Vector3d(0, 0, 20 * kCampaignDeg * k),
                                         Eigen::Vector3d(ref[0] + 0.1 * ix, ref[1] + 0.1 * iy, ref[2] + 0.075 * iz)));
           } else {
-            // A different tilt axis per position, ±6° plus a yaw.
+            // A different tilt axis per position, ±6° plus a yaw; scaled with the home height for a
+            // platform of another size than the built-in hexapod's (0.40 m).
+            const double size = std::min(1.0, std::abs(ref[2]) / 0.40);
             const double a = 2.1 * (ix + 3 * iy + 9 * iz);
             const Eigen::Vector3d axis(std::cos(a), std::sin(a), 0.5 * k);
             out.push_back(makeTransform(
-                6 * kCampaignDeg * k * axis.normalized() + Eigen::Vector3d(0, 0, 4 * kCampaignDeg * ix * k),
-                Eigen::Vector3d(ref[0] + 0.04 * ix, ref[1] + 0.04 * iy, ref[2] + 0.03 * iz)));
+                size * (6 * kCampaignDeg * k * axis.normalized() + Eigen::Vector3d(0, 0, 4 * kCampaignDeg * ix * k)),
+                Eigen::Vector3d(ref[0] + 0.04 * size * ix, ref[1] + 0.04 * size * iy, ref[2] + 0.03 * size * iz)));
           }
         }
       }

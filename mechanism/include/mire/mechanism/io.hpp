@@ -100,6 +100,10 @@ struct ParameterFile {
 // not a single scalar.
 ParameterFile readParameterFile(const std::filesystem::path& path);
 
+// The file's `model:` value, or empty without one; a relative mechanism description path
+// (`model: identified_mechanism.yaml`) is taken from the file's own folder.
+std::string parameterFileModel(const ParameterFile& file);
+
 // Text keys a parameter file may hold besides parameters and sigma_<name>.
 const std::vector<std::string>& parameterFileMetadataKeys();
 

@@ -63,8 +63,12 @@ struct MechanismFamily {
 
 const std::vector<ModelInfo>& registeredModels();  // the default model first
 std::string registeredModelList();                 // the names, comma-separated
-// Throws std::invalid_argument "unknown model 'x' (known: ...)".
-const ModelInfo& modelInfo(const std::string& name);
+// A model name that is a mechanism description file (`*.yaml`, `*.yml`: described.hpp).
+bool isDescriptionFile(const std::string& model);
+// A built-in model's row, or a described model's (read from the file: no family, no variants).
+// Throws std::invalid_argument "unknown model 'x' (known: ...)", or naming the description
+// file's line and key.
+ModelInfo modelInfo(const std::string& name);
 // The model whose variants include `letter` (A–H); throws std::invalid_argument for another letter.
 const ModelInfo& modelOfVariant(char letter);
 // The models that take the paper's variants, for messages: `h4-12 (A-D), h4-31c (E-H)`.
@@ -76,7 +80,7 @@ std::string mechanismFamilyList();
 const MechanismFamily& mechanismFamily(const std::string& name);
 const MechanismFamily& familyWithDefects(SimulatedDefects defects);
 
-// Throws std::invalid_argument "unknown model 'x' (known: ...)". The H4 models take their
+// Throws as modelInfo(). The H4 models take their
 // nominal geometry from `h4` (model 31 values are its model-12 equivalent; the camera-frame
 // model's are expressed in the base frame itself until an identification re-expresses them).
 RegisteredModel makeRegisteredModel(const std::string& name, const H4Nominal& h4 = {});

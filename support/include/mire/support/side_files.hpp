@@ -12,4 +12,8 @@ std::filesystem::path covarianceSidePath(const std::filesystem::path& file);
 // "dir/poses.csv" → "dir/poses_shared.csv": the error every pose shares (doc/uncertainty.md).
 std::filesystem::path sharedTermSidePath(const std::filesystem::path& poses_csv);
 
+// "dir/identified.yaml" → "dir/identified_mechanism.yaml": the description of a described
+// mechanism, which the identified file names as its `model:` (doc/mechanisms.md).
+std::filesystem::path mechanismSidePath(const std::filesystem::path& parameters_yaml);
+
 }  // namespace mire::support
