@@ -279,8 +279,8 @@ Runner addCalibrateCommand(CLI::App& app) {
   command
       ->add_option("--model", args->model,
                    "camera model: pinhole (no distortion), opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational), "
-                   "fisheye (OpenCV's equidistant k1..k4)")
-      ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "fisheye"}));
+                   "opencv12 (+ thin prism s1..s4), fisheye (OpenCV's equidistant k1..k4)")
+      ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "opencv12", "fisheye"}));
   command
       ->add_option("--fix", args->fixed_parameters,
                    "parameters held fixed, by name (e.g. k3,p1,p2; fx fy cx cy too): distortion terms stay 0, "
