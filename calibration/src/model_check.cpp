@@ -117,10 +117,10 @@ std::vector<Candidate> candidatesFor(DistortionModel model) {
       return {{DistortionModel::OpenCV4, {}, {"k1", "k2", "p1", "p2"}, "--model opencv5"}};
     case DistortionModel::OpenCV4:
       return {{DistortionModel::OpenCV5, {}, {"k3"}, "--model opencv5"},
-              {DistortionModel::OpenCV12, {"k3", "k4", "k5", "k6"}, prism, "--model opencv12"}};
+              {DistortionModel::OpenCV12, {"k3", "k4", "k5", "k6"}, prism, "--model opencv12 --fix k3,k4,k5,k6"}};
     case DistortionModel::OpenCV5:
       return {{DistortionModel::OpenCV8, {}, {"k4", "k5", "k6"}, "--model opencv8"},
-              {DistortionModel::OpenCV12, {"k4", "k5", "k6"}, prism, "--model opencv12"}};
+              {DistortionModel::OpenCV12, {"k4", "k5", "k6"}, prism, "--model opencv12 --fix k4,k5,k6"}};
     case DistortionModel::OpenCV8:
       return {{DistortionModel::OpenCV12, {}, prism, "--model opencv12"}};
     case DistortionModel::OpenCV12:
