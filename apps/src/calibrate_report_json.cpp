@@ -102,14 +102,95 @@ Json viewsJson(const cal::CalibrationResult& result) {
   return list;
 }
 
+Json structureJson(const cal::ResidualStructure& structure) {
+  Json bins = Json::array();
+  for (const auto& bin : structure.bins) {
+    Json item{{"radius_min_px", bin.radius_min_px},
+              {"radius_max_px", bin.radius_max_px},
+              {"angle_min_rad", bin.angle_min_rad},
+              {"angle_max_rad", bin.angle_max_rad},
+              {"points", bin.points},
+              {"views", bin.views},
+              {"mean_residual_px", numberArray(Eigen::VectorXd(bin.mean_px))},
+              {"tested", bin.tested},
+              {"significant", bin.significant}};
+    setNumber(item, "t2", bin.tested ? bin.t2 : NAN, "too few views in the bin");
+    setNumber(item, "p_value", bin.tested ? bin.p_value : NAN, "too few views in the bin");
+    bins.push_back(item);
+  }
+  return Json{{"rings", structure.rings},
+              {"sectors", structure.sectors},
+              {"ring_edges_px", structure.ring_edges_px},
+              {"tested_bins", structure.tested_bins},
+              {"significant_bins", structure.significant_bins},
+              {"corrected_p_value", structure.corrected_p_value},
+              {"significant", structure.significant},
+              {"bin_mean_rms_px", structure.structured_rms_px},
+              {"bins", bins}};
+}
+
+Json nestedJson(const cal::NestedModelTest& test) {
+  return Json{{"model", test.model},
+              {"held_at_zero", test.fixed},
+              {"terms", test.terms},
+              {"values", test.values},
+              {"sigmas", test.sigmas},
+              {"design_effect", test.design_effect},
+              {"likelihood_ratio", test.statistic},
+              {"dof", test.dof},
+              {"p_value", test.p_value},
+              {"significant", test.significant},
+              {"rms_px", test.rms_px},
+              {"intrinsics", test.intrinsics},
+              {"intrinsic_shift_sigma", test.intrinsic_shift_sigma},
+              {"suggestion", test.suggestion}};
+}
+
+Json holdoutJson(const cal::HoldoutCheck& holdout) {
+  Json out{{"folds", holdout.folds},
+           {"views", holdout.views},
+           {"measured_rms_px", holdout.measured_rms_px},
+           {"predicted_rms_px", holdout.predicted_rms_px},
+           {"noise_only_rms_px", holdout.noise_only_rms_px},
+           {"ratio", holdout.ratio},
+           {"t_statistic", holdout.t_statistic},
+           {"p_value", holdout.p_value},
+           {"significant", holdout.significant}};
+  setNumber(out, "calibration_sigma_scale", holdout.calibration_sigma_scale, "held-out error not above pixel noise");
+  Json jackknife = Json::array();
+  for (std::size_t i = 0; i < holdout.names.size(); ++i) {
+    Json item{{"name", holdout.names[i]}, {"sigma", holdout.jackknife_sigma[i]}};
+    setNumber(item, "ratio_to_printed_sigma", holdout.jackknife_ratio[i], "fixed parameter");
+    jackknife.push_back(item);
+  }
+  out["jackknife"] = jackknife;
+  return out;
+}
+
+Json modelCheckJson(const cal::ModelCheck& check) {
+  Json nested = Json::array();
+  for (const auto& test : check.nested) nested.push_back(nestedJson(test));
+  Json out{{"verdict", check.verdictLine()},
+           {"adequate", check.adequate},
+           {"level", check.level},
+           {"reasons", check.reasons},
+           {"suggestions", check.suggestions},
+           {"structure", structureJson(check.structure)},
+           {"nested", nested}};
+  out["holdout"] = check.holdout ? holdoutJson(*check.holdout) : Json(nullptr);
+  return out;
+}
+
 }  // namespace
 
 void writeCalibrateReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
-                              const cal::CalibrationResult& result, const cal::ProjectionUncertaintySummary& uncertainty) {
+                              const cal::CalibrationResult& result,
+                              const cal::ProjectionUncertaintySummary& uncertainty, const cal::ModelCheck& check) {
   Json doc = reportHeader("calibrate", provenance);
   doc["camera"] = cameraJson(result);
   doc["quality"] = qualityJson(result, uncertainty);
   doc["views"] = viewsJson(result);
+  doc["model_check"] = modelCheckJson(check);
   writeReportJson(path, doc);
 }
 

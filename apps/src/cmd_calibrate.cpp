@@ -13,6 +13,7 @@
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/calibration_plots.hpp"
 #include "mire/calibration/camera_io.hpp"
+#include "mire/calibration/model_check.hpp"
 #include "mire/metrology/target.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
@@ -44,6 +45,7 @@ struct CalibrateArguments {
   std::string output_path;
   std::string report_dir;
   int threads = 0;
+  int holdout_folds = 0;                  // --holdout K: k-fold held-out check over views
   std::string save_detections;            // CSV of every view's detections (doc/targets.md)
   std::string detections_path;            // calibrate from this file instead of images
   std::vector<int> image_size;            // width height, for a detections file that does not say
@@ -155,7 +157,8 @@ pipeline::CalibrationFolder readCalibrationViews(const CalibrateArguments& args,
 // Outputs, all or nothing (doc/robustness.md): camera.yaml, then the report.
 void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& paths, const metrology::Target& target,
                            const pipeline::CalibrationFolder& folder, const calibration::CalibrationResult& result,
-                           const calibration::ProjectionUncertaintySummary& uncertainty) {
+                           const calibration::ProjectionUncertaintySummary& uncertainty,
+                           const calibration::ModelCheck& check) {
   support::OutputTransaction outputs;
   support::writeFileAtomically(outputs.stageFile(args.output_path),
                                calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
@@ -164,13 +167,14 @@ void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& p
     writePng(dir / "residuals.png", calibration::drawResidualMap(result));
     writePng(dir / "residuals_per_view.png", calibration::drawResidualsPerView(result));
     writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
+    writePng(dir / "model_check.png", calibration::drawModelCheck(result, check));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined)
       support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
     ReportProvenance provenance{args.command_line, paths.input_files, paths.output_files};
     provenance.inputs.insert(provenance.inputs.end(), paths.input_folders.begin(), paths.input_folders.end());
     provenance.outputs.push_back({args.report_dir, "--report"});
-    writeCalibrateReportJson(dir / "report.json", provenance, result, uncertainty);
+    writeCalibrateReportJson(dir / "report.json", provenance, result, uncertainty, check);
   }
   if (!args.save_detections.empty())
     support::writeFileAtomically(
@@ -225,10 +229,54 @@ void printQuality(const calibration::CalibrationResult& result,
   for (const auto& warning : result.warnings) std::cout << "warning: " << warning << "\n";
 }
 
+std::string pValue(double p) {
+  if (p < 1e-12) return "p < 1e-12";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "p = %.2g", p);
+  return buffer;
+}
+
+// The model check's tests with their numbers, then the verdict line (doc/calibration.md).
+void printModelCheck(const calibration::ModelCheck& check) {
+  const auto& structure = check.structure;
+  std::cout << "model check (each test at " << fixed(100.0 * check.level, 0) << " %):\n";
+  std::cout << "  residual structure: " << structure.tested_bins << " of " << structure.bins.size() << " bins tested ("
+            << structure.rings << " rings x " << structure.sectors << " directions), " << structure.significant_bins
+            << " significant (smallest " << pValue(structure.corrected_p_value) << " after Bonferroni); bin means "
+            << fixed(structure.structured_rms_px, 4) << " px RMS\n";
+  for (const auto& test : check.nested) {
+    std::string terms;
+    for (const auto& term : test.terms) terms += (terms.empty() ? "" : " ") + term;
+    std::string held;
+    for (const auto& name : test.fixed) held += (held.empty() ? "" : " ") + name;
+    std::cout << "  + " << terms << " (" << test.model << (held.empty() ? "" : ", " + held + " held at 0")
+              << "): likelihood ratio chi2(" << test.dof << ") = " << fixed(test.statistic, 1) << ", "
+              << pValue(test.p_value) << "; RMS " << fixed(test.rms_px, 4) << " px; cx cy would move "
+              << fixed(test.intrinsic_shift_sigma[2], 1) << ", " << fixed(test.intrinsic_shift_sigma[3], 1)
+              << " sigma\n";
+  }
+  if (check.holdout) {
+    const auto& h = *check.holdout;
+    std::cout << "  held out (" << h.folds << " folds, " << h.views << " views, pose refitted): RMS "
+              << fixed(h.measured_rms_px, 4) << " px measured, " << fixed(h.predicted_rms_px, 4) << " px predicted ("
+              << fixed(h.noise_only_rms_px, 4) << " from pixel noise alone), ratio " << fixed(h.ratio, 3)
+              << " (t = " << fixed(h.t_statistic, 1) << ", " << pValue(h.p_value) << ")\n";
+    std::cout << "  held out: the calibration's own error is "
+              << (std::isfinite(h.calibration_sigma_scale) ? fixed(h.calibration_sigma_scale, 2) + "x"
+                                                           : std::string("not above pixel noise, i.e. <= 1x"))
+              << " its predicted sigma; jackknife sigma / printed sigma:";
+    for (std::size_t i = 0; i < h.names.size(); ++i)
+      if (std::isfinite(h.jackknife_ratio[i])) std::cout << " " << h.names[i] << " " << fixed(h.jackknife_ratio[i], 2);
+    std::cout << "\n";
+  }
+  std::cout << check.verdictLine() << "\n";
+}
+
 // Stages: checks, the views, the calibration, the outputs, then the summary.
 int runCalibrate(const CalibrateArguments& args) {
   const CommandPaths paths = checkCalibratePaths(args);
   const int threads = workerThreads(args.threads, "--threads");
+  if (args.holdout_folds == 1) throw UsageError("--holdout: K is 0 (no held-out check) or at least 2 folds");
   const calibration::DistortionModel model = calibration::parseDistortionModel(args.model);
   const metrology::Target target = readTarget(args.target_path);
   checkTargetSize(target, args.target_path);
@@ -248,7 +296,10 @@ int runCalibrate(const CalibrateArguments& args) {
   for (const auto& view : result.views)
     if (view.used) distances.push_back(view.translation.norm());
   checkImpliedDistances(distances, args.target_path, "view");
-  writeCalibrateOutputs(args, paths, target, folder, result, uncertainty);
+  calibration::ModelCheckOptions check_options;
+  check_options.holdout_folds = args.holdout_folds;
+  const calibration::ModelCheck check = calibration::checkCalibrationModel(result, options, check_options);
+  writeCalibrateOutputs(args, paths, target, folder, result, uncertainty, check);
 
   const int skipped = static_cast<int>(folder.skipped.size());
   std::cout << "calibrated from " << result.used_views << " views (" << skipped << (skipped == 1 ? " image" : " images")
@@ -258,6 +309,7 @@ int runCalibrate(const CalibrateArguments& args) {
             << "; values +- 1 sigma (sigma^2 = SSR/(2N - " << result.free_parameter_count << "))\n";
   printParameters(result);
   printQuality(result, uncertainty);
+  printModelCheck(check);
   std::cout << "wrote " << args.output_path << (args.report_dir.empty() ? "" : " and the report in " + args.report_dir)
             << "\n";
   return kOk;
@@ -279,8 +331,8 @@ Runner addCalibrateCommand(CLI::App& app) {
   command
       ->add_option("--model", args->model,
                    "camera model: pinhole (no distortion), opencv4 (k1 k2 p1 p2), opencv5 (+k3), opencv8 (rational), "
-                   "fisheye (OpenCV's equidistant k1..k4)")
-      ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "fisheye"}));
+                   "opencv12 (+ thin prism s1..s4), fisheye (OpenCV's equidistant k1..k4)")
+      ->check(CLI::IsMember({"pinhole", "opencv4", "opencv5", "opencv8", "opencv12", "fisheye"}));
   command
       ->add_option("--fix", args->fixed_parameters,
                    "parameters held fixed, by name (e.g. k3,p1,p2; fx fy cx cy too): distortion terms stay 0, "
@@ -291,7 +343,13 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
   command->add_option(
       "--report", args->report_dir,
-      "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, views.csv, report.json");
+      "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, model_check.png, views.csv, "
+      "report.json");
+  command
+      ->add_option("--holdout", args->holdout_folds,
+                   "K: k-fold held-out check over views (each fold calibrated without its views, which are then "
+                   "predicted); 0 = none")
+      ->check(CLI::Range(0, 1000));
   command->add_option("--threads", args->threads,
                       "detection threads (default: all cores); the result does not depend on them");
   return [args, command] {

@@ -16,6 +16,7 @@
 
 #include "demo.hpp"
 #include "mire/calibration/calibrate.hpp"
+#include "mire/calibration/model_check.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/model_selection.hpp"
 #include "mire/pipeline/camera_plan.hpp"
@@ -59,7 +60,8 @@ void writeReportJson(const std::filesystem::path& path, const Json& document);
 // One writer per report (identify's is in identify_report.hpp), each in <command>_report_json.cpp.
 void writeCalibrateReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
                               const calibration::CalibrationResult& result,
-                              const calibration::ProjectionUncertaintySummary& uncertainty);
+                              const calibration::ProjectionUncertaintySummary& uncertainty,
+                              const calibration::ModelCheck& check);
 
 struct PlanReportSettings {
   ReportProvenance provenance;

@@ -29,6 +29,8 @@ int distortionCoefficientCount(DistortionModel model) {
       return 5;
     case DistortionModel::OpenCV8:
       return 8;
+    case DistortionModel::OpenCV12:
+      return 12;
     case DistortionModel::Pinhole:
       return 0;
     case DistortionModel::Fisheye:
@@ -49,6 +51,8 @@ std::string distortionModelName(DistortionModel model) {
       return "opencv5";
     case DistortionModel::OpenCV8:
       return "opencv8";
+    case DistortionModel::OpenCV12:
+      return "opencv12";
     case DistortionModel::Pinhole:
       return "pinhole";
     case DistortionModel::Fisheye:
@@ -59,10 +63,10 @@ std::string distortionModelName(DistortionModel model) {
 
 DistortionModel parseDistortionModel(const std::string& name) {
   for (const DistortionModel model : {DistortionModel::Pinhole, DistortionModel::OpenCV4, DistortionModel::OpenCV5,
-                                      DistortionModel::OpenCV8, DistortionModel::Fisheye})
+                                      DistortionModel::OpenCV8, DistortionModel::OpenCV12, DistortionModel::Fisheye})
     if (name == distortionModelName(model)) return model;
   throw std::invalid_argument("unknown camera model '" + name +
-                              "' (expected pinhole, opencv4, opencv5, opencv8 or fisheye)");
+                              "' (expected pinhole, opencv4, opencv5, opencv8, opencv12 or fisheye)");
 }
 
 namespace {
@@ -106,6 +110,8 @@ ceres::CostFunction* makeCost(LensModel lens, int distortion_count, const Eigen:
         return makeCostFor<LensModel::OpenCV, 5>(observed);
       case 8:
         return makeCostFor<LensModel::OpenCV, 8>(observed);
+      case 12:
+        return makeCostFor<LensModel::OpenCV, 12>(observed);
       default:
         break;
     }

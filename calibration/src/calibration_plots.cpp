@@ -1,6 +1,7 @@
 // Diagnostic images of a calibration: residual vectors (pooled and per view), projection-uncertainty map
 // (doc/plots.md).
 #include "mire/calibration/calibration_plots.hpp"
+#include "mire/support/constants.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -297,6 +298,49 @@ cv::Mat drawResidualsPerView(const CalibrationResult& result) {
   }
   drawPerViewHeader(canvas, result, scale, static_cast<int>(views.size()));
   return canvas;
+}
+
+cv::Mat drawModelCheck(const CalibrationResult& result, const ModelCheck& check) {
+  const int width = result.camera.width, height = result.camera.height, top = 72;
+  cv::Mat image(height + top, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  const ResidualStructure& structure = check.structure;
+  const cv::Point2d centre(result.camera.cx(), result.camera.cy() + top);
+  const cv::Scalar grey(170, 170, 170);
+  for (std::size_t r = 1; r < structure.ring_edges_px.size(); ++r)
+    cv::circle(image, centre, static_cast<int>(std::lround(structure.ring_edges_px[r])), grey, 1, cv::LINE_AA);
+  const double outer = structure.ring_edges_px.empty() ? 0.0 : structure.ring_edges_px.back();
+  for (int s = 0; s < structure.sectors; ++s) {
+    const double angle = -support::kPi + s * 2.0 * support::kPi / structure.sectors;
+    cv::line(image, centre, centre + outer * cv::Point2d(std::cos(angle), std::sin(angle)), grey, 1, cv::LINE_AA);
+  }
+  double largest = 0.0;
+  for (const auto& bin : structure.bins) largest = std::max(largest, bin.mean_px.norm());
+  const double ring_width = outer / std::max(1, structure.rings);
+  const double magnification = niceNumber(0.45 * ring_width / std::max(largest, 1e-6));
+  for (const auto& bin : structure.bins) {
+    if (bin.points == 0) continue;
+    const double radius = 0.5 * (bin.radius_min_px + bin.radius_max_px);
+    const double angle = 0.5 * (bin.angle_min_rad + bin.angle_max_rad);
+    const cv::Point2d from = centre + radius * cv::Point2d(std::cos(angle), std::sin(angle));
+    const cv::Point2d to = from + magnification * cv::Point2d(bin.mean_px.x(), bin.mean_px.y());
+    const cv::Scalar colour = !bin.tested ? grey : bin.significant ? cv::Scalar(0, 0, 220) : cv::Scalar(200, 80, 0);
+    cv::circle(image, from, 3, colour, cv::FILLED, cv::LINE_AA);
+    cv::arrowedLine(image, from, to, colour, 2, cv::LINE_AA, 0, 0.2);
+  }
+  const double bar_px = niceNumber(0.08 * width / magnification);
+  const int bar_length = static_cast<int>(std::lround(bar_px * magnification));
+  const cv::Point start(20, top + height - 25);
+  cv::line(image, start, start + cv::Point(bar_length, 0), cv::Scalar(0, 0, 0), 2);
+  putLabel(image, format("%g px mean residual", bar_px) + format(" (arrows x%g)", magnification),
+           start + cv::Point(0, -8));
+  std::string verdict = check.verdictLine();
+  if (verdict.size() > 110) verdict = verdict.substr(0, 107) + "...";
+  putLabel(image, verdict, cv::Point(10, 25));
+  putLabel(image,
+           std::to_string(structure.rings) + " rings x " + std::to_string(structure.sectors) +
+               " directions; red: bin mean significant (views as clusters, Bonferroni), blue: not, grey: untested",
+           cv::Point(10, 55), 0.45);
+  return image;
 }
 
 }  // namespace mire::calibration

@@ -1,5 +1,5 @@
 // Camera files of other tools: format detection, the ViSP XML reader (ViSP's own parser), and
-// the Kalibr and mrcal writers (doc/file-formats.md "Camera files").
+// the Kalibr writer (mrcal's reader and writer: camera_mrcal.cpp) (doc/file-formats.md "Camera files").
 #include "mire/calibration/camera_formats.hpp"
 
 #include "mire/calibration/camera_io.hpp"
@@ -10,6 +10,7 @@
 #include <visp3/core/vpXmlParserCamera.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -164,14 +165,18 @@ CameraFormat detectCameraFormat(const std::filesystem::path& path) {
 
 Camera readCamera(const std::filesystem::path& path) {
   switch (detectCameraFormat(path)) {
-    case CameraFormat::Visp:
-      return readCameraVispXml(path);
-    case CameraFormat::Kalibr:
-      return readCameraKalibrYaml(path);
+    case CameraFormat::Visp: {
+      Camera camera = readCameraVispXml(path);
+      readCovarianceSideFile(path, camera);
+      return camera;
+    }
+    case CameraFormat::Kalibr: {
+      Camera camera = readCameraKalibrYaml(path);
+      readCovarianceSideFile(path, camera);
+      return camera;
+    }
     case CameraFormat::Mrcal:
-      throw std::runtime_error(path.string() +
-                               ": an mrcal .cameramodel: mire writes these (mire convert --to mrcal) but reads "
-                               "opencv, ros, visp and kalibr camera files");
+      return readCameraMrcal(path);
     case CameraFormat::OpenCV:
     case CameraFormat::Ros:
       break;
@@ -193,7 +198,11 @@ Camera readCameraVispXml(const std::filesystem::path& path) {
     } catch (const vpException& error) {
       throw std::runtime_error(path.string() + ": not a ViSP camera XML file (" + error.getStringMessage() + ")");
     }
-    if (status == vpXmlParserCamera::SEQUENCE_OK) return vispCamera(parser, parameters, path);
+    if (status == vpXmlParserCamera::SEQUENCE_OK) {
+      Camera camera = vispCamera(parser, parameters, path);
+      camera.name = name;
+      return camera;
+    }
   }
   throw std::runtime_error(path.string() +
                            ": no <camera> with a perspectiveProjWithDistortion or perspectiveProjWithoutDistortion "
@@ -226,26 +235,6 @@ std::string cameraKalibrYamlString(const Camera& camera) {
   return out.str();
 }
 
-std::string cameraMrcalString(const Camera& camera) {
-  camera.validate();
-  if (camera.lens == LensModel::Fisheye)
-    throw std::invalid_argument("mrcal has no equidistant (OpenCV fisheye) model: write ros or kalibr");
-  const int count = camera.distortionCount();
-  const std::string lensmodel = count == 0 ? "LENSMODEL_PINHOLE" : "LENSMODEL_OPENCV" + std::to_string(count);
-  std::ostringstream out;
-  // mrcal's pixel convention is OpenCV's (integer coordinates at pixel centres): no shift.
-  out << "# mrcal camera model written by mire (doc/file-formats.md); read it with mrcal.cameramodel(path).\n"
-      << "{\n"
-      << "    'lensmodel': '" << lensmodel << "',\n"
-      << "    # intrinsics are fx,fy,cx,cy,distortion0,distortion1,....\n"
-      << "    'intrinsics': " << numberList(camera.params) << ",\n"
-      << "    # extrinsics are rt_fromref: the camera at the reference\n"
-      << "    'extrinsics': [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],\n"
-      << "    'imagersize': [" << camera.width << ", " << camera.height << "],\n"
-      << "}\n";
-  return out.str();
-}
-
 std::string cameraString(const Camera& camera, CameraFormat format, const std::string& camera_name) {
   switch (format) {
     case CameraFormat::OpenCV:
@@ -260,6 +249,80 @@ std::string cameraString(const Camera& camera, CameraFormat format, const std::s
       return cameraMrcalString(camera);
   }
   return cameraYamlString(camera);
+}
+
+bool formatHoldsCovariance(CameraFormat format) {
+  return format == CameraFormat::OpenCV || format == CameraFormat::Ros || format == CameraFormat::Mrcal;
+}
+
+namespace {
+
+// The projection difference between two cameras of one image size, over every 8th pixel.
+void measureLoss(const Camera& camera, ConversionLoss* loss) {
+  double sum = 0.0;
+  int count = 0;
+  for (int v = 0; v <= camera.height; v += 8)
+    for (int u = 0; u <= camera.width; u += 8) {
+      const Eigen::Vector2d pixel(u - 0.5, v - 0.5);
+      Eigen::Vector2d ray, back;
+      if (!camera.unproject(pixel, &ray) || !loss->written.project({ray.x(), ray.y(), 1.0}, &back)) continue;
+      const double e = (back - pixel).norm();
+      sum += e * e;
+      loss->max_px = std::max(loss->max_px, e);
+      ++count;
+    }
+  loss->rms_px = count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+// The non-zero coefficients from index `first` on (names), set to zero in `written`.
+std::string dropCoefficients(const Camera& camera, std::size_t first, Camera* written) {
+  const std::vector<std::string> names = camera.parameterNames();
+  std::string lost;
+  for (std::size_t i = kIntrinsicCount + first; i < camera.params.size(); ++i)
+    if (camera.params[i] != 0.0) {
+      lost += (lost.empty() ? "" : " ") + names[i];
+      written->params[i] = 0.0;
+    }
+  return lost;
+}
+
+}  // namespace
+
+ConversionLoss conversionLoss(const Camera& camera, CameraFormat format) {
+  camera.validate();
+  ConversionLoss loss;
+  loss.written = camera;
+  const bool fisheye = camera.lens == LensModel::Fisheye;
+  switch (format) {
+    case CameraFormat::OpenCV:
+    case CameraFormat::Ros:
+      return loss;
+    case CameraFormat::Mrcal:
+      if (fisheye) throw std::invalid_argument("mrcal has no equidistant (OpenCV fisheye) model: write ros or kalibr");
+      return loss;
+    case CameraFormat::Kalibr:
+      if (fisheye || camera.distortionCount() == 0) return loss;
+      // radtan: k1 k2 p1 p2; the rest dropped.
+      loss.lost = dropCoefficients(camera, 4, &loss.written);
+      break;
+    case CameraFormat::Visp: {
+      if (fisheye)
+        throw std::invalid_argument(
+            "ViSP's camera XML has no fisheye (equidistant) model: write ros, kalibr or opencv");
+      if (camera.distortionCount() == 0) return loss;
+      // One radial term: what ViSP's reader gives back from the file the writer fits.
+      loss.lost = dropCoefficients(camera, 1, &loss.written);
+      if (!loss.lost.empty()) {
+        // The k1 ViSP's reader gives back: the writer's least-squares kud.
+        const std::string xml = cameraVispXmlString(camera, "loss");
+        const auto begin = xml.find("<kud>") + 5;
+        loss.written.params[kIntrinsicCount] = std::stod(xml.substr(begin, xml.find("</kud>") - begin));
+      }
+      break;
+    }
+  }
+  if (!loss.lost.empty()) measureLoss(camera, &loss);
+  return loss;
 }
 
 }  // namespace mire::calibration

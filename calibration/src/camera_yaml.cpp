@@ -22,7 +22,7 @@ const std::vector<std::string> kSizeKeys{"image_size", "imageSize", "cameraResol
 const std::vector<std::string> kMatrixKeys{"camera_matrix", "cameraMatrix", "K"};
 const std::vector<std::string> kDistortionKeys{
     "distortion_coefficients", "dist_coeffs", "distCoeffs", "dist_coeff", "distortion_coeffs", "D"};
-const std::vector<std::string> kMireKeys{"model", "rms_px", "covariance", "covariance_parameters", "sigma"};
+const std::vector<std::string> kMireKeys{"model", "rms_px", "covariance", "covariance_parameters", "sigma", "name"};
 // Written beside the camera by OpenCV's calibration samples and apps, by ROS, and by
 // `mire calibrate`: accepted and ignored.
 const std::vector<std::string> kIgnoredKeys{"calibration_time",
@@ -307,6 +307,22 @@ std::vector<double> writtenCoefficients(const Camera& camera) {
   return d;
 }
 
+// covariance (OpenCV's tagged matrix, or ROS's untagged layout), covariance_parameters, sigma;
+// nothing without a covariance.
+std::string covarianceKeys(const Camera& camera, bool opencv_tag = true) {
+  if (camera.covariance.size() == 0) return {};
+  const int n = static_cast<int>(camera.params.size());
+  std::vector<double> c;  // row-major
+  c.reserve(static_cast<std::size_t>(camera.covariance.size()));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) c.push_back(camera.covariance(i, j));
+  std::string out = opencv_tag ? openCvMatrix("covariance", c.data(), n, n) : rosMatrix("covariance", c.data(), n, n);
+  out += "covariance_parameters: [ " + joined(camera.parameterNames()) + " ]\n";
+  const std::vector<double> sigma = camera.sigmas();
+  out += "sigma: " + numberList(sigma.data(), static_cast<int>(sigma.size())) + "\n";
+  return out;
+}
+
 }  // namespace
 
 Camera readCameraYaml(const std::filesystem::path& path) {
@@ -322,12 +338,41 @@ Camera cameraFromYaml(const YamlNode& root) {
   readCameraMatrix(root, camera);
   readLens(root, camera);
   readQuality(root, camera);
+  if (const auto name = findOne(root, {"name", "camera_name"})) camera.name = name->asString();
   try {
     camera.validate();
   } catch (const std::invalid_argument& error) {
     root.fail(error.what());
   }
   return camera;
+}
+
+std::filesystem::path covarianceSideFile(const std::filesystem::path& camera_path) {
+  return camera_path.string() + ".covariance.yaml";
+}
+
+void readCovarianceSideFile(const std::filesystem::path& camera_path, Camera& camera) {
+  const std::filesystem::path side = covarianceSideFile(camera_path);
+  std::error_code ec;
+  if (!std::filesystem::exists(side, ec)) return;
+  const support::YamlFile file = support::YamlFile::load(side);
+  const YamlNode& root = file.rootMap();
+  root.checkKeys({"name", "rms_px", "covariance", "covariance_parameters", "sigma"});
+  if (!root.has("covariance")) root.fail("missing key 'covariance'");
+  if (!root.has("covariance_parameters")) root.fail("missing key 'covariance_parameters'");
+  readQuality(root, camera);
+  if (const auto name = root.find("name")) camera.name = name->asString();
+}
+
+std::string cameraCovarianceSideFileString(const Camera& camera) {
+  std::ostringstream out;
+  out << "%YAML 1.2\n---\n# mire: what the camera file beside this one cannot hold (doc/file-formats.md, \"Camera "
+         "files\"):\n# the covariance of the parameters in the order of covariance_parameters, the reprojection RMS, "
+         "the name.\n";
+  if (!camera.name.empty()) out << "name: " << support::yamlQuoted(camera.name) << "\n";
+  out << "rms_px: " << support::formatYamlNumber(camera.rms_px) << "\n";
+  out << covarianceKeys(camera);
+  return out.str();
 }
 
 Camera readCameraKalibrYaml(const std::filesystem::path& path) {
@@ -387,17 +432,8 @@ std::string cameraYamlString(const Camera& camera) {
   const std::vector<double> d = writtenCoefficients(camera);
   out << openCvMatrix("distortion_coefficients", d.data(), 1, static_cast<int>(d.size()));
   out << "rms_px: " << support::formatYamlNumber(camera.rms_px) << "\n";
-  if (camera.covariance.size() != 0) {
-    const int n = static_cast<int>(camera.params.size());
-    std::vector<double> c;  // row-major
-    c.reserve(static_cast<std::size_t>(camera.covariance.size()));
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) c.push_back(camera.covariance(i, j));
-    out << openCvMatrix("covariance", c.data(), n, n);
-    out << "covariance_parameters: [ " << joined(camera.parameterNames()) << " ]\n";
-    const std::vector<double> sigma = camera.sigmas();
-    out << "sigma: " << numberList(sigma.data(), static_cast<int>(sigma.size())) << "\n";
-  }
+  if (!camera.name.empty()) out << "name: " << support::yamlQuoted(camera.name) << "\n";
+  out << covarianceKeys(camera);
   return out.str();
 }
 
@@ -422,6 +458,11 @@ std::string cameraRosYamlString(const Camera& camera, const std::string& camera_
   out << rosMatrix("distortion_coefficients", d.data(), 1, static_cast<int>(d.size()));
   out << rosMatrix("rectification_matrix", r, 3, 3);
   out << rosMatrix("projection_matrix", p, 3, 4);
+  if (camera.covariance.size() != 0) {
+    // mire's keys (camera_info readers ignore them), in ROS's untagged matrix layout.
+    out << "rms_px: " << support::formatYamlNumber(camera.rms_px) << "\n";
+    out << covarianceKeys(camera, false);
+  }
   return out.str();
 }
 

@@ -22,6 +22,7 @@ void bindOptions(py::module_& m) {
       .value("OpenCV4", cal::DistortionModel::OpenCV4)
       .value("OpenCV5", cal::DistortionModel::OpenCV5)
       .value("OpenCV8", cal::DistortionModel::OpenCV8)
+      .value("OpenCV12", cal::DistortionModel::OpenCV12)
       .value("Pinhole", cal::DistortionModel::Pinhole)
       .value("Fisheye", cal::DistortionModel::Fisheye);
   m.def("parseDistortionModel", &cal::parseDistortionModel, py::arg("name"));

@@ -60,6 +60,19 @@ struct OpenCV8Model {
   }
 };
 
+// Rational + thin prism (CALIB_THIN_PRISM_MODEL): a decentred lens, s1..s4 of a cheap lens.
+struct OpenCV12Model {
+  static double maxDistortedRadius(const Camera&) { return 1e9; }
+  static constexpr DistortionModel model = DistortionModel::OpenCV12;
+  static Camera camera() {
+    return cameraFromOpenCV(1024, 768, 817.2, 816.4, 517.6, 381.2,
+                            {-0.30, 0.10, 4e-4, -3e-4, -0.015, 0.01, -0.005, 0.002, 0.004, -0.002, 0.003, 0.001});
+  }
+  static std::vector<cv::Point2d> reference(const Camera& c, const std::vector<cv::Point3d>& p) {
+    return openCVProjection(c, p);
+  }
+};
+
 // A wide-angle camera: 1024×768 with fx ≈ 300 (≈ 120° across the diagonal) and the k1..k4 of a
 // real lens (Kalibr's equidistant example calibration, ../shared/datasets/external/camera-files).
 struct FisheyeModel {
@@ -96,7 +109,7 @@ struct FisheyeModel {
 
 template <typename Model>
 class LensModels : public ::testing::Test {};
-using LensModelTypes = ::testing::Types<PinholeModel, OpenCV5Model, OpenCV8Model, FisheyeModel>;
+using LensModelTypes = ::testing::Types<PinholeModel, OpenCV5Model, OpenCV8Model, OpenCV12Model, FisheyeModel>;
 TYPED_TEST_SUITE(LensModels, LensModelTypes);
 
 // Camera-frame points whose pixels cover the image (and a margin), at random depths.
@@ -235,6 +248,9 @@ TEST(LensModelNames, ParameterNamesAndValidation) {
   EXPECT_THROW(wrong.validate(), std::invalid_argument);
   EXPECT_EQ(parseDistortionModel("fisheye"), DistortionModel::Fisheye);
   EXPECT_EQ(parseDistortionModel("pinhole"), DistortionModel::Pinhole);
+  EXPECT_EQ(parseDistortionModel("opencv12"), DistortionModel::OpenCV12);
+  EXPECT_EQ(OpenCV12Model::camera().parameterNames().back(), "s4");
+  EXPECT_EQ(OpenCV12Model::camera().modelName(), "opencv12");
   EXPECT_THROW(parseDistortionModel("kannala"), std::invalid_argument);
 }
 

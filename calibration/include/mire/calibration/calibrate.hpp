@@ -29,12 +29,13 @@ namespace mire::calibration {
 
 // The models calibrate estimates (doc/calibration.md). OpenCV's distortion models:
 // pinhole = no distortion, opencv4 = k1 k2 p1 p2 (Bouguet's toolbox, k3 = 0), opencv5 = + k3
-// (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL); fisheye = OpenCV's
+// (Brown–Conrady), opencv8 = + k4 k5 k6 (rational, CALIB_RATIONAL_MODEL), opencv12 = + s1 s2 s3 s4
+// (thin prism, CALIB_THIN_PRISM_MODEL: a decentred or tilted lens element); fisheye = OpenCV's
 // cv::fisheye equidistant model, k1..k4.
-enum class DistortionModel { OpenCV4, OpenCV5, OpenCV8, Pinhole, Fisheye };
+enum class DistortionModel { OpenCV4, OpenCV5, OpenCV8, OpenCV12, Pinhole, Fisheye };
 int distortionCoefficientCount(DistortionModel model);
 LensModel lensOf(DistortionModel model);
-// "opencv4", "opencv5", "opencv8", "pinhole", "fisheye"
+// "opencv4", "opencv5", "opencv8", "opencv12", "pinhole", "fisheye"
 std::string distortionModelName(DistortionModel model);
 // Throws std::invalid_argument naming the accepted values.
 DistortionModel parseDistortionModel(const std::string& name);

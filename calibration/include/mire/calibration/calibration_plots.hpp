@@ -1,6 +1,7 @@
 #pragma once
 // Diagnostic images of a calibration (written as PNG by `mire calibrate --report`).
 #include "mire/calibration/calibrate.hpp"
+#include "mire/calibration/model_check.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -21,5 +22,12 @@ cv::Mat drawResidualsPerView(const CalibrationResult& result);
 // observed corners of all used views as dots; the image is the camera's size plus 72 px of title
 // above and 150 px of colour bar on the right (doc/plots.md).
 cv::Mat drawProjectionUncertaintyMap(const CalibrationResult& result, int grid_step_px = 32);
+
+// The model check's binned residuals (model_check.hpp): the image with the rings (equal point
+// counts) and direction sectors around the principal point, each bin's mean residual as an
+// arrow from the bin's centre at one magnification (scale bar), red where the bin's test rejects,
+// blue where it does not, grey where too few views reach it; the verdict in the title (72 px
+// above the image).
+cv::Mat drawModelCheck(const CalibrationResult& result, const ModelCheck& check);
 
 }  // namespace mire::calibration

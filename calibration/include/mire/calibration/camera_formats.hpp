@@ -5,7 +5,7 @@
 //   ros    : ROS camera_info YAML (camera_calibration, camera_info_manager)
 //   visp   : ViSP's camera XML (vpXmlParserCamera)
 //   kalibr : Kalibr camchain YAML (read: the single camera cam0; written)
-//   mrcal  : mrcal .cameramodel (written only)
+//   mrcal  : mrcal .cameramodel (LENSMODEL_PINHOLE, LENSMODEL_OPENCV4/5/8/12; others refused by name)
 #include "mire/calibration/camera_model.hpp"
 
 #include <filesystem>
@@ -25,7 +25,7 @@ std::optional<CameraFormat> cameraFormatFromExtension(const std::filesystem::pat
 
 // The format of an existing file, from its content (not its name): XML → visp; YAML with
 // distortion_model / projection_matrix / rectification_matrix / camera_name → ros; YAML with
-// cam0 → kalibr; a mrcal model is recognised to refuse it clearly; other YAML → opencv.
+// cam0 → kalibr; a Python dict with 'lensmodel' → mrcal; other YAML → opencv.
 // Throws std::runtime_error naming the file when it cannot be read.
 CameraFormat detectCameraFormat(const std::filesystem::path& path);
 
@@ -37,6 +37,10 @@ Camera readCamera(const std::filesystem::path& path);
 // reads opencv and ros files).
 Camera readCameraVispXml(const std::filesystem::path& path);
 Camera readCameraKalibrYaml(const std::filesystem::path& path);
+// mrcal's .cameramodel: 'lensmodel' (LENSMODEL_PINHOLE or LENSMODEL_OPENCV4/5/8/12; any other
+// is refused by name), 'intrinsics', 'imagersize'; the extrinsics and mrcal's other keys are not
+// used; mire's own keys (mire_camera_name, mire_rms_px, mire_covariance) when present.
+Camera readCameraMrcal(const std::filesystem::path& path);
 
 // Writers; they throw std::invalid_argument when the format cannot hold the camera exactly
 // (e.g. Kalibr's radtan has k1 k2 p1 p2 only) — except ViSP, whose one-term model is fitted
@@ -45,5 +49,23 @@ std::string cameraRosYamlString(const Camera& camera, const std::string& camera_
 std::string cameraKalibrYamlString(const Camera& camera);
 std::string cameraMrcalString(const Camera& camera);
 std::string cameraString(const Camera& camera, CameraFormat format, const std::string& camera_name);
+
+// What writing `camera` as `format` loses: the terms the format has no place for (empty when
+// the file holds the model exactly), the camera the file would hold, and the projection
+// difference between the two over the image (every 8th pixel: unprojected by `camera`,
+// projected by `written`). Throws std::invalid_argument when the format has no model for the
+// camera at all (a fisheye camera as ViSP or mrcal).
+struct ConversionLoss {
+  std::string lost;  // "k2 p1 p2 k3", empty when exact
+  Camera written;
+  double rms_px = 0.0;
+  double max_px = 0.0;
+  bool exact() const { return lost.empty(); }
+};
+ConversionLoss conversionLoss(const Camera& camera, CameraFormat format);
+
+// Whether the format's file holds the covariance (opencv, ros, mrcal); the others get the side
+// file (camera_io.hpp).
+bool formatHoldsCovariance(CameraFormat format);
 
 }  // namespace mire::calibration

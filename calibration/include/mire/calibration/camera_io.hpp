@@ -22,6 +22,13 @@ Camera cameraFromYaml(const support::YamlNode& root);
 // with OpenCV's !!opencv-matrix nodes, so that cv::FileStorage reads it.
 std::string cameraYamlString(const Camera& camera);
 
+// The side file that carries what a ViSP or Kalibr camera file cannot hold (the covariance,
+// the RMS, Kalibr's missing name): "<camera file>.covariance.yaml" beside it. readCamera reads it
+// when present; readCovarianceSideFile applies it to `camera` (nothing when absent).
+std::filesystem::path covarianceSideFile(const std::filesystem::path& camera_path);
+void readCovarianceSideFile(const std::filesystem::path& camera_path, Camera& camera);
+std::string cameraCovarianceSideFileString(const Camera& camera);
+
 // ViSP camera XML (vpXmlParserCamera format), projection with distortion: ViSP 3.5 has a
 // single radial term, so k1 maps (kud/kdu), and a comment in the file lists what is lost.
 // A pinhole camera is written without distortion; a fisheye camera is refused

@@ -46,6 +46,9 @@ struct Camera {
   // Covariance of `params` (same order as parameterNames()); empty if unknown. Fixed
   // parameters have zero rows and columns.
   Eigen::MatrixXd covariance;
+  // The camera's name where the file has one (ROS camera_name, ViSP <name>, mrcal's
+  // mire_camera_name, camera.yaml's camera_name); empty otherwise. Converters keep it.
+  std::string name;
 
   int distortionCount() const { return static_cast<int>(params.size()) - kIntrinsicCount; }
   double fx() const { return params[0]; }
