@@ -165,15 +165,17 @@ def test_an_identified_file_is_a_nominal_in_python(tmp_path, name):
     bTc = transform(rot(0, 0.02) @ rot(2, 0.4), [0.03, -0.02, 1.3 if model.mechanism.poseDof() == 6 else -1.3])
     cTm = [mech.toPoseVector(np.linalg.inv(bTc) @ model.mechanism.poseToTransform(p)) for p in poses]
     ids = [f"p{j + 1}" for j in range(len(poses))]
-    header = "pose_id,images_used,images_total," + ",".join(POSE_COLUMNS) + "\n"
-    rows = [",".join([i, "10", "10", *map(repr, map(float, c))]) for i, c in zip(ids, cTm)]
+    header = "pose_id,images_used,images_total," + ",".join(POSE_COLUMNS) + \
+        ",sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n"
+    sigma = [0.2] * 3 + [0.03] * 3  # mm, deg
+    rows = [",".join([i, "10", "10", *map(repr, map(float, c)), *map(repr, sigma), "0.1"]) for i, c in zip(ids, cTm)]
     (tmp_path / "poses.csv").write_text(header + "\n".join(rows) + "\n")
     columns = model.mechanism.jointColumnNames()
     rows = [",".join([i, *map(repr, map(float, q))]) for i, q in zip(ids, joints)]
     (tmp_path / "joints.csv").write_text("pose_id," + ",".join(columns) + "\n" + "\n".join(rows) + "\n")
     identified = tmp_path / "identified.yaml"
     run_cli("identify", "--model", name, "--poses", tmp_path / "poses.csv", "--joints", tmp_path / "joints.csv",
-            "-o", identified, "--unweighted")
+            "-o", identified)
     ignored = []
     for form in (mech.ExternalForm.AxisAligned, mech.ExternalForm.Full, mech.ExternalForm.CameraFrame):
         ignored += mech.ExternalParameterization(form).parameters().names()

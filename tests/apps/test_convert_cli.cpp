@@ -31,8 +31,13 @@ TEST(ConvertCli, ChainThroughEveryFormatKeepsTheCamera) {
   out = convert("--camera " + (dir.path() / "ros.yaml").string() + " -o " + (dir.path() / "back.yaml").string(), &code);
   ASSERT_EQ(code, 0) << out;
   EXPECT_EQ(calibration::readCamera(dir.path() / "back.yaml").params, reference.params);
-  // .xml -> visp, .cameramodel -> mrcal, from the extension.
+  // .xml -> visp, .cameramodel -> mrcal, from the extension. ViSP's model holds k1 only: refused
+  // without --lossy, which writes it and says what is lost.
   out = convert("--camera " + kReference.string() + " -o " + (dir.path() / "camera.xml").string(), &code);
+  EXPECT_EQ(code, 1) << out;
+  EXPECT_NE(out.find("visp cannot hold this opencv5 camera: it would lose k2 p1 p2 k3"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "camera.xml"));
+  out = convert("--camera " + kReference.string() + " -o " + (dir.path() / "camera.xml").string() + " --lossy", &code);
   ASSERT_EQ(code, 0) << out;
   EXPECT_EQ(calibration::detectCameraFormat(dir.path() / "camera.xml"), calibration::CameraFormat::Visp);
   EXPECT_EQ(calibration::readCamera(dir.path() / "camera.xml").fx(), reference.fx());
@@ -58,7 +63,7 @@ TEST(ConvertCli, ErrorsExitOneNameTheFileAndWriteNothing) {
       {good + "image_width: 640\n", "", "in.yaml:22: key 'image_width' appears twice (first at line 9)"},
       {"image_width: [1\n", "", "in.yaml:2: invalid YAML"},
       {"", "", "in.yaml: empty file"},
-      {good, " --to kalibr", "cannot be written as kalibr: Kalibr's radtan model has k1 k2 p1 p2 only"},
+      {good, " --to kalibr", "kalibr cannot hold this opencv5 camera: it would lose k3"},
       {"<root><camera><name>x</name></camera></root>\n", "",
        "in.yaml: no <camera> with a perspectiveProjWithDistortion"},
   };
