@@ -48,13 +48,7 @@ const char* const kCampaignMarker = "truth/robot.yaml";
 // parameters compare with the truth directly, and the family's other models. The Delta's and
 // the hexapod's joint centres and angles are identified in the frame of the mounting `mire
 // identify` holds as gauge, not the simulator's (doc/demo-mechanisms.md, "Scoring"); lengths do
-// not depend on the frame.
-const mechanism::MechanismFamily* familyOf(const std::string& name) {
-  for (const mechanism::MechanismFamily& family : mechanism::mechanismFamilies())
-    if (family.name == name) return &family;
-  return nullptr;
-}
-
+// not depend on the frame. The H4's family has its own campaign generator.
 bool isH4(const mechanism::MechanismFamily& family) {
   return family.defects == mechanism::SimulatedDefects::H4Parallelograms;
 }
@@ -81,9 +75,12 @@ void checkRange(const std::optional<int>& value, int low, int high, const std::s
 // Everything is checked before the rendering starts: option values, then the output folder,
 // replaced only when it is empty or a previous campaign.
 void checkCampaignOptions(const CampaignOptions& options) {
-  if (!familyOf(options.mechanism))
+  try {
+    mechanism::mechanismFamily(options.mechanism);
+  } catch (const std::invalid_argument&) {
     throw UsageError("--mechanism '" + options.mechanism +
                      "': unknown mechanism (valid: " + mechanism::mechanismFamilyList() + ")");
+  }
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
              " views (calibrate needs at least 3)");
@@ -122,7 +119,7 @@ WrittenCampaign generateH4(const CampaignOptions& options, const fs::path& direc
   applyOptions(options, spec);
   const datasets::H4Campaign campaign = datasets::generateH4Campaign(spec, directory, progress);
   // The model-12 part of the true robot (the demo scores model 12 against it, demo_pipeline.cpp).
-  writeTruthParameters(directory, familyOf(options.mechanism)->truth_model,
+  writeTruthParameters(directory, mechanism::mechanismFamily(options.mechanism).truth_model,
                        mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, spec.seed)),
                        "True geometry of the simulated H4 in model 12's parameters (SI); its unmodelled defects "
                        "are in robot.yaml");
@@ -160,7 +157,7 @@ std::string shellWord(const fs::path& path) {
 // What was written, and the commands a user runs next, as on a real robot.
 void printCampaign(const CampaignOptions& options, const WrittenCampaign& written) {
   const fs::path dir = options.output;
-  const mechanism::MechanismFamily& family = *familyOf(options.mechanism);
+  const mechanism::MechanismFamily& family = mechanism::mechanismFamily(options.mechanism);
   const auto in = [&](const std::string& relative) { return shellWord(dir / relative); };
   std::cout << "mire simulate campaign: a simulated " << options.mechanism << " (seed " << options.seed << ") in "
             << dir.string() << "\n"
@@ -193,8 +190,9 @@ int runCampaign(const CampaignOptions& options) {
   };
   support::OutputTransaction outputs;
   const fs::path staged = outputs.stageFolder(options.output, support::OutputTransaction::FolderCommit::ReplaceWhole);
-  const WrittenCampaign written = isH4(*familyOf(options.mechanism)) ? generateH4(options, staged, advance)
-                                                                     : generateMechanism(options, staged, advance);
+  const WrittenCampaign written = isH4(mechanism::mechanismFamily(options.mechanism))
+                                      ? generateH4(options, staged, advance)
+                                      : generateMechanism(options, staged, advance);
   if (progress) progress->finish();
   outputs.commit();
   printCampaign(options, written);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "held_out_score.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/support/csv.hpp"
 #include "test_support.hpp"
@@ -39,19 +40,9 @@ void identifyThenPredict(const std::string& model) {
                                (d / "held_joints.csv").string() + " --frame camera -o " + (d / "pred.csv").string()),
       0)
       << test::readText(d / "stderr.txt");
-  const support::CsvTable table = support::readCsv(d / "pred.csv");
-  ASSERT_EQ(table.rows.size(), 20u);
-  double err2 = 0, sig2 = 0;
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    const std::size_t j = std::stoul(table.rows[r][table.column("pose_id")]) - 1;
-    const Eigen::Isometry3d truth = c.bTc.inverse() * c.bTe[j] * c.mTe.inverse();
-    const Eigen::Vector3d t(table.number(r, table.column("tx_m")), table.number(r, table.column("ty_m")),
-                            table.number(r, table.column("tz_m")));
-    err2 += (t - truth.translation()).squaredNorm();
-    for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"})
-      sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
-  }
-  const double ratio = std::sqrt(err2 / sig2);
+  const test::HeldOutScore score = test::scoreHeldOutPositions(d / "pred.csv", c);
+  ASSERT_EQ(score.rows, 20u);
+  const double ratio = score.ratio;
   // The acceptance: the error is at most at the predicted σ's level (doc/mechanisms.md
   // "Limits": the predicted σ can be pessimistic, not absurdly so).
   EXPECT_LT(ratio, 2.0) << model;

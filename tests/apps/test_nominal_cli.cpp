@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "held_out_score.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
@@ -119,26 +120,17 @@ TEST(NominalCli, ADeltaOfAnotherSizeIsIdentifiedFromItsNominal) {
                                      (d / "held_joints.csv").string() + " -o " + (d / "pred.csv").string()),
             0)
       << test::readText(d / "stderr.txt");
-  // The FKM gives the pose in the identified base frame (a gauge): compare the distances between
-  // held-out positions, which do not depend on it, and the absolute error through --frame camera.
+  // The FKM gives the pose in the identified base frame (a gauge, above); the error to the truth
+  // is measured through --frame camera.
   ASSERT_EQ(
       test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
                                (d / "held_joints.csv").string() + " --frame camera -o " + (d / "pred_c.csv").string()),
       0)
       << test::readText(d / "stderr.txt");
-  const support::CsvTable table = support::readCsv(d / "pred_c.csv");
-  ASSERT_EQ(table.rows.size(), 20u);
-  double err2 = 0, sig2 = 0;
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    const Eigen::Isometry3d truth = c.bTc.inverse() * c.bTe[train + r] * c.mTe.inverse();
-    const Eigen::Vector3d t(table.number(r, table.column("tx_m")), table.number(r, table.column("ty_m")),
-                            table.number(r, table.column("tz_m")));
-    err2 += (t - truth.translation()).squaredNorm();
-    for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"})
-      sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
-  }
-  const double rms_mm = 1e3 * std::sqrt(err2 / 20.0);
-  const double ratio = std::sqrt(err2 / sig2);
+  const test::HeldOutScore score = test::scoreHeldOutPositions(d / "pred_c.csv", c);
+  ASSERT_EQ(score.rows, 20u);
+  const double rms_mm = 1e3 * score.rms_m;
+  const double ratio = score.ratio;
   std::printf("small Delta, 20 held-out poses: RMS position error %.3f mm, error / predicted sigma %.2f\n", rms_mm,
               ratio);
   EXPECT_LT(rms_mm, 0.3);
@@ -169,20 +161,11 @@ TEST(NominalCli, DescribedMechanismsGoThroughIdentifyFkmAndIkm) {
                                  (d / "held_joints.csv").string() + " --frame camera -o " + (d / "pred.csv").string()),
         0)
         << test::readText(d / "stderr.txt");
-    const support::CsvTable table = support::readCsv(d / "pred.csv");
-    ASSERT_EQ(table.rows.size(), 20u);
-    double err2 = 0, sig2 = 0;
-    for (std::size_t r = 0; r < table.rows.size(); ++r) {
-      const Eigen::Isometry3d truth = c.bTc.inverse() * c.bTe[train + r] * c.mTe.inverse();
-      const Eigen::Vector3d t(table.number(r, table.column("tx_m")), table.number(r, table.column("ty_m")),
-                              table.number(r, table.column("tz_m")));
-      err2 += (t - truth.translation()).squaredNorm();
-      for (const char* s : {"sigma_tx_mm", "sigma_ty_mm", "sigma_tz_mm"})
-        sig2 += std::pow(table.number(r, table.column(s)) * 1e-3, 2);
-    }
-    const double ratio = std::sqrt(err2 / sig2);
+    const test::HeldOutScore score = test::scoreHeldOutPositions(d / "pred.csv", c);
+    ASSERT_EQ(score.rows, 20u);
+    const double ratio = score.ratio;
     std::printf("%s: 20 held-out poses, RMS position error %.3f mm, error / predicted sigma %.2f\n",
-                entry.path().filename().string().c_str(), 1e3 * std::sqrt(err2 / 20.0), ratio);
+                entry.path().filename().string().c_str(), 1e3 * score.rms_m, ratio);
     EXPECT_GT(ratio, 0.5);
     EXPECT_LT(ratio, 2.0);
     // ikm of the base-frame FKM poses gives the held-out joints back.
