@@ -1,18 +1,21 @@
-// `mire simulate campaign --mechanism h4|delta|gough-stewart -o DIR`: the demo's whole
-// rendered campaign on disk (doc/simulation.md, "Whole campaigns"), so that a user runs
-// calibrate -> measure -> identify by hand with the public commands. Glue only: the campaigns
-// are datasets::generateH4Campaign and datasets::generateMechanismImageCampaign.
+// `mire simulate campaign --mechanism h4|delta|gough-stewart -o DIR` (or `--model robot.yaml`, a
+// described robot, doc/mechanisms.md): the demo's whole rendered campaign on disk (doc/simulation.md, "Whole
+// campaigns"), so that a user runs calibrate -> measure -> identify by hand with the public commands. Glue only: the
+// campaigns are datasets::generateH4Campaign and datasets::generateMechanismImageCampaign.
 #include "output_paths.hpp"
 #include "simulate_campaign.hpp"
 #include "validate.hpp"
 
 #include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
+#include "mire/mechanism/described.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
+#include "mire/support/side_files.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -29,7 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct CampaignOptions {
-  std::string mechanism;
+  std::string mechanism;  // a family of the table, or a description file (--model)
   std::string output;
   std::uint64_t seed = 2004;  // the demo's
   std::optional<int> images_per_pose, calibration_views;
@@ -75,16 +78,25 @@ void checkRange(const std::optional<int>& value, int low, int high, const std::s
 // Everything is checked before the rendering starts: option values, then the output folder,
 // replaced only when it is empty or a previous campaign.
 void checkCampaignOptions(const CampaignOptions& options) {
-  try {
-    mechanism::mechanismFamily(options.mechanism);
-  } catch (const std::invalid_argument&) {
-    throw UsageError("--mechanism '" + options.mechanism +
-                     "': unknown mechanism (valid: " + mechanism::mechanismFamilyList() + ")");
+  if (options.mechanism.empty()) throw UsageError("give --mechanism NAME or --model robot.yaml");
+  CommandPaths paths;
+  paths.output_folders = {{options.output, "-o"}};
+  if (mechanism::isDescriptionFile(options.mechanism)) {
+    paths.input_files = {{options.mechanism, "--model"}};
+    checkCommandPaths(paths);
+    mechanism::readMechanismDescription(options.mechanism);  // file:line: key: what is wrong
+  } else {
+    try {
+      mechanism::mechanismFamily(options.mechanism);
+    } catch (const std::invalid_argument&) {
+      throw UsageError("--mechanism '" + options.mechanism + "': unknown mechanism (valid: " +
+                       mechanism::mechanismFamilyList() + "; a robot of your own: --model robot.yaml)");
+    }
   }
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
              " views (calibrate needs at least 3)");
-  checkCommandPaths({{}, {}, {}, {{options.output, "-o"}}});
+  checkCommandPaths(paths);
   const fs::path out = options.output;
   if (fs::is_directory(out) && !fs::is_empty(out) && !fs::exists(out / kCampaignMarker))
     throw UsageError("-o '" + options.output + "': exists, holds files and is not a previous campaign (no " +
@@ -135,9 +147,20 @@ WrittenCampaign generateMechanism(const CampaignOptions& options, const fs::path
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   applyOptions(options, spec);
   const datasets::MechanismImageCampaign campaign = datasets::generateMechanismImageCampaign(spec, directory, progress);
-  writeTruthParameters(
-      directory, campaign.robot.geometry_model.name, campaign.robot.geometry,
-      "True geometry of the simulated " + options.mechanism + " (SI); its unmodelled defects are in robot.yaml");
+  const std::string what = "True geometry of the simulated " + campaign.robot.geometry_model.name +
+                           " (SI); its unmodelled defects are in robot.yaml";
+  if (mechanism::isDescriptionFile(options.mechanism)) {
+    // As an identified file of a described robot: the description beside it (identify's shape).
+    const fs::path truth = directory / "truth" / "robot_geometry.yaml";
+    support::writeFileAtomically(support::mechanismSidePath(truth),
+                                 mechanism::readMechanismDescription(options.mechanism).yamlString());
+    mechanism::writeParameterFile(
+        truth, campaign.robot.geometry, {},
+        {{"model", support::mechanismSidePath(truth).filename().string()}, {"created_by", "mire simulate campaign"}},
+        what);
+  } else {
+    writeTruthParameters(directory, campaign.robot.geometry_model.name, campaign.robot.geometry, what);
+  }
   return {spec.calibration_views, spec.images_per_pose, campaign.pose_ids.size(), campaign.lines.size(),
           campaign.robot.mechanism().jointColumnNames()};
 }
@@ -155,9 +178,25 @@ std::string shellWord(const fs::path& path) {
 }
 
 // What was written, and the commands a user runs next, as on a real robot.
+// The model to identify and its truth file, the comparison hint and the other models: the
+// family's, or for a described robot its description and truth/robot_geometry.yaml.
+struct NextSteps {
+  std::string model, truth_file, comparable, others;
+};
+
+NextSteps nextSteps(const CampaignOptions& options) {
+  if (mechanism::isDescriptionFile(options.mechanism))
+    return {shellWord(options.mechanism), "truth/robot_geometry.yaml",
+            "the leg parameters in the identified gauge (doc/mechanisms.md, \"Described mechanisms\"), or "
+            "held-out predictions with mire fkm --frame camera",
+            "none (a description is one model; its identified file is a nominal for --nominal)"};
+  const mechanism::MechanismFamily& family = mechanism::mechanismFamily(options.mechanism);
+  return {family.truth_model, "truth/" + family.truth_model + ".yaml", family.comparable, otherModels(family)};
+}
+
 void printCampaign(const CampaignOptions& options, const WrittenCampaign& written) {
   const fs::path dir = options.output;
-  const mechanism::MechanismFamily& family = mechanism::mechanismFamily(options.mechanism);
+  const NextSteps next = nextSteps(options);
   const auto in = [&](const std::string& relative) { return shellWord(dir / relative); };
   std::cout << "mire simulate campaign: a simulated " << options.mechanism << " (seed " << options.seed << ") in "
             << dir.string() << "\n"
@@ -165,18 +204,17 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << "  " << in("poses") << ": " << written.poses << " poses x " << written.images_per_pose << " images\n"
             << "  " << in("joints.csv") << " (" << written.joint_columns.front() << ".." << written.joint_columns.back()
             << "), " << in("lines.csv") << " (" << written.lines << " straight lines), " << in("target.yaml") << "\n"
-            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << family.truth_model
-            << ".yaml)\n"
+            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << next.truth_file << ")\n"
             << "next, as on a real robot (results in the current folder):\n"
             << "  mire calibrate --target " << in("target.yaml") << " --images " << in("calibration/images")
             << " -o camera.yaml\n"
             << "  mire measure --camera camera.yaml --target " << in("target.yaml") << " --poses " << in("poses")
             << " -o poses.csv\n"
             << "  mire identify --poses poses.csv --joints " << in("joints.csv") << " --lines " << in("lines.csv")
-            << " --model " << family.truth_model << " -o identified.yaml\n"
-            << "then compare identified.yaml with " << in("truth/" + family.truth_model + ".yaml") << ": "
-            << family.comparable << "; doc/simulation.md, \"Whole campaigns\"\n"
-            << "other models: " << otherModels(family) << "\n";
+            << " --model " << next.model << " -o identified.yaml\n"
+            << "then compare identified.yaml with " << in(next.truth_file) << ": " << next.comparable
+            << "; doc/simulation.md, \"Whole campaigns\"\n"
+            << "other models: " << next.others << "\n";
 }
 
 int runCampaign(const CampaignOptions& options) {
@@ -190,9 +228,10 @@ int runCampaign(const CampaignOptions& options) {
   };
   support::OutputTransaction outputs;
   const fs::path staged = outputs.stageFolder(options.output, support::OutputTransaction::FolderCommit::ReplaceWhole);
-  const WrittenCampaign written = isH4(mechanism::mechanismFamily(options.mechanism))
-                                      ? generateH4(options, staged, advance)
-                                      : generateMechanism(options, staged, advance);
+  const WrittenCampaign written =
+      !mechanism::isDescriptionFile(options.mechanism) && isH4(mechanism::mechanismFamily(options.mechanism))
+          ? generateH4(options, staged, advance)
+          : generateMechanism(options, staged, advance);
   if (progress) progress->finish();
   outputs.commit();
   printCampaign(options, written);
@@ -207,9 +246,12 @@ SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
       "campaign",
       "A whole campaign as mire demo renders it (doc/simulation.md): DIR/calibration/images, DIR/poses, "
       "DIR/joints.csv, DIR/lines.csv, DIR/target.yaml, DIR/truth/");
+  CLI::Option* family = campaign->add_option("--mechanism", options->mechanism,
+                                             mechanism::mechanismFamilyList() + " (doc/demo-mechanisms.md)");
   campaign
-      ->add_option("--mechanism", options->mechanism, mechanism::mechanismFamilyList() + " (doc/demo-mechanisms.md)")
-      ->required();
+      ->add_option("--model", options->mechanism,
+                   "A robot of your own: its description file (doc/mechanisms.md, \"Described mechanisms\")")
+      ->excludes(family);
   campaign->add_option("-o,--output", options->output, "Output folder (created; replaced if a previous campaign)")
       ->required();
   campaign->add_option("--seed", options->seed, "Seed of the simulated robot, images and encoder noise")

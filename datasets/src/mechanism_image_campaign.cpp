@@ -3,6 +3,7 @@
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/datasets/campaign_images.hpp"
 #include "mire/datasets/data_dir.hpp"
+#include "mire/mechanism/described.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/yaml.hpp"
@@ -19,7 +20,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // The simulated robot's defects (registry.hpp); throws std::invalid_argument naming an unknown
-// mechanism or the H4 (whose campaign is h4_campaign.hpp).
+// mechanism or the H4 (whose campaign is h4_campaign.hpp). A description file has its own
+// (makeDefectiveDescribed).
 SimulatedDefects defectsOf(const std::string& mechanism) {
   const SimulatedDefects defects = mechanismFamily(mechanism).defects;
   if (defects == SimulatedDefects::H4Parallelograms)
@@ -27,8 +29,32 @@ SimulatedDefects defectsOf(const std::string& mechanism) {
   return defects;
 }
 
-// The Delta's plate only translates: its camera looks up from below, as the H4's.
-bool platformTranslates(const std::string& mechanism) { return defectsOf(mechanism) == SimulatedDefects::PlateTilt; }
+// Where the camera looks from: below the platform (the Delta's, as the H4's: the legs hang from
+// above) or above it (the hexapod's), and the platform's home it is placed around. A described
+// robot is seen from the side away from its legs' base points.
+struct Stage {
+  bool below = false;
+  Eigen::Vector3d camera = Eigen::Vector3d::Zero();  // the camera's position in B
+  bool translates = false;
+};
+
+Stage stageOf(const std::string& mechanism) {
+  if (!isDescriptionFile(mechanism)) {
+    const bool delta = defectsOf(mechanism) == SimulatedDefects::PlateTilt;
+    return {delta, delta ? Eigen::Vector3d(0.03, -0.02, -1.33) : Eigen::Vector3d(0.02, -0.01, 0.85), delta};
+  }
+  const MechanismDescription description = readMechanismDescription(mechanism);
+  const RegisteredModel model = makeDescribedModel(description);
+  const Mechanism& m = *model.mechanism;
+  const Eigen::Vector3d home = m.poseToTransform(m.referencePose(model.nominal.values())).translation();
+  double base_z = 0.0;
+  for (const LegDescription& leg : description.legs)
+    base_z += leg.base.z() / static_cast<double>(description.legs.size());
+  const bool below = base_z > home.z(), translates = m.motionType() == MotionType::Translation;
+  const double distance = translates ? 0.68 : 0.45;  // as the built-in Delta's and hexapod's
+  return {below, home + (below ? Eigen::Vector3d(0.03, -0.02, -distance) : Eigen::Vector3d(0.02, -0.01, distance)),
+          translates};
+}
 
 Eigen::Isometry3d isometry(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
@@ -53,13 +79,15 @@ SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const 
 // then along the lines (one random stream).
 void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const MechanismImageCampaign& campaign) {
   const Mechanism& mechanism = campaign.robot.mechanism();
-  const double noise = platformTranslates(spec.mechanism) ? spec.encoder_noise_rad : spec.encoder_noise_m;
+  const std::vector<Unit> units = mechanism.jointUnits();
   std::mt19937_64 rng(spec.seed ^ 0x9e3779b97f4a7c15ULL);
-  std::normal_distribution<double> normal(0.0, noise);
+  std::normal_distribution<double> normal(0.0, 1.0);
   const auto read = [&](const Eigen::VectorXd& X, const std::string& where) {
     Eigen::VectorXd q = campaign.robot.joints(X);
     if (q.size() == 0) throw std::runtime_error("simulated " + spec.mechanism + ": " + where + " is unreachable");
-    for (Eigen::Index k = 0; k < q.size(); ++k) q[k] += normal(rng);
+    for (Eigen::Index k = 0; k < q.size(); ++k)
+      q[k] += (units[static_cast<std::size_t>(k)] == Unit::Radian ? spec.encoder_noise_rad : spec.encoder_noise_m) *
+              normal(rng);
     return q;
   };
   std::vector<Eigen::VectorXd> joints;
@@ -80,7 +108,9 @@ void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const Mechanis
 // The true robot of the spec's draw, with or without its unmodelled defects.
 DefectiveRobot trueRobot(const MechanismImageCampaignSpec& spec) {
   const auto seed = static_cast<unsigned>(spec.robot_seed.value_or(spec.seed));
-  if (platformTranslates(spec.mechanism))
+  if (isDescriptionFile(spec.mechanism))
+    return makeDefectiveDescribed(makeRegisteredModel(spec.mechanism), seed, spec.unmodelled_defects);
+  if (stageOf(spec.mechanism).translates)
     return spec.unmodelled_defects ? makeDefectiveDelta(seed, spec.delta_legs_differ)
                                    : makeDefectiveDelta(seed, spec.delta_legs_differ, 0.0);
   return spec.unmodelled_defects ? makeDefectiveHexapod(seed) : makeDefectiveHexapod(seed, 0.0, 0.0);
@@ -98,14 +128,21 @@ std::string truthYaml(const MechanismImageCampaign& campaign) {
   out << "eccentricity_m: " << support::formatYamlNumber(robot.eccentricity) << "\nencoder_gain: [";
   for (std::size_t i = 0; i < robot.encoder_gain.size(); ++i)
     out << (i ? ", " : "") << support::formatYamlNumber(robot.encoder_gain[i]);
-  out << "]\n" << isometryYaml("bTc", campaign.bTc) << isometryYaml("mTe", campaign.mTe);
+  out << "]\n";
+  if (!robot.encoder_curvature.empty()) {
+    out << "encoder_curvature: [";
+    for (std::size_t i = 0; i < robot.encoder_curvature.size(); ++i)
+      out << (i ? ", " : "") << support::formatYamlNumber(robot.encoder_curvature[i]);
+    out << "]  # per m or per rad: q_read = q + c (q - q_home)^2\n";
+  }
+  out << isometryYaml("bTc", campaign.bTc) << isometryYaml("mTe", campaign.mTe);
   return out.str();
 }
 
 }  // namespace
 
 MechanismImageCampaignSpec MechanismImageCampaignSpec::reference(const std::string& mechanism) {
-  defectsOf(mechanism);
+  stageOf(mechanism);
   MechanismImageCampaignSpec spec;
   spec.mechanism = mechanism;
   spec.camera_file = specPath("reference_camera.yaml");
@@ -121,24 +158,25 @@ MechanismImageCampaignSpec MechanismImageCampaignSpec::reference(const std::stri
 // the board's edges run nearly along the image's (2°): the 300 × 300 × 150 mm protocol then
 // keeps the whole board in view with 18–23 px squares (a board turned by 35° at 0.9 m was
 // not found by the chessboard detector). Hexapod: 0.45 m above the platform's home looking
-// down (its protocol spans ±40 mm). Both slightly tilted.
+// down (its protocol spans ±40 mm). Both slightly tilted. A described robot: as the built-in
+// robot of its platform, from the side away from its legs.
 Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism) {
-  const bool below = platformTranslates(mechanism);
+  const Stage stage = stageOf(mechanism);
   const double degree = kCampaignDeg;
-  const double yaw = below ? -12.0 : 25.0;
+  const double yaw = stage.below ? -12.0 : 25.0;
   const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(yaw * degree, Eigen::Vector3d::UnitZ()) *
                                 Eigen::AngleAxisd(1.5 * degree, Eigen::Vector3d::UnitX()) *
                                 Eigen::AngleAxisd(-1.0 * degree, Eigen::Vector3d::UnitY()))
                                    .toRotationMatrix();
-  if (below) return isometry(tilt, Eigen::Vector3d(0.03, -0.02, -1.33));
+  if (stage.below) return isometry(tilt, stage.camera);
   const Eigen::Matrix3d down = tilt * Eigen::AngleAxisd(180.0 * degree, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  return isometry(down, Eigen::Vector3d(0.02, -0.01, 0.85));
+  return isometry(down, stage.camera);
 }
 
 // The board centred on the effector, 40 mm from it along the board's normal, facing the camera
 // (the board's z axis points away from the camera, OpenCV's convention).
 Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target) {
-  const bool below = platformTranslates(mechanism);
+  const bool below = stageOf(mechanism).below;
   const Eigen::Vector3d centroid = targetCentroid(target);
   Eigen::Matrix3d rotation = Eigen::AngleAxisd(10.0 * kCampaignDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   if (!below) rotation = Eigen::AngleAxisd(kCampaignDeg * 180.0, Eigen::Vector3d::UnitX()) * rotation;

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "mire/mechanism/io.hpp"
@@ -35,19 +37,65 @@ inline Eigen::Isometry3d makeTransform(const Eigen::Vector3d& rotation_vector, c
   return T;
 }
 
+// The translating protocol's positions at `scale`: 27 on a 300 × 300 × 150 mm grid (scale 1)
+// around the reference pose.
+inline std::vector<Eigen::Vector3d> translationGrid(const Eigen::VectorXd& reference_pose, double scale) {
+  std::vector<Eigen::Vector3d> grid;
+  for (int ix = -1; ix <= 1; ++ix)
+    for (int iy = -1; iy <= 1; ++iy)
+      for (int iz = -1; iz <= 1; ++iz)
+        grid.emplace_back(0.15 * scale * ix, 0.15 * scale * iy, reference_pose[2] + 0.075 * scale * iz);
+  return grid;
+}
+
+// The largest scale (0.05 steps up to 2) at which a translating platform reaches the whole grid
+// 1.25 times as large, within its strokes.
+inline double translationReach(const Mechanism& mechanism, const Eigen::VectorXd& g, const Eigen::VectorXd& ref) {
+  double reach = 0.0;
+  for (int step = 1; step <= 40; ++step) {
+    const double scale = 0.05 * step;
+    for (const Eigen::Vector3d& t : translationGrid(ref, 1.25 * scale)) {
+      Eigen::Isometry3d bTe = Eigen::Isometry3d::Identity();
+      bTe.translation() = t;
+      const IkmResult ikm = mechanism.inverseKinematics(g, bTe);
+      if (!ikm.reachable() || !ikm.withinStroke()) return reach;
+    }
+    reach = scale;
+  }
+  return reach;
+}
+
+// The protocol's size relative to the built-in robots': a 6-DoF platform's with its home height up
+// to the built-in hexapod's 0.40 m; a translating platform's with the depth of its home below the
+// base (0.65 m for the built-in Delta), but at least 0.4 of what it reaches (translationReach, at
+// most 2: the built-in Delta keeps its depth; a linear delta's base frame sits on its bed, so its
+// home's depth says nothing of its size); 1 for the H4.
+inline double protocolScale(const Mechanism& mechanism, const Eigen::VectorXd& g, const Eigen::VectorXd& reference_pose) {
+  switch (mechanism.motionType()) {
+    case MotionType::Translation: {
+      const double depth = std::abs(reference_pose[2]) / 0.65;
+      const double reach = translationReach(mechanism, g, reference_pose);
+      return std::max(depth, 0.4 * reach);
+    }
+    case MotionType::Spatial:
+      return std::min(1.0, std::abs(reference_pose[2]) / 0.40);
+    default:
+      return 1.0;
+  }
+}
+
 // Protocol poses bTe: H4 27 positions × 3 angles; Delta 27 positions on a 300×300×150 mm grid
-// around its reference pose (z = −0.65 m for the built-in one; scaled with that depth for a Delta
-// of another size); Gough–Stewart 27 positions (±40 mm, ±30 mm in z) × 3 orientations (scaled
-// down for a platform whose home is lower than 0.40 m).
+// around its reference pose (z = −0.65 m for the built-in one); Gough–Stewart 27 positions
+// (±40 mm, ±30 mm in z) × 3 orientations; robots of other sizes scaled by protocolScale().
 inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, const Eigen::VectorXd& g) {
   std::vector<Eigen::Isometry3d> out;
   const Eigen::VectorXd ref = mechanism.referencePose(g);
   const MotionType motion = mechanism.motionType();
+  const double size = protocolScale(mechanism, g, ref);
   for (int ix = -1; ix <= 1; ++ix)
     for (int iy = -1; iy <= 1; ++iy)
       for (int iz = -1; iz <= 1; ++iz) {
         if (motion == MotionType::Translation) {
-          const double size = std::abs(ref[2]) / 0.65;
           out.push_back(makeTransform(Eigen::Vector3d::Zero(),
                                       Eigen::Vector3d(0.15 * size * ix, 0.15 * size * iy, ref[2] + 0.075 * size * iz)));
           continue;
@@ -59,7 +107,6 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
           } else {
             // A different tilt axis per position, ±6° plus a yaw; scaled with the home height for a
             // platform of another size than the built-in hexapod's (0.40 m).
-            const double size = std::min(1.0, std::abs(ref[2]) / 0.40);
             const double a = 2.1 * (ix + 3 * iy + 9 * iz);
             const Eigen::Vector3d axis(std::cos(a), std::sin(a), 0.5 * k);
             out.push_back(makeTransform(
@@ -71,17 +118,33 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
   return out;
 }
 
-// 1 mm / 0.5° on every free parameter (alternating signs, reproducible).
-inline ParameterSet perturbed(const ParameterSet& nominal, unsigned seed) {
+// `metre` / `radian` × U(−1, 1) on every free parameter (reproducible for a seed).
+inline ParameterSet perturbedBy(const ParameterSet& nominal, unsigned seed, double metre, double radian) {
   ParameterSet truth = nominal;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (std::size_t i = 0; i < truth.size(); ++i) {
     if (truth[i].fixed) continue;
-    const double step = truth[i].unit == Unit::Radian ? 0.5 * kCampaignDeg : 1e-3;
-    truth.setValue(truth[i].name, truth[i].value + step * u(rng));
+    truth.setValue(truth[i].name, truth[i].value + (truth[i].unit == Unit::Radian ? radian : metre) * u(rng));
   }
   return truth;
+}
+
+// 1 mm / 0.5° on every free parameter.
+inline ParameterSet perturbed(const ParameterSet& nominal, unsigned seed) {
+  return perturbedBy(nominal, seed, 1e-3, 0.5 * kCampaignDeg);
+}
+
+// The camera and target mountings (bTc, mTe) of the simulated campaigns: a hexapod's camera above
+// looking down, the others' below looking up; generic rotations, so that no parameter is
+// accidentally aligned with an axis.
+inline std::pair<Eigen::Isometry3d, Eigen::Isometry3d> campaignMountings(const Mechanism& m) {
+  const bool up = m.motionType() == MotionType::Spatial;
+  const Eigen::Isometry3d bTc = up ? makeTransform(Eigen::Vector3d(3.1, 0.1, 0.2), Eigen::Vector3d(0.03, -0.02, 1.3))
+                                   : makeTransform(Eigen::Vector3d(0.05, -0.04, 0.3), Eigen::Vector3d(0.03, -0.02, -1.9));
+  const Eigen::Isometry3d mTe = makeTransform(up ? Eigen::Vector3d(0.02, -0.03, 0.4) : Eigen::Vector3d(3.1, 0.05, 0.0),
+                                              Eigen::Vector3d(0.012, -0.008, 0.005));
+  return {bTc, mTe};
 }
 
 struct Campaign {
@@ -92,20 +155,17 @@ struct Campaign {
   std::vector<Eigen::Isometry3d> bTe;  // true effector poses
 };
 
-// A robot of `model` (its nominal geometry perturbed by 1 mm / 0.5°) measured at the protocol
-// poses. `extra` random poses inside the protocol volume are appended (held-out checks); with
-// `count` > 0 the campaign has `count` random poses instead of the protocol.
-inline Campaign simulateCampaign(const RegisteredModel& model, unsigned seed, double noise_t = 0.2e-3,
-                                 double noise_r = 0.03 * kCampaignDeg, int extra = 0, int count = 0) {
+// A robot of `model` with the geometry `truth` measured at the protocol poses. `extra` random
+// poses inside the protocol volume are appended (held-out checks); with `count` > 0 the campaign
+// has `count` random poses instead of the protocol.
+inline Campaign simulateCampaign(const RegisteredModel& model, const ParameterSet& truth, unsigned seed,
+                                 double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg, int extra = 0,
+                                 int count = 0) {
   Campaign c;
   c.model = model;
-  c.truth = perturbed(c.model.nominal, seed);
+  c.truth = truth;
   const Mechanism& m = *c.model.mechanism;
-  const bool up = m.motionType() == MotionType::Spatial;  // hexapod: camera above looking down
-  c.bTc = makeTransform(Eigen::Vector3d(3.1, 0.1, 0.2), Eigen::Vector3d(0.03, -0.02, up ? 1.3 : -1.3));
-  if (!up) c.bTc = makeTransform(Eigen::Vector3d(0.05, -0.04, 0.3), Eigen::Vector3d(0.03, -0.02, -1.9));
-  c.mTe = makeTransform(up ? Eigen::Vector3d(0.02, -0.03, 0.4) : Eigen::Vector3d(3.1, 0.05, 0.0),
-                        Eigen::Vector3d(0.012, -0.008, 0.005));
+  std::tie(c.bTc, c.mTe) = campaignMountings(m);
   std::mt19937 rng(seed + 1000);
   std::normal_distribution<double> normal;
   PoseCovariance cov = PoseCovariance::Zero();
@@ -149,6 +209,12 @@ inline Campaign simulateCampaign(const RegisteredModel& model, unsigned seed, do
     c.poses.push_back(p);
   }
   return c;
+}
+
+// A robot of `model`: its nominal geometry perturbed by 1 mm / 0.5° (perturbed()).
+inline Campaign simulateCampaign(const RegisteredModel& model, unsigned seed, double noise_t = 0.2e-3,
+                                 double noise_r = 0.03 * kCampaignDeg, int extra = 0, int count = 0) {
+  return simulateCampaign(model, perturbed(model.nominal, seed), seed, noise_t, noise_r, extra, count);
 }
 
 // The registered model `name` at its built-in nominal geometry.

@@ -30,6 +30,10 @@ struct DefectiveRobot {
   Eigen::Vector3d level_pose = Eigen::Vector3d(0, 0, -0.65);
   std::vector<double> encoder_gain;  // hexapod, per leg
   double eccentricity = 0.0;         // hexapod [m]
+  // Described robots: each encoder's reading bends away from the leg's true coordinate,
+  // q̄_i = q_i + c_i·(q_i − q_i,home)² (c_i per m or per rad), which no description represents.
+  std::vector<double> encoder_curvature;
+  Eigen::VectorXd curvature_origin;
 
   const Mechanism& mechanism() const { return *geometry_model.mechanism; }
 
@@ -48,7 +52,11 @@ struct DefectiveRobot {
     const Eigen::Isometry3d T = mechanism().poseToTransform(X);
     if (mechanism().motionType() == MotionType::Translation) {
       const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);
-      return ikm.reachable() ? ikm.joints : Eigen::VectorXd();
+      return ikm.reachable() ? bentReadings(ikm.joints) : Eigen::VectorXd();
+    }
+    if (encoder_gain.empty()) {  // a described full platform
+      const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);
+      return ikm.reachable() && ikm.withinStroke() ? bentReadings(ikm.joints) : Eigen::VectorXd();
     }
     // The hexapod's legs stop at their strokes (the model's leg_min..leg_max).
     if (!mechanism().inverseKinematics(geometry.values(), T).withinStroke()) return Eigen::VectorXd();
@@ -61,6 +69,14 @@ struct DefectiveRobot {
       const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(leg).normalized();
       const double rho = (T * p - (b + eccentricity * side)).norm();
       q[i] = encoder_gain[static_cast<std::size_t>(i)] * (rho - geometry.value("rho0" + n));
+    }
+    return q;
+  }
+
+  Eigen::VectorXd bentReadings(Eigen::VectorXd q) const {
+    for (std::size_t i = 0; i < encoder_curvature.size(); ++i) {
+      const auto k = static_cast<Eigen::Index>(i);
+      q[k] += encoder_curvature[i] * (q[k] - curvature_origin[k]) * (q[k] - curvature_origin[k]);
     }
     return q;
   }
@@ -85,19 +101,6 @@ struct DefectiveRobot {
     return X;
   }
 };
-
-// perturbed() with other error sizes: `metre` / `radian` × U(−1, 1) on every free parameter
-// (the same draws as perturbed(), which is perturbedBy(nominal, seed, 1e-3, 0.5°)).
-inline ParameterSet perturbedBy(const ParameterSet& nominal, unsigned seed, double metre, double radian) {
-  ParameterSet truth = nominal;
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    if (truth[i].fixed) continue;
-    truth.setValue(truth[i].name, truth[i].value + (truth[i].unit == Unit::Radian ? radian : metre) * u(rng));
-  }
-  return truth;
-}
 
 // A Delta whose legs differ (`metre` / `radian` per leg on every per-leg parameter when
 // `legs_differ`, else only the common-geometry errors of that size) and whose plate tilts by κ.
@@ -125,6 +128,31 @@ inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 6; ++i) robot.encoder_gain.push_back(1.0 + gain_error * u(rng));
   robot.eccentricity = eccentricity;
+  return robot;
+}
+
+// A described robot (mechanism/described.hpp) drawn `metre` / `radian` (0.5 mm / 0.3°) around its
+// description on every leg parameter, with defects no description represents: bent encoder
+// readings, |c_i| up to 0.1 /m on prismatic and extensible legs (10 µm at 10 mm from home) and
+// 0.02 /rad on revolute ones (0.2 mrad at 0.1 rad), and, on a translation platform, the Delta's
+// plate tilt κ about its home.
+inline DefectiveRobot makeDefectiveDescribed(const RegisteredModel& model, unsigned seed, bool defects = true,
+                                             double metre = 0.5e-3, double radian = 0.3 * kCampaignDeg) {
+  DefectiveRobot robot;
+  robot.geometry_model = model;
+  robot.geometry = perturbedBy(model.nominal, seed, metre, radian);
+  if (!defects) return robot;
+  const Mechanism& m = robot.mechanism();
+  const Eigen::VectorXd home = m.referencePose(robot.geometry.values());
+  robot.curvature_origin = m.inverseKinematics(robot.geometry.values(), m.poseToTransform(home)).joints;
+  std::mt19937 rng(seed + 11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const Unit unit : m.jointUnits())
+    robot.encoder_curvature.push_back((unit == Unit::Radian ? 0.02 : 0.1) * u(rng));
+  if (m.motionType() == MotionType::Translation) {
+    robot.tilt_per_m = 0.0116;
+    robot.level_pose = home.head<3>();
+  }
   return robot;
 }
 
@@ -160,12 +188,14 @@ inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std
 
 // The two straight lines of criterion V3 (paper §6.1) through the reference pose, as the
 // benchmark and the mechanism demo record them: from −(a, ±a, dz) to +(a, ±a, dz) in `points`
-// poses; `reach` scales the half-extents (Delta 120 / 50 mm, hexapod 40 / 25 mm).
+// poses; `reach` scales the half-extents (Delta 120 / 50 mm, hexapod 40 / 25 mm, scaled as the
+// protocol with protocolScale()).
 inline std::array<std::vector<Eigen::VectorXd>, 2> straightLinePoses(const DefectiveRobot& robot, int points,
                                                                      double reach = 1.0) {
   const bool translation = robot.mechanism().motionType() == MotionType::Translation;
   const Eigen::VectorXd ref = robot.mechanism().referencePose(robot.geometry.values());
-  const double a = reach * (translation ? 0.12 : 0.04), dz = reach * (translation ? 0.05 : 0.025);
+  const double size = reach * protocolScale(robot.mechanism(), robot.geometry.values(), ref);
+  const double a = size * (translation ? 0.12 : 0.04), dz = size * (translation ? 0.05 : 0.025);
   std::array<std::vector<Eigen::VectorXd>, 2> lines;
   for (int line = 0; line < 2; ++line) {
     const double sign = line == 0 ? 1.0 : -1.0;
