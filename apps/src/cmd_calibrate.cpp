@@ -120,6 +120,10 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
 // (report.json's provenance).
 CommandPaths checkCalibratePaths(const CalibrateArguments& args) {
   if (args.images_dir.empty() == args.detections_path.empty()) throw UsageError("give either --images or --detections");
+  if (!args.image_size.empty() &&
+      (args.image_size.size() != 2 || args.image_size[0] < 1 || args.image_size[1] < 1 ||
+       args.image_size[0] > static_cast<int>(kMaxImageSide) || args.image_size[1] > static_cast<int>(kMaxImageSide)))
+    throw UsageError("--image-size: expected WIDTH HEIGHT, each 1.." + std::to_string(kMaxImageSide) + " px");
   CommandPaths paths{{{args.target_path, "--target"}}, {}, {{args.output_path, "-o"}}, {}};
   if (!args.images_dir.empty()) paths.input_folders.push_back({args.images_dir, "--images"});
   if (!args.detections_path.empty()) paths.input_files.push_back({args.detections_path, "--detections"});

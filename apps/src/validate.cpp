@@ -71,6 +71,12 @@ void requireInputFolder(const fs::path& path, const std::string& option) {
     throw std::runtime_error(option + " " + quoted(path) + ": cannot be read (permission)");
 }
 
+void checkRowCount(std::size_t count, const std::string& file, const std::string& command) {
+  if (count > kMaxPoses)
+    throw std::runtime_error(file + ": " + std::to_string(count) + " rows; " + command + " handles at most " +
+                             std::to_string(kMaxPoses) + " (doc/limits.md): split the file");
+}
+
 int workerThreads(int requested, const std::string& option) {
   if (requested < 0 || requested > kMaxThreads)
     throw UsageError(option + " " + std::to_string(requested) + ": expected 0 (all cores) to " +

@@ -770,6 +770,133 @@ void simulateCampaignCases(std::vector<Case>& c) {
       {"plain", "not a folder"});
 }
 
+// ---- the newer commands (fkm, ikm, plan, select, simulate campaign): paths, counts, boards ----
+const char* kH4Workspace = "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\n";
+
+std::string fkm(Env e, const std::string& params, const std::string& joints, const std::string& extra = "") {
+  return "fkm --params " + params + " --joints " + joints + " -o " + e.p("out/pred.csv") + " " + extra;
+}
+std::string ikm(Env e, const std::string& params, const std::string& poses) {
+  return "ikm --params " + params + " --poses " + poses + " -o " + e.p("out/commands.csv");
+}
+std::string plan(Env e, const std::string& workspace, const std::string& extra = "") {
+  return "plan --model h4-12 --workspace " + workspace + " --count 15 -o " + e.p("out/plan.csv") + " " + extra;
+}
+// An identified-parameter file with its covariance side file (the path checks come first: the
+// contents are never read by these cases).
+std::string paramsWithSide(Env e) {
+  e.write("id_covariance.csv", "parameter,R\nR,1e-8\n");
+  return e.write("id.yaml", "model: h4-12\n");
+}
+std::string effectorPoses(Env e) { return e.write("effector.csv", "pose_id,x_m,y_m,z_m,theta_rad\na,0,0,-0.6,0\n"); }
+
+void newerCommandCases(std::vector<Case>& c) {
+  struct Input {
+    std::string name, option;
+    std::function<std::string(Env, const std::string&)> command;
+  };
+  const std::vector<Input> inputs = {
+      {"FkmParams", "--params", [](Env e, const std::string& x) { return fkm(e, x, e.joints_csv()); }},
+      {"FkmJoints", "--joints", [](Env e, const std::string& x) { return fkm(e, paramsWithSide(e), x); }},
+      {"IkmPoses", "--poses", [](Env e, const std::string& x) { return ikm(e, paramsWithSide(e), x); }},
+      {"PlanWorkspace", "--workspace", [](Env e, const std::string& x) { return plan(e, x); }},
+      {"SelectPoses", "--poses",
+       [](Env e, const std::string& x) { return "select --poses " + x + " --joints " + e.joints_csv(); }},
+  };
+  for (const Input& input : inputs) {
+    const auto command = input.command;
+    add(c, input.name + "Fifo", [command](Env e) { return command(e, e.fifo("pipe")); }, 1,
+        {input.option, "pipe", "FIFO"});
+    add(c, input.name + "Device", [command](Env e) { return command(e, "/dev/zero"); }, 1,
+        {input.option, "/dev/zero", "device"});
+  }
+  // Class 1: an output onto an input's side file.
+  add(c, "IkmOutputIsParamsSideFile",
+      [](Env e) {
+        const std::string params = paramsWithSide(e);
+        return "ikm --params " + params + " --poses " + effectorPoses(e) + " -o " + e.p("id_covariance.csv");
+      },
+      2, {"-o", "id_covariance.csv", "the side file of the input --params", "overwritten"});
+  add(c, "FkmCameraSideFileIsParamsSideFile",
+      [](Env e) {
+        const std::string params = paramsWithSide(e);
+        return "fkm --params " + params + " --joints " + e.joints_csv() + " --frame camera -o " + e.p("id.csv");
+      },
+      2, {"the covariance side file of -o", "the side file of the input --params"});
+  add(c, "SimulateCampaignRerunKeepsUserFiles",
+      [](Env e) {
+        e.write("previous/truth/robot.yaml", "# a previous campaign\n");
+        e.write("previous/my_notes.txt", "my notes");
+        return "simulate campaign --mechanism delta -o " + e.p("previous");
+      },
+      2, {"previous", "my_notes.txt", "mire did not write", "would delete them"});
+  // Class 3: counts bounded before any work.
+  add(c, "PlanCandidatesBillion",
+      [](Env e) { return plan(e, e.write("workspace.yaml", kH4Workspace), "--candidates 1000000000"); }, 2,
+      {"--candidates 1000000000", "at most 100000"});
+  add(c, "PlanCameraHugeBoard",
+      [](Env e) {
+        const std::string board =
+            e.write("target.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 400\nrows: 300\nsquare_size_m: 0.001\n");
+        return plan(e, e.write("workspace.yaml", kH4Workspace), "--camera " + e.camera() + " --target " + board);
+      },
+      1, {"target.yaml", "120000 features", "at most 20000"});
+  add(c, "PlanCameraImplausibleCamera",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", kH4Workspace),
+                    "--camera " + cameraFile(e, "420., 0., -5000., 0., 420., 179.5, 0., 0., 1.", kD) + " --target " +
+                        e.target());
+      },
+      1, {"camera.yaml", "principal point"});
+  // Class 4: absurd values accepted before.
+  add(c, "PlanPixelSigmaZero",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", kH4Workspace),
+                    "--camera " + e.camera() + " --target " + e.target() + " --pixel-sigma 0");
+      },
+      2, {"--pixel-sigma 0", "never 0"});
+  add(c, "CalibrateImageSizeZero",
+      [](Env e) {
+        return "calibrate --target " + e.cal_target() + " --detections " + e.write("det.csv", "x\n") +
+               " --image-size 0 0 -o " + e.p("out/camera.yaml");
+      },
+      2, {"--image-size", "WIDTH HEIGHT"});
+  add(c, "CalibrateFixEveryParameter",
+      [](Env e) { return calibrate(e, e.cal_target(), e.images(), "--model pinhole --fix fx,fy,cx,cy"); }, 1,
+      {"every parameter", "no free parameter"});
+  add(c, "IdentifyDeltaOnH4Joints", [](Env e) { return identifyDefault(e, "--model delta"); }, 1,
+      {"joints.csv", "q4_rad", "another mechanism"});
+  add(c, "SelectDeltaModelsOnH4Joints",
+      [](Env e) {
+        return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models delta,delta-legs";
+      },
+      1, {"joints.csv", "q4_rad", "another mechanism"});
+  add(c, "IkmThetaInDegrees",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return ikm(e, params, e.write("effector.csv", "pose_id,x_m,y_m,z_m,theta_rad\na,0,0,-0.6,20\n"));
+      },
+      1, {"effector.csv:2", "theta_rad = 20", "degrees"});
+  add(c, "FkmJointsInDegrees",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return fkm(e, params, e.write("joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,10,20,30,40\n"));
+      },
+      1, {"joints.csv:2", "q1_rad = 10", "degrees"});
+  add(c, "CovarianceSideNotPositiveNamesFile",
+      [](Env e) {
+        std::string text = "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
+        for (const char* axis : {"tx", "ty", "tz", "rx", "ry", "rz"})
+          text += std::string("1,total,") + axis + ",0,0,0,0,0,0\n";  // a zero covariance
+        return identifyDefault(e, "--pose-covariances " + e.write("cov.csv", text));
+      },
+      1, {"cov.csv", "pose '1'", "not positive definite"});
+  // Class 4: an empty model list is not the default list.
+  add(c, "SelectModelsEmpty",
+      [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models ''"; }, 2,
+      {"--models", "empty"});
+}
+
 std::vector<Case> makeCases() {
   std::vector<Case> cases;
   inputCases(cases);
@@ -780,6 +907,7 @@ std::vector<Case> makeCases() {
   csvCases(cases);
   specCases(cases);
   simulateCampaignCases(cases);
+  newerCommandCases(cases);
   return cases;
 }
 
