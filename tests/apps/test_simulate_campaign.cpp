@@ -102,6 +102,8 @@ TEST(SimulateCampaign, RefusesAForeignFolderReplacesAPreviousCampaign) {
   // inside poses/) is refused before any rendering: a rerun never deletes what it did not write.
   const fs::path previous = dir.path() / "previous";
   fs::create_directories(previous / "truth");
+  fs::create_directories(previous / "poses/p001");
+  fs::create_directories(previous / "calibration/images");
   mire::test::writeText(previous / "truth/robot.yaml", "model: delta-legs\n");
   mire::test::writeText(previous / "poses/p001/notes.txt", "my notes");
   mire::test::writeText(previous / "calibration/images/view_099.png", "an older run's extra view");
