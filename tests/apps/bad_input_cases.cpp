@@ -864,6 +864,11 @@ void newerCommandCases(std::vector<Case>& c) {
   add(c, "CalibrateFixEveryParameter",
       [](Env e) { return calibrate(e, e.cal_target(), e.images(), "--model pinhole --fix fx,fy,cx,cy"); }, 1,
       {"every parameter", "no free parameter"});
+  add(c, "CalibrateSameImageTwice",
+      [](Env e) {
+        return calibrate(e, e.cal_target(), imagesWith(e, "view_100.png", slurp(e.f.cal / "images/view_000.png")));
+      },
+      1, {"view_100.png", "exactly the detections of view_000.png", "same image twice"});
   add(c, "IdentifyDeltaOnH4Joints", [](Env e) { return identifyDefault(e, "--model delta"); }, 1,
       {"joints.csv", "q4_rad", "another mechanism"});
   add(c, "SelectDeltaModelsOnH4Joints",
