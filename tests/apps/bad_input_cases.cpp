@@ -437,6 +437,13 @@ void cameraTargetCases(std::vector<Case>& c) {
       {"camera.yaml", "distortion_coefficients"});
   add(c, "CameraHugeK3", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "-0.1, 0.02, 0., 0., -5.0e4")); }, 1,
       {"camera.yaml", "distortion_coefficients"});
+  add(c, "CameraK1Hundred", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "100., 0.02, 0., 0., 0.")); }, 1,
+      {"camera.yaml", "stretches the image corner", "k1 = 100"});
+  add(c, "ConvertCameraK1Hundred",
+      [](Env e) {
+        return "convert --camera " + cameraFile(e, kK, "100., 0.02, 0., 0., 0.") + " --to ros -o " + e.p("out/cam.yaml");
+      },
+      1, {"camera.yaml", "stretches the image corner"});
   add(c, "CameraZeroFx",
       [](Env e) { return measureWithCamera(e, cameraFile(e, "0., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD)); }, 1,
       {"camera.yaml"});
@@ -849,6 +856,12 @@ void newerCommandCases(std::vector<Case>& c) {
       },
       1, {"camera.yaml", "principal point"});
   // Class 4: absurd values accepted before.
+  add(c, "PlanCameraK1Hundred",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", kH4Workspace),
+                    "--camera " + cameraFile(e, kK, "100., 0.02, 0., 0., 0.") + " --target " + e.target());
+      },
+      1, {"camera.yaml", "stretches the image corner"});
   add(c, "PlanPixelSigmaZero",
       [](Env e) {
         return plan(e, e.write("workspace.yaml", kH4Workspace),
