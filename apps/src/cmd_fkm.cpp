@@ -112,6 +112,18 @@ int runFkm(const FkmArguments& args) {
       failed.push_back(args.joints + ":" + std::to_string(row.line) + ": pose '" + row.pose_id + "': " + p.message);
       continue;
     }
+    // Readings outside a leg's stroke (mechanisms that declare one) come from no real robot:
+    // the pose they give is a mathematical extension, not a prediction.
+    const mech::IkmResult back = m.inverseKinematics(loaded.model.geometric.values(), p.bTe);
+    if (!back.withinStroke()) {
+      std::string legs;
+      for (int j : back.out_of_stroke_joints)
+        legs += (legs.empty() ? "" : ", ") + std::to_string(j + 1) + " (" + support::formatNumber(row.joints[j], 6) +
+                " " + mech::unitName(m.jointUnits()[static_cast<std::size_t>(j)]) + ")";
+      failed.push_back(args.joints + ":" + std::to_string(row.line) + ": pose '" + row.pose_id +
+                       "': joint(s) outside their stroke: " + legs);
+      continue;
+    }
     ids.push_back(row.pose_id);
     predictions.push_back(std::move(p));
   }

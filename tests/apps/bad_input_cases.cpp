@@ -4,6 +4,10 @@
 // Exit codes (README): 1 = bad input, 2 = wrong command line.
 #include "bad_input_fixture.hpp"
 
+#include "mire/mechanism/external.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/registry.hpp"
+
 #include <unistd.h>
 
 namespace mire::app::badinput {
@@ -895,6 +899,18 @@ void newerCommandCases(std::vector<Case>& c) {
         return ikm(e, params, e.write("effector.csv", "pose_id,x_m,y_m,z_m,theta_rad\na,0,0,-0.6,20\n"));
       },
       1, {"effector.csv:2", "theta_rad = 20", "degrees"});
+  add(c, "FkmHexapodJointsOutOfStroke",
+      [](Env e) {
+        // The nominal hexapod as a parameter file (its legs' stroke is about ±0.1 m around 0.05).
+        std::string params = mechanism::parameterFileString(mechanism::makeRegisteredModel("gough-stewart").nominal, {},
+                                                            {{"model", "gough-stewart"}});
+        for (const std::string& name :
+             mechanism::ExternalParameterization(mechanism::ExternalForm::Full).parameters().names())
+          params += name + ": 0\n";
+        return fkm(e, e.write("gs.yaml", params),
+                   e.write("joints.csv", "pose_id,q1_m,q2_m,q3_m,q4_m,q5_m,q6_m\na,0.5,0.5,0.5,0.5,0.5,0.5\n"));
+      },
+      1, {"joints.csv:2", "pose 'a'", "outside their stroke", "1 (0.5 m)"});
   add(c, "FkmJointsInDegrees",
       [](Env e) {
         const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
