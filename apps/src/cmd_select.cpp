@@ -113,7 +113,17 @@ int runSelect(const SelectArguments& args) {
   options.folds = args.folds;
   options.seed = args.seed;
   const mech::SelectionResult result = mech::selectModel(candidates, observations.poses, lines, options);
-  if (result.recommended < 0) throw std::runtime_error("no candidate model could be identified on this campaign");
+  if (result.recommended < 0) {
+    // Why: each candidate's own failure, and what usually causes it (too few or repeated poses).
+    std::string why;
+    for (const auto& score : result.scores)
+      if (!score.message.empty()) why += "\n  " + score.label + ": " + score.message;
+    throw std::runtime_error(args.poses + ": no candidate model could be identified on these " +
+                             std::to_string(observations.poses.size()) + " poses (" + std::to_string(args.folds) +
+                             " folds); too few poses, or poses that repeat one another, leave the parameters "
+                             "undetermined: measure more, and more varied, poses" +
+                             why);
+  }
   const std::string table = mech::selectionTable(result, m.jointUnits().front());
   if (!args.report.empty()) {  // all files or none (doc/robustness.md)
     support::OutputTransaction outputs;

@@ -925,6 +925,23 @@ void newerCommandCases(std::vector<Case>& c) {
         return identifyDefault(e, "--pose-covariances " + e.write("cov.csv", text));
       },
       1, {"cov.csv", "pose '1'", "not positive definite"});
+  add(c, "SelectOnOnePoseRepeated",
+      [](Env e) {
+        // Twelve copies of the campaign's first pose (and its joints), under distinct ids.
+        const auto firstRowTwelveTimes = [](const std::string& text) {
+          std::stringstream in(text);
+          std::string header, row, out;
+          std::getline(in, header);
+          std::getline(in, row);
+          out = header + "\n";
+          for (int k = 1; k <= 12; ++k) out += "r" + std::to_string(k) + row.substr(row.find(',')) + "\n";
+          return out;
+        };
+        const std::string poses = e.write("poses.csv", firstRowTwelveTimes(slurp(e.f.campaign / "poses.csv")));
+        const std::string joints = e.write("joints.csv", firstRowTwelveTimes(slurp(e.f.campaign / "joints.csv")));
+        return "select --poses " + poses + " --joints " + joints;
+      },
+      1, {"poses.csv", "no candidate model could be identified on these 12 poses", "repeat one another"});
   // Class 4: an empty model list is not the default list.
   add(c, "SelectModelsEmpty",
       [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models ''"; }, 2,
