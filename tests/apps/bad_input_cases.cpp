@@ -925,6 +925,17 @@ void newerCommandCases(std::vector<Case>& c) {
         return identifyDefault(e, "--pose-covariances " + e.write("cov.csv", text));
       },
       1, {"cov.csv", "pose '1'", "not positive definite"});
+  add(c, "PlanOnePointWorkspace",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", "x_m: [0, 0]\ny_m: [0, 0]\nz_m: [-0.6, -0.6]\ntheta_deg: [0, 0]\n"));
+      },
+      1, {"workspace.yaml", "single point"});
+  add(c, "FkmJointsHuge",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return fkm(e, params, e.write("joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,1e308,0.3,0.3,0.3\n"));
+      },
+      1, {"joints.csv:2", "q1_rad = 1e+308", "degrees"});
   add(c, "SelectOnOnePoseRepeated",
       [](Env e) {
         // Twelve copies of the campaign's first pose (and its joints), under distinct ids.
