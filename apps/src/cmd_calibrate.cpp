@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -120,6 +121,10 @@ std::string targetCsv(const calibration::CalibrationResult& result, const std::v
 // (report.json's provenance).
 CommandPaths checkCalibratePaths(const CalibrateArguments& args) {
   if (args.images_dir.empty() == args.detections_path.empty()) throw UsageError("give either --images or --detections");
+  if (!args.image_size.empty() &&
+      (args.image_size.size() != 2 || args.image_size[0] < 1 || args.image_size[1] < 1 ||
+       args.image_size[0] > static_cast<int>(kMaxImageSide) || args.image_size[1] > static_cast<int>(kMaxImageSide)))
+    throw UsageError("--image-size: expected WIDTH HEIGHT, each 1.." + std::to_string(kMaxImageSide) + " px");
   CommandPaths paths{{{args.target_path, "--target"}}, {}, {{args.output_path, "-o"}}, {}};
   if (!args.images_dir.empty()) paths.input_folders.push_back({args.images_dir, "--images"});
   if (!args.detections_path.empty()) paths.input_files.push_back({args.detections_path, "--detections"});
@@ -137,6 +142,23 @@ metrology::Target readTarget(const std::string& path) {
   }
 }
 
+// Two views with the very same detections are one image given twice (sub-pixel corners of two
+// exposures never agree to the last bit): counted as independent views they shrink every σ by
+// √copies and pull the fit towards that pose.
+void refuseCopiedViews(const std::vector<calibration::CalibrationView>& views, const std::string& where) {
+  std::map<std::pair<std::vector<int>, std::vector<std::pair<double, double>>>, std::string> seen;
+  for (const calibration::CalibrationView& view : views) {
+    std::vector<std::pair<double, double>> pixels;
+    pixels.reserve(view.pixels.size());
+    for (const Eigen::Vector2d& p : view.pixels) pixels.emplace_back(p.x(), p.y());
+    const auto [at, inserted] = seen.emplace(std::make_pair(view.ids, std::move(pixels)), view.name);
+    if (!inserted)
+      throw std::runtime_error("'" + where + "': " + view.name + " has exactly the detections of " + at->second +
+                               ": the same image twice; each view must be an image of its own (a copy would make "
+                               "every sigma too small)");
+  }
+}
+
 // The views: detected in the images (in parallel) or read from a detections file; the images
 // without the target are listed. At least 3 views, or an error naming the folder.
 pipeline::CalibrationFolder readCalibrationViews(const CalibrateArguments& args, const metrology::Target& target,
@@ -146,6 +168,7 @@ pipeline::CalibrationFolder readCalibrationViews(const CalibrateArguments& args,
                                    : calibrationFolderFromDetections(target, args.detections_path, args.image_size);
   for (const auto& [name, reason] : folder.skipped) std::cout << "skipped " << name << ": " << reason << "\n";
   for (const auto& [name, reason] : folder.notes) std::cout << "note " << name << ": " << reason << "\n";
+  refuseCopiedViews(folder.views, args.detections_path.empty() ? args.images_dir : args.detections_path);
   if (folder.views.size() < 3)
     throw std::runtime_error("the target was found in " + std::to_string(folder.views.size()) + " of " +
                              std::to_string(folder.images) + " images in '" +

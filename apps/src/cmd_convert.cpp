@@ -9,6 +9,7 @@
 #include "mire/calibration/camera_io.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
+#include "validate.hpp"
 
 #include <cstdio>
 
@@ -61,6 +62,7 @@ int runConvert(const ConvertOptions& options) {
     throw std::runtime_error(options.output + ": the output is the input camera file; choose another -o");
   const calibration::CameraFormat input_format = calibration::detectCameraFormat(options.camera);
   calibration::Camera camera = calibration::readCamera(options.camera);
+  checkCamera(camera, options.camera);
   if (!options.name.empty()) camera.name = options.name;
   const std::string name = camera.name.empty() ? std::string("camera") : camera.name;
   calibration::ConversionLoss loss;

@@ -13,6 +13,8 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/output_transaction.hpp"
+#include "mire/support/progress.hpp"
 #include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
@@ -98,24 +100,47 @@ int runFkm(const FkmArguments& args) {
                              support::covarianceSidePath(args.params).string() +
                              ": --frame camera needs the identified mounting");
   const auto rows = mech::readJointsCsv(args.joints, m.jointColumnNames());
+  checkRowCount(rows.size(), args.joints, "fkm");
+  checkJointUnits(rows, m, args.joints);
   std::vector<std::string> ids, failed;
   std::vector<mech::PosePrediction> predictions;
+  support::Progress progress("fkm", rows.size());
   for (const auto& row : rows) {
+    progress.advance();
     mech::PosePrediction p = mech::predictPose(loaded.model, row.joints);
     if (!p.converged) {
       failed.push_back(args.joints + ":" + std::to_string(row.line) + ": pose '" + row.pose_id + "': " + p.message);
       continue;
     }
+    // Readings outside a leg's stroke (mechanisms that declare one) come from no real robot:
+    // the pose they give is a mathematical extension, not a prediction.
+    const mech::IkmResult back = m.inverseKinematics(loaded.model.geometric.values(), p.bTe);
+    if (!back.withinStroke()) {
+      std::string legs;
+      for (int j : back.out_of_stroke_joints)
+        legs += (legs.empty() ? "" : ", ") + std::to_string(j + 1) + " (" + support::formatNumber(row.joints[j], 6) +
+                " " + mech::unitName(m.jointUnits()[static_cast<std::size_t>(j)]) + ")";
+      failed.push_back(args.joints + ":" + std::to_string(row.line) + ": pose '" + row.pose_id +
+                       "': joint(s) outside their stroke: " + legs);
+      continue;
+    }
     ids.push_back(row.pose_id);
     predictions.push_back(std::move(p));
   }
-  if (ids.empty()) throw std::runtime_error(args.joints + ": the FKM converged for no row (" + failed.front() + ")");
+  progress.finish();
+  if (ids.empty())
+    throw std::runtime_error(args.joints + ": the FKM converged for no row (" + failed.front() +
+                             "); check the joints' units (the columns are " + m.jointColumnNames().front() + ".." +
+                             m.jointColumnNames().back() + ") and that they are of this mechanism");
+  // All or nothing (doc/robustness.md): the side file is renamed first, out.csv last, as measure does.
+  support::OutputTransaction outputs;
   if (args.frame == "camera") {
-    support::writeFileAtomically(output, cameraFrameCsv(ids, predictions));
-    support::writeFileAtomically(side_out, covarianceCsv(ids, predictions));
+    support::writeFileAtomically(outputs.stageFile(side_out), covarianceCsv(ids, predictions));
+    support::writeFileAtomically(outputs.stageFile(output), cameraFrameCsv(ids, predictions));
   } else {
-    support::writeFileAtomically(output, baseFrameCsv(m, ids, predictions));
+    support::writeFileAtomically(outputs.stageFile(output), baseFrameCsv(m, ids, predictions));
   }
+  outputs.commit();
   std::cout << "model " << loaded.model.model_name << ": " << ids.size() << " poses predicted ("
             << (args.frame == "camera" ? "camera frame, cTm" : "base frame, effector") << ")"
             << (loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0") << "\nwrote "

@@ -11,6 +11,7 @@
 #include "mire/mechanism/prediction.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/progress.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
@@ -33,6 +34,8 @@ int runIkm(const IkmArguments& args) {
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
   const mech::Mechanism& m = *loaded.model.mechanism;
   const auto rows = readEffectorCsv(args.poses, m);
+  checkRowCount(rows.size(), args.poses, "ikm");
+  support::Progress progress("ikm", rows.size());
   const auto columns = m.jointColumnNames();
   std::ostringstream out;
   out << "pose_id";
@@ -42,6 +45,7 @@ int runIkm(const IkmArguments& args) {
   std::vector<std::string> unreachable;
   std::size_t written = 0;
   for (const auto& row : rows) {
+    progress.advance();
     const mech::JointPrediction p = mech::predictJointCommands(loaded.model, m.poseToTransform(row.pose));
     if (!p.ikm.reachable()) {
       std::string legs;
@@ -66,6 +70,7 @@ int runIkm(const IkmArguments& args) {
     out << '\n';
     ++written;
   }
+  progress.finish();
   for (const auto& u : unreachable) std::cerr << "mire ikm: " << u << "\n";
   if (written == 0) throw std::runtime_error(args.poses + ": no reachable pose; nothing written");
   support::writeFileAtomically(args.output, out.str());

@@ -94,7 +94,9 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
   CameraInputs in;
   if (args.camera.empty()) return in;
   in.camera = calibration::readCamera(args.camera);
+  checkCamera(in.camera, args.camera);
   in.target = metrology::Target::fromFile(args.target);
+  checkTargetSize(*in.target, args.target);
   const pipeline::CameraPlanOptions& o = args.camera_options;
   if (!(o.visibility.margin_px >= 0.0)) throw UsageError("--margin-px must be >= 0");
   if (!(o.visibility.max_tilt_deg > 0.0 && o.visibility.max_tilt_deg <= 90.0))
@@ -102,6 +104,10 @@ CameraInputs readCameraInputs(const PlanArguments& args) {
   if (o.prediction.images < 1) throw UsageError("--images-per-pose must be >= 1");
   if (!(o.prediction.pixel_sigma >= 0.0) || !(o.prediction.systematic_px >= 0.0) || !(o.prediction.featureSigma() > 0.0))
     throw UsageError("--pixel-sigma and --systematic-px must be >= 0, not both 0");
+  // A detector's noise is never 0 (measured: 0.01-0.1 px, doc/plan-and-select.md); 0 would
+  // promise poses known exactly.
+  if (!(o.prediction.pixel_sigma > 0.0))
+    throw UsageError("--pixel-sigma 0: a camera's pixel noise is never 0 (measured ones are 0.01-0.1 px)");
   if (!(o.prediction.systematic_mean_px >= 0.0) || !(o.prediction.systematic_grid_px >= 0.0) ||
       !(o.prediction.systematic_grid_px <= o.prediction.systematic_mean_px) ||
       !(o.prediction.systematic_mean_px + o.prediction.pixel_sigma > 0.0))
@@ -145,6 +151,10 @@ int runPlan(const PlanArguments& args) {
   checkCommandPaths(paths);
   if (args.count < 1) throw UsageError("--count must be >= 1");
   if (args.candidates < args.count) throw UsageError("--candidates must be >= --count");
+  if (args.candidates > kMaxPlanCandidates)
+    throw UsageError("--candidates " + std::to_string(args.candidates) + ": at most " +
+                     std::to_string(kMaxPlanCandidates) + " (doc/limits.md; the default " +
+                     std::to_string(PlanArguments{}.candidates) + " is enough for a plan of up to a few hundred poses)");
   const CameraInputs camera = readCameraInputs(args);
 
   const mech::DesignModel model = readDesignModel(args.model, args.nominal);

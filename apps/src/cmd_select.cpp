@@ -113,7 +113,17 @@ int runSelect(const SelectArguments& args) {
   options.folds = args.folds;
   options.seed = args.seed;
   const mech::SelectionResult result = mech::selectModel(candidates, observations.poses, lines, options);
-  if (result.recommended < 0) throw std::runtime_error("no candidate model could be identified on this campaign");
+  if (result.recommended < 0) {
+    // Why: each candidate's own failure, and what usually causes it (too few or repeated poses).
+    std::string why;
+    for (const auto& score : result.scores)
+      if (!score.message.empty()) why += "\n  " + score.label + ": " + score.message;
+    throw std::runtime_error(args.poses + ": no candidate model could be identified on these " +
+                             std::to_string(observations.poses.size()) + " poses (" + std::to_string(args.folds) +
+                             " folds); too few poses, or poses that repeat one another, leave the parameters "
+                             "undetermined: measure more, and more varied, poses" +
+                             why);
+  }
   const std::string table = mech::selectionTable(result, m.jointUnits().front());
   if (!args.report.empty()) {  // all files or none (doc/robustness.md)
     support::OutputTransaction outputs;
@@ -143,14 +153,17 @@ Runner addSelectCommand(CLI::App& app) {
   cmd->add_option("--lines", args->lines, "straight-line joint records (lines.csv): V3 per model");
   cmd->add_option("--covariances", args->covariances, "pose covariance side file (default <poses stem>_covariance.csv)");
   cmd->add_option("--nominal", args->nominal, "nominal geometry (parameter YAML; default: built-in)");
-  cmd->add_option("--models", args->models,
-                  "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
-                  "(default: all of the mechanism)");
+  CLI::Option* models = cmd->add_option("--models", args->models,
+                                        "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
+                                        "(default: all of the mechanism)");
   cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();
   cmd->add_option("--seed", args->seed, "seed of the fold assignment")->capture_default_str();
   cmd->add_option("--report", args->report,
                   "report folder (select_report.txt, select_scores.csv, select_cv.png, report.json)");
-  return [args, cmd] {
+  return [args, cmd, models] {
+    // `--models ''` is a mistake (an unset variable), not a request for the default list.
+    if (models->count() > 0 && args->models.empty())
+      throw UsageError("--models '': an empty list of candidate models (omit --models for the default list)");
     args->command_line = commandLineOf(*cmd);
     return runSelect(*args);
   };

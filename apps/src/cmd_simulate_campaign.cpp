@@ -47,6 +47,46 @@ constexpr int kMaxCalibrationViews = 500;
 // The file whose presence marks a folder as a previous campaign (both generators write it).
 const char* const kCampaignMarker = "truth/robot.yaml";
 
+// Whether a campaign writes a file or folder of this name (relative to the campaign folder):
+// the generators' layout (printCampaign's list; datasets/src/campaign_images.cpp). A rerun
+// replaces the folder as a whole, so anything else there is a user's and must not be deleted
+// (doc/robustness.md). Names, not a record of the earlier run: a rerun with fewer views also
+// removes the earlier run's extra view_*.png, which a campaign did write.
+bool writtenByACampaign(const fs::path& relative, bool folder) {
+  std::vector<std::string> parts;
+  for (const fs::path& part : relative) parts.push_back(part.string());
+  const std::string extension = relative.extension().string();
+  if (parts.empty()) return false;
+  const std::string& top = parts.front();
+  if (top == "measurement") return true;  // left by an interrupted run; the generator removes it
+  if (parts.size() == 1)
+    return folder ? (top == "calibration" || top == "poses" || top == "truth")
+                  : (top == "joints.csv" || top == "lines.csv" || top == "target.yaml");
+  if (top == "truth") return parts.size() == 2 && !folder && (extension == ".yaml" || extension == ".csv");
+  if (top == "calibration")
+    return parts[1] == "images" && (parts.size() == 2 ? folder : parts.size() == 3 && extension == ".png");
+  if (top == "poses") return parts.size() == 2 ? folder : parts.size() == 3 && !folder && extension == ".png";
+  return false;
+}
+
+// Refuses (before any rendering) a previous campaign holding what a campaign does not write.
+void requireOnlyCampaignFiles(const std::string& output) {
+  std::vector<std::string> foreign;
+  for (auto entry = fs::recursive_directory_iterator(output); entry != fs::recursive_directory_iterator(); ++entry) {
+    const fs::path relative = fs::relative(entry->path(), output);
+    const bool folder = entry->is_directory() && !entry->is_symlink();
+    if (writtenByACampaign(relative, folder)) continue;
+    foreign.push_back(relative.string());
+    if (folder) entry.disable_recursion_pending();
+  }
+  if (foreign.empty()) return;
+  std::string list;
+  for (std::size_t k = 0; k < foreign.size() && k < 3; ++k) list += (k ? ", " : "") + foreign[k];
+  if (foreign.size() > 3) list += ", ... (" + std::to_string(foreign.size()) + " in all)";
+  throw UsageError("-o '" + output + "': the previous campaign there holds files mire did not write (" + list +
+                   "); a rerun replaces the folder and would delete them: move them, or choose a new folder");
+}
+
 // What to identify: the family's truth model (truth/<model>.yaml, registry.hpp), which of its
 // parameters compare with the truth directly, and the family's other models. The Delta's and
 // the hexapod's joint centres and angles are identified in the frame of the mounting `mire
@@ -101,6 +141,7 @@ void checkCampaignOptions(const CampaignOptions& options) {
   if (fs::is_directory(out) && !fs::is_empty(out) && !fs::exists(out / kCampaignMarker))
     throw UsageError("-o '" + options.output + "': exists, holds files and is not a previous campaign (no " +
                      kCampaignMarker + "): choose a new or empty folder");
+  if (fs::is_directory(out)) requireOnlyCampaignFiles(options.output);
 }
 
 // What the summary reports of a generated campaign.

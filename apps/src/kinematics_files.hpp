@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mire/mechanism/io.hpp"
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/mechanism/prediction.hpp"
 
@@ -22,6 +23,13 @@ struct EffectorRow {
   int line = 0;
 };
 // Reads effector.csv (pose_id + poseColumnNames()); errors name file:line.
+// Rotations beyond 2π rad (degrees typed in a _rad column) and lengths beyond 100 m
+// (millimetres in a _m column) are refused with the file, the line and the likely unit.
 std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& mechanism);
+
+// The same unit check on joint readings (joints.csv of fkm): q<i>_rad beyond 2π, q<i>_m beyond
+// 100 m.
+void checkJointUnits(const std::vector<mechanism::JointRow>& rows, const mechanism::Mechanism& mechanism,
+                     const std::string& file);
 
 }  // namespace mire::app

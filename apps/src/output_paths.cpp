@@ -2,6 +2,8 @@
 
 #include "validate.hpp"
 
+#include "mire/support/side_files.hpp"
+
 #include <unistd.h>
 
 #include <system_error>
@@ -55,9 +57,29 @@ void checkWritable(const PathArgument& output, bool folder) {
     throw std::runtime_error(describe(output) + ": cannot write in '" + place.string() + "' (permission)");
 }
 
+// The side files that travel with an input (support/side_files.hpp) and exist: readers pick
+// them up by name, so overwriting one changes the input (e.g. `ikm --params id.yaml -o
+// id_covariance.csv`, `fkm --frame camera --params id.yaml -o id.csv`).
+std::vector<fs::path> existingSideFiles(const fs::path& input) {
+  std::vector<fs::path> sides;
+  std::error_code ec;
+  for (const fs::path& side :
+       {support::covarianceSidePath(input), support::sharedTermSidePath(input), support::mechanismSidePath(input)})
+    if (fs::exists(side, ec)) sides.push_back(side);
+  return sides;
+}
+
 void checkOutputAgainstInputs(const PathArgument& output, bool folder, const CommandPaths& paths) {
   const fs::path out = resolved(output.path);
   for (const PathArgument& input : paths.input_files) {
+    for (const fs::path& side : existingSideFiles(input.path)) {
+      if (sameFile(output.path, side))
+        throw UsageError(describe(output) + " is '" + side.string() + "', the side file of the input " +
+                         describe(input) + ": it would be overwritten; choose another name");
+      if (folder && isWithin(resolved(side), out))
+        throw UsageError(describe(output) + " holds '" + side.string() + "', the side file of the input " +
+                         describe(input) + ": choose another output folder");
+    }
     if (sameFile(output.path, input.path))
       throw UsageError(describe(output) + " is the input " + describe(input) + ": it would be overwritten");
     if (folder && isWithin(resolved(input.path), out))

@@ -59,6 +59,12 @@ mech::Workspace readWorkspaceYaml(const std::filesystem::path& path, const mech:
   w.y = interval(root, "y_m", 1.0);
   w.z = interval(root, "z_m", 1.0);
   for (const std::string& key : rotations) w.rotations.push_back(interval(root, key, kRadiansPerDegree));
+  // A single point gives identical candidates: nothing to choose, and the mounting guess
+  // from them would fail with a message about orientations the user never measured.
+  bool single_point = w.x.min == w.x.max && w.y.min == w.y.max && w.z.min == w.z.max;
+  for (const mech::Interval& r : w.rotations) single_point = single_point && r.min == r.max;
+  if (single_point)
+    root.fail("the workspace is a single point (every range has min = max): give ranges to choose poses from");
   if (prismatic)
     w.joint_margin = root.optionalNumber("joint_margin_m", {0.0, 1.0}).value_or(1e-3);
   else

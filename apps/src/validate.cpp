@@ -71,6 +71,12 @@ void requireInputFolder(const fs::path& path, const std::string& option) {
     throw std::runtime_error(option + " " + quoted(path) + ": cannot be read (permission)");
 }
 
+void checkRowCount(std::size_t count, const std::string& file, const std::string& command) {
+  if (count > kMaxPoses)
+    throw std::runtime_error(file + ": " + std::to_string(count) + " rows; " + command + " handles at most " +
+                             std::to_string(kMaxPoses) + " (doc/limits.md): split the file");
+}
+
 int workerThreads(int requested, const std::string& option) {
   if (requested < 0 || requested > kMaxThreads)
     throw UsageError(option + " " + std::to_string(requested) + ": expected 0 (all cores) to " +
@@ -108,6 +114,31 @@ void checkIntrinsics(const calibration::Camera& camera, const std::string& where
                                " is not a plausible lens (|value| <= 1000 expected)");
 }
 
+// How much the lens stretches the image corners (distorted / undistorted radius): real lenses
+// stay within 0.2 (a fisheye in OpenCV's rational model) and 2 (telephoto pincushion is
+// ~1.05); k1 = 100 stretches a 480x360 corner by 3.9 and puts poses hundreds of mm off. The
+// fisheye model maps angles, not radii: not checked here.
+constexpr double kMinCornerStretch = 0.2, kMaxCornerStretch = 2.0;
+
+void checkDistortionStretch(const calibration::Camera& camera, const std::string& where) {
+  if (camera.lens == calibration::LensModel::Fisheye || camera.distortionCount() == 0) return;
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(camera.width, 0.0), Eigen::Vector2d(0.0, camera.height),
+        Eigen::Vector2d(camera.width, camera.height)}) {
+    const Eigen::Vector2d pinhole((corner.x() - camera.cx()) / camera.fx(), (corner.y() - camera.cy()) / camera.fy());
+    Eigen::Vector2d ray;
+    if (!camera.unproject(corner, &ray) || ray.norm() < 1e-12) continue;
+    const double stretch = pinhole.norm() / ray.norm();
+    if (stretch < kMinCornerStretch || stretch > kMaxCornerStretch)
+      throw std::runtime_error(where + ": the distortion stretches the image corner (" + shortNumber(corner.x()) +
+                               ", " + shortNumber(corner.y()) + ") by " + shortNumber(stretch) +
+                               " (distorted / undistorted radius; real lenses: " + shortNumber(kMinCornerStretch) +
+                               " to " + shortNumber(kMaxCornerStretch) +
+                               "): not a plausible lens, check distortion_coefficients (k1 = " +
+                               shortNumber(camera.params.size() > 4 ? camera.params[4] : 0.0) + ")");
+  }
+}
+
 void checkCovariance(const calibration::Camera& camera, const std::string& where) {
   const Eigen::MatrixXd& c = camera.covariance;
   if (c.size() == 0) return;
@@ -135,6 +166,7 @@ void checkCamera(const calibration::Camera& camera, const fs::path& file) {
   const std::string where = file.string();
   if (camera.params.size() < 4) throw std::runtime_error(where + ": fewer than 4 intrinsic parameters");
   checkIntrinsics(camera, where);
+  checkDistortionStretch(camera, where);
   checkCovariance(camera, where);
 }
 

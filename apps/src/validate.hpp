@@ -28,7 +28,8 @@ constexpr int kMaxThreads = 256;
 using pipeline::kMaxImagePixels;
 using pipeline::kMaxImageSide;
 constexpr std::size_t kMaxTargetFeatures = 20'000;  // features (corners, circles, tag corners)
-constexpr std::size_t kMaxPoses = 1'000'000;        // poses given to identify
+constexpr std::size_t kMaxPoses = 1'000'000;        // poses given to identify, rows given to fkm / ikm
+constexpr int kMaxPlanCandidates = 100'000;         // plan --candidates (the default is 10 000)
 constexpr double kMaxViewDistanceM = 50.0;          // implied target distance: beyond, a unit mistake
 constexpr double kMinViewDistanceM = 0.01;
 
@@ -39,6 +40,9 @@ CLI::Validator finiteNumber();
 void requireInputFile(const std::filesystem::path& path, const std::string& option);
 // An existing folder the process can read.
 void requireInputFolder(const std::filesystem::path& path, const std::string& option);
+
+// A table of `count` rows read from `file` for `command`: at most kMaxPoses.
+void checkRowCount(std::size_t count, const std::string& file, const std::string& command);
 
 // Worker threads from an option value: 0 = all cores, 1..kMaxThreads; else UsageError.
 int workerThreads(int requested, const std::string& option);

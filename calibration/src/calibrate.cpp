@@ -505,6 +505,10 @@ std::vector<int> fixedParameterIndices(const CalibrationOptions& options, int pa
   }
   std::sort(indices.begin(), indices.end());
   indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  // Nothing left to estimate: the "calibration" would be the initial guess (as identify refuses).
+  if (static_cast<int>(indices.size()) >= parameter_count)
+    throw std::invalid_argument("every parameter of model " + distortionModelName(options.model) +
+                                " is fixed (--fix): no free parameter to calibrate");
   return indices;
 }
 

@@ -144,12 +144,18 @@ void meanSigma(const std::vector<double>& values, double* mean, double* sigma) {
 }  // namespace
 namespace {
 
+constexpr int kMaxMonteCarloThreads = 256;  // the commands' --threads limit (doc/limits.md)
+
 void checkMonteCarloOptions(const MonteCarloOptions& options, int n) {
   for (int size : options.subset_sizes)
     if (size < 1 || size >= n)
       throw std::invalid_argument("Monte-Carlo subset size " + std::to_string(size) + " must be in 1.." +
                                   std::to_string(n - 1) + " (the other poses validate)");
   if (options.repeats < 1) throw std::invalid_argument("Monte-Carlo repeats must be >= 1");
+  // Each thread is a std::thread: 10^6 of them end in std::terminate (doc/limits.md: 0..256).
+  if (options.threads < 0 || options.threads > kMaxMonteCarloThreads)
+    throw std::invalid_argument("Monte-Carlo threads " + std::to_string(options.threads) + " must be in 0.." +
+                                std::to_string(kMaxMonteCarloThreads) + " (0 = one)");
 }
 
 struct MonteCarloJob {

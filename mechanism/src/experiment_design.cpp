@@ -248,6 +248,12 @@ namespace {
 
 // (Σ_j A_jᵀ A_j)⁻¹, a pseudo-inverse with C(0, 0) = +∞ when singular.
 Eigen::MatrixXd informationInverse(const CandidateInformation& info, const std::vector<int>& design) {
+  // An empty design has no information: its "covariance" would be a zero matrix with one inf.
+  if (design.empty()) throw std::invalid_argument("the design is empty: choose at least one candidate pose");
+  for (int j : design)
+    if (j < 0 || static_cast<std::size_t>(j) >= info.rows.size())
+      throw std::invalid_argument("design index " + std::to_string(j) + " is not a candidate (0.." +
+                                  std::to_string(static_cast<long long>(info.rows.size()) - 1) + ")");
   const Eigen::MatrixXd M = fisherInformation(info, design);
   // Scale to unit diagonal so that mixed units do not fake a rank loss.
   Eigen::VectorXd d = M.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();

@@ -66,6 +66,10 @@ SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path) {
     if (c != kind_col && c != id_col && c != row_col) shared.names.push_back(table.header[c]);
   const auto n = static_cast<Eigen::Index>(shared.names.size());
   if (n == 0) throw std::runtime_error(path.string() + ": no parameter columns after kind,id,row");
+  // The shared parameters are a camera's (at most 18): n² values are allocated below.
+  if (n > 64)
+    throw std::runtime_error(path.string() + ": " + std::to_string(n) +
+                             " parameter columns after kind,id,row; a shared term has at most 64");
   shared.covariance = Eigen::MatrixXd::Constant(n, n, std::nan(""));
   const auto valueRow = [&](std::size_t r) {
     Eigen::RowVectorXd v(n);

@@ -1,7 +1,10 @@
 // Identification files (doc/file-formats.md); see io.hpp.
 #include "mire/mechanism/io.hpp"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -66,6 +69,12 @@ std::map<std::string, PoseCovariance> readCovarianceCsv(const std::filesystem::p
     if (rows.size() != 6)
       throw std::runtime_error(path.string() + ": pose '" + id + "' has " + std::to_string(rows.size()) +
                                " of the 6 rows of its 'total' covariance");
+  // Named here, with the file: the identification's own check knows only the pose.
+  for (const auto& [id, covariance] : covariances)
+    if (!covariance.allFinite() || Eigen::LLT<PoseCovariance>(covariance).info() != Eigen::Success)
+      throw std::runtime_error(path.string() + ": pose '" + id +
+                               "': the 6x6 'total' covariance is not positive definite (a variance <= 0 or rows "
+                               "that contradict each other): fix or remove the pose's rows");
   return covariances;
 }
 
@@ -117,6 +126,26 @@ std::vector<PoseRow> readPosesCsv(const std::filesystem::path& poses_csv,
   return rows;
 }
 
+namespace {
+
+// A joint column (q<i>_rad, q<i>_m) the model does not have: the readings are of another
+// mechanism (an H4's four joints given to a three-joint Delta would be read as three).
+void requireNoOtherJoints(const support::CsvTable& table, const std::vector<std::string>& joint_columns) {
+  for (const std::string& name : table.header) {
+    const auto endsWith = [&name](const std::string& tail) {
+      return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    const bool joint_like = name.size() > 1 && name[0] == 'q' && std::isdigit(static_cast<unsigned char>(name[1])) &&
+                            (endsWith("_rad") || endsWith("_m"));
+    if (joint_like && std::find(joint_columns.begin(), joint_columns.end(), name) == joint_columns.end())
+      throw std::runtime_error(table.path.string() + ": column '" + name + "' is not a joint of the model (" +
+                               std::to_string(joint_columns.size()) + " joints: " + joint_columns.front() + ".." +
+                               joint_columns.back() + "): the readings are of another mechanism; choose its model");
+  }
+}
+
+}  // namespace
+
 std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv, int joint_count) {
   return readJointsCsv(joints_csv, jointColumns(joint_count));
 }
@@ -129,6 +158,7 @@ std::vector<JointRow> readJointsCsv(const std::filesystem::path& joints_csv,
   std::vector<std::size_t> cols;
   cols.reserve(joint_columns.size());
   for (const auto& name : joint_columns) cols.push_back(table.column(name));
+  requireNoOtherJoints(table, joint_columns);
   std::vector<JointRow> rows;
   rows.reserve(table.rows.size());
   std::unordered_map<std::string, std::size_t> seen(table.rows.size());

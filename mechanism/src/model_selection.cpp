@@ -209,6 +209,7 @@ std::string defaultSelectionModels(int joint_count, Unit unit) {
 
 SelectionResult selectModel(const std::vector<SelectionCandidate>& candidates, const std::vector<PoseObservation>& poses,
                             const std::vector<LineRecord>& lines, const SelectionOptions& options) {
+  if (candidates.empty()) throw std::invalid_argument("no candidate model to select from");
   if (options.folds < 2) throw std::invalid_argument("--folds must be >= 2");
   if (static_cast<int>(poses.size()) < options.folds)
     throw std::invalid_argument(std::to_string(poses.size()) + " poses for " + std::to_string(options.folds) + " folds");

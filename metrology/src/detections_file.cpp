@@ -2,6 +2,7 @@
 #include "mire/metrology/detections_file.hpp"
 
 #include "mire/support/csv.hpp"
+#include "mire/support/input_file.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -143,6 +144,7 @@ std::string detectionsCsv(const Target& target, const std::vector<ImageDetection
 }
 
 DetectionsFile readDetectionsFile(const std::filesystem::path& path, const Target& target) {
+  support::requireRegularFile(path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot open the detections file");
   std::string line;

@@ -25,6 +25,9 @@ constexpr TypeName kTypeNames[] = {{TargetType::Chessboard, "chessboard"},
                                    {TargetType::Charuco, "charuco"},
                                    {TargetType::ArucoGrid, "aruco_grid"}};
 
+// The feature limit of doc/limits.md (the commands check the same number, apps/src/validate.hpp).
+constexpr std::size_t kMaxTargetFeatures = 20'000;
+
 bool isPositiveFinite(double value) { return std::isfinite(value) && value > 0.0; }
 
 void require(bool condition, const std::string& message) {
@@ -95,7 +98,27 @@ void validateAruco(const TargetSpec& spec) {
   }
 }
 
+// Features the layout would have, counted before any is made: a huge cols × rows must be
+// refused at once rather than allocated (doc/limits.md: at most kMaxTargetFeatures).
+long long featureCount(const TargetSpec& spec) {
+  const long long cols = std::max(spec.cols, 0), rows = std::max(spec.rows, 0);
+  switch (spec.type) {
+    case TargetType::AprilTag:
+      return 4 * (spec.tags.empty() ? cols * rows : static_cast<long long>(spec.tags.size()));
+    case TargetType::ArucoGrid:
+      return 4 * cols * rows;
+    case TargetType::Charuco:
+      return std::max(cols - 1, 0LL) * std::max(rows - 1, 0LL);
+    default:
+      return cols * rows;
+  }
+}
+
 void validateSpec(const TargetSpec& spec) {
+  const long long features = featureCount(spec);
+  require(features <= static_cast<long long>(kMaxTargetFeatures),
+          "the target has " + std::to_string(features) + " features; mire handles at most " +
+              std::to_string(kMaxTargetFeatures) + " (doc/limits.md)");
   if (spec.type == TargetType::AprilTag) return validateAprilTag(spec);
   const int minimum = spec.type == TargetType::ArucoGrid ? 1 : 3;  // OpenCV's grid finders need 3
   require(spec.cols >= minimum && spec.rows >= minimum,

@@ -33,6 +33,9 @@ std::vector<Eigen::Vector3d> toPoints3(const py::handle& object, const std::stri
 // A cv::Mat header over an 8-bit numpy image (H×W grey, H×W×3 BGR or H×W×1): no copy, valid
 // while `image` lives.
 cv::Mat toMat(const ByteArray& image, const std::string& what);
+// An 8-bit image from any numpy array; ValueError naming `what` for another dtype (a float
+// image cast to uint8 would be cut silently: 0.5 becomes 0, 300 becomes 44).
+ByteArray uint8Image(const py::handle& image, const std::string& what);
 // 4×4 homogeneous matrices for Eigen::Isometry3d.
 Eigen::Matrix4d toMatrix(const Eigen::Isometry3d& transform);
 Eigen::Isometry3d toIsometry(const Eigen::Matrix4d& matrix, const std::string& what);

@@ -169,8 +169,8 @@ cal::CalibrationResult calibrateFromImages(const metrology::Target& target, cons
       name = py::str(py::module_::import("os.path").attr("basename")(path));
     } else {
       name = "image_" + std::to_string(i);
-      array = ByteArray::ensure(item);
-      if (!array) throw py::type_error(name + ": expected a path or an 8-bit numpy image");
+      if (!py::isinstance<py::array>(item)) throw py::type_error(name + ": expected a path or an 8-bit numpy image");
+      array = uint8Image(item, name);
       gray = toMat(array, name);
     }
     if (i == 0) {

@@ -102,7 +102,18 @@ void bindCameraClass(py::module_& m) {
       .def_readwrite("lens", &Camera::lens)
       .def_readwrite("params", &Camera::params)
       .def_readwrite("rms_px", &Camera::rms_px)
-      .def_readwrite("covariance", &Camera::covariance)
+      .def_property(
+          "covariance", [](const Camera& c) { return c.covariance; },
+          [](Camera& c, const Eigen::MatrixXd& covariance) {
+            const auto n = static_cast<Eigen::Index>(c.params.size());
+            if (covariance.size() != 0 && (covariance.rows() != n || covariance.cols() != n))
+              throw py::value_error("Camera.covariance: " + std::to_string(covariance.rows()) + "x" +
+                                    std::to_string(covariance.cols()) + " for " + std::to_string(n) + " parameters (" +
+                                    c.modelName() + "): expected " + std::to_string(n) + "x" + std::to_string(n) +
+                                    " or empty");
+            c.covariance = covariance;
+          },
+          "parameter covariance (n×n, n = len(params)) or empty")
       .def("distortionCount", &Camera::distortionCount)
       .def("fx", &Camera::fx)
       .def("fy", &Camera::fy)

@@ -55,6 +55,15 @@ cv::Mat toMat(const ByteArray& image, const std::string& what) {
   throw py::value_error(what + ": expected an 8-bit image of shape (H, W) or (H, W, 3)");
 }
 
+ByteArray uint8Image(const py::handle& image, const std::string& what) {
+  if (!py::isinstance<py::array>(image)) throw py::type_error(what + ": expected an 8-bit numpy image");
+  const auto array = py::reinterpret_borrow<py::array>(image);
+  if (!py::isinstance<py::array_t<unsigned char>>(array))
+    throw py::value_error(what + ": an 8-bit image (dtype uint8) is expected, not " + std::string(py::str(array.dtype())) +
+                          ": convert it explicitly (e.g. np.clip(image, 0, 255).astype(np.uint8))");
+  return ByteArray::ensure(array);
+}
+
 Eigen::Matrix4d toMatrix(const Eigen::Isometry3d& transform) { return transform.matrix(); }
 
 Eigen::Isometry3d toIsometry(const Eigen::Matrix4d& matrix, const std::string& what) {

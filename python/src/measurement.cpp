@@ -123,10 +123,12 @@ met::PoseMeasurement measureArrays(const calibration::Camera& camera, const met:
                                    const std::vector<std::string>& names, const met::MeasurementOptions& options) {
   std::vector<ByteArray> arrays;  // keep the buffers alive while the Mats point into them
   std::vector<cv::Mat> mats;
+  if (!names.empty() && names.size() != images.size())
+    throw py::value_error("measurePose: " + std::to_string(names.size()) + " names for " +
+                          std::to_string(images.size()) + " images (one name per image, or none)");
   for (std::size_t i = 0; i < images.size(); ++i) {
     const std::string what = "measurePose: image " + std::to_string(i);
-    arrays.push_back(ByteArray::ensure(images[i]));
-    if (!arrays.back()) throw py::type_error(what + ": expected an 8-bit numpy image");
+    arrays.push_back(uint8Image(images[i], what));
     mats.push_back(toMat(arrays.back(), what));
   }
   py::gil_scoped_release release;

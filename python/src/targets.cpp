@@ -83,8 +83,9 @@ void bindDetection(py::module_& m) {
       });
   m.def(
       "detectTarget",
-      [](const met::Target& target, const ByteArray& image, const met::DetectionOptions& options) {
-        const cv::Mat mat = toMat(image, "detectTarget: image");
+      [](const met::Target& target, const py::handle& image, const met::DetectionOptions& options) {
+        const ByteArray bytes = uint8Image(image, "detectTarget: image");
+        const cv::Mat mat = toMat(bytes, "detectTarget: image");
         py::gil_scoped_release release;
         return met::detectTarget(target, mat, options);
       },
@@ -92,25 +93,28 @@ void bindDetection(py::module_& m) {
       "Detects the target in an 8-bit image (H, W) grey or (H, W, 3) BGR.");
   m.def(
       "detectTargetCandidates",
-      [](const met::Target& target, const ByteArray& image, const met::DetectionOptions& options) {
-        const cv::Mat mat = toMat(image, "detectTargetCandidates: image");
+      [](const met::Target& target, const py::handle& image, const met::DetectionOptions& options) {
+        const ByteArray bytes = uint8Image(image, "detectTargetCandidates: image");
+        const cv::Mat mat = toMat(bytes, "detectTargetCandidates: image");
         py::gil_scoped_release release;
         return met::detectTargetCandidates(target, mat, options);
       },
       py::arg("target"), py::arg("image"), py::arg("options") = met::DetectionOptions{});
   m.def(
       "refineDetection",
-      [](const met::Target& target, const ByteArray& image, const met::Detection& initial,
+      [](const met::Target& target, const py::handle& image, const met::Detection& initial,
          const met::DetectionOptions& options) {
-        const cv::Mat mat = toMat(image, "refineDetection: image");
+        const ByteArray bytes = uint8Image(image, "refineDetection: image");
+        const cv::Mat mat = toMat(bytes, "refineDetection: image");
         py::gil_scoped_release release;
         return met::refineDetection(target, mat, initial, options);
       },
       py::arg("target"), py::arg("image"), py::arg("initial"), py::arg("options") = met::DetectionOptions{});
   m.def(
       "detectAprilTags",
-      [](const ByteArray& image, const std::string& family, bool refine_edges) {
-        const cv::Mat mat = toMat(image, "detectAprilTags: image");
+      [](const py::handle& image, const std::string& family, bool refine_edges) {
+        const ByteArray bytes = uint8Image(image, "detectAprilTags: image");
+        const cv::Mat mat = toMat(bytes, "detectAprilTags: image");
         py::gil_scoped_release release;
         return met::detectAprilTags(mat, family, refine_edges);
       },

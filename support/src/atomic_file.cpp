@@ -1,6 +1,8 @@
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <stdexcept>
@@ -14,6 +16,14 @@ fs::path temporaryBeside(const fs::path& path) {
   std::random_device device;
   const auto tag = std::to_string(device());
   return path.parent_path() / (".tmp-" + tag + "-" + path.filename().string());
+}
+// The path a user asked for: a staged temporary (".tmp-<tag>-out.csv", also nested) is named by
+// its final name, which is what the user can act on.
+fs::path finalName(const fs::path& path) {
+  std::string name = path.filename().string();
+  while (name.rfind(".tmp-", 0) == 0 && name.find('-', 5) != std::string::npos)
+    name = name.substr(name.find('-', 5) + 1);
+  return path.parent_path() / name;
 }
 }  // namespace
 
@@ -44,7 +54,7 @@ void writeAtomically(const fs::path& path, const std::function<bool(const fs::pa
   std::error_code ec;
   if (!written || !fs::exists(temporary)) {
     fs::remove(temporary, ec);
-    throw std::runtime_error(path.string() + ": could not be written");
+    throw std::runtime_error(finalName(path).string() + ": could not be written");
   }
   fs::rename(temporary, path, ec);
   if (ec) {
@@ -56,9 +66,13 @@ void writeAtomically(const fs::path& path, const std::function<bool(const fs::pa
 
 void writeFileAtomically(const fs::path& path, std::string_view contents) {
   writeAtomically(path, [&](const fs::path& temporary) {
+    errno = 0;
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     out.close();
+    // The reason (e.g. "No space left on device") with the name the user gave.
+    if (!out && errno != 0)
+      throw std::runtime_error(finalName(path).string() + ": cannot be written: " + std::strerror(errno));
     return static_cast<bool>(out);
   });
 }

@@ -1,5 +1,7 @@
 #include "mire/support/csv.hpp"
 
+#include "mire/support/input_file.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -27,6 +29,7 @@ std::vector<std::string> splitLine(const std::string& line) {
 }  // namespace
 
 CsvTable readCsv(const std::filesystem::path& path) {
+  requireRegularFile(path);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot open for reading");
   CsvTable table;

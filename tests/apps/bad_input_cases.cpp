@@ -4,6 +4,10 @@
 // Exit codes (README): 1 = bad input, 2 = wrong command line.
 #include "bad_input_fixture.hpp"
 
+#include "mire/mechanism/external.hpp"
+#include "mire/mechanism/io.hpp"
+#include "mire/mechanism/registry.hpp"
+
 #include <unistd.h>
 
 namespace mire::app::badinput {
@@ -437,6 +441,13 @@ void cameraTargetCases(std::vector<Case>& c) {
       {"camera.yaml", "distortion_coefficients"});
   add(c, "CameraHugeK3", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "-0.1, 0.02, 0., 0., -5.0e4")); }, 1,
       {"camera.yaml", "distortion_coefficients"});
+  add(c, "CameraK1Hundred", [](Env e) { return measureWithCamera(e, cameraFile(e, kK, "100., 0.02, 0., 0., 0.")); }, 1,
+      {"camera.yaml", "stretches the image corner", "k1 = 100"});
+  add(c, "ConvertCameraK1Hundred",
+      [](Env e) {
+        return "convert --camera " + cameraFile(e, kK, "100., 0.02, 0., 0., 0.") + " --to ros -o " + e.p("out/cam.yaml");
+      },
+      1, {"camera.yaml", "stretches the image corner"});
   add(c, "CameraZeroFx",
       [](Env e) { return measureWithCamera(e, cameraFile(e, "0., 0., 239.5, 0., 420., 179.5, 0., 0., 1.", kD)); }, 1,
       {"camera.yaml"});
@@ -770,6 +781,184 @@ void simulateCampaignCases(std::vector<Case>& c) {
       {"plain", "not a folder"});
 }
 
+// ---- the newer commands (fkm, ikm, plan, select, simulate campaign): paths, counts, boards ----
+const char* kH4Workspace = "x_m: [-0.1, 0.1]\ny_m: [-0.1, 0.1]\nz_m: [-0.70, -0.55]\ntheta_deg: [-20, 20]\n";
+
+std::string fkm(Env e, const std::string& params, const std::string& joints, const std::string& extra = "") {
+  return "fkm --params " + params + " --joints " + joints + " -o " + e.p("out/pred.csv") + " " + extra;
+}
+std::string ikm(Env e, const std::string& params, const std::string& poses) {
+  return "ikm --params " + params + " --poses " + poses + " -o " + e.p("out/commands.csv");
+}
+std::string plan(Env e, const std::string& workspace, const std::string& extra = "") {
+  return "plan --model h4-12 --workspace " + workspace + " --count 15 -o " + e.p("out/plan.csv") + " " + extra;
+}
+// An identified-parameter file with its covariance side file (the path checks come first: the
+// contents are never read by these cases).
+std::string paramsWithSide(Env e) {
+  e.write("id_covariance.csv", "parameter,R\nR,1e-8\n");
+  return e.write("id.yaml", "model: h4-12\n");
+}
+std::string effectorPoses(Env e) { return e.write("effector.csv", "pose_id,x_m,y_m,z_m,theta_rad\na,0,0,-0.6,0\n"); }
+
+void newerCommandCases(std::vector<Case>& c) {
+  struct Input {
+    std::string name, option;
+    std::function<std::string(Env, const std::string&)> command;
+  };
+  const std::vector<Input> inputs = {
+      {"FkmParams", "--params", [](Env e, const std::string& x) { return fkm(e, x, e.joints_csv()); }},
+      {"FkmJoints", "--joints", [](Env e, const std::string& x) { return fkm(e, paramsWithSide(e), x); }},
+      {"IkmPoses", "--poses", [](Env e, const std::string& x) { return ikm(e, paramsWithSide(e), x); }},
+      {"PlanWorkspace", "--workspace", [](Env e, const std::string& x) { return plan(e, x); }},
+      {"SelectPoses", "--poses",
+       [](Env e, const std::string& x) { return "select --poses " + x + " --joints " + e.joints_csv(); }},
+  };
+  for (const Input& input : inputs) {
+    const auto command = input.command;
+    add(c, input.name + "Fifo", [command](Env e) { return command(e, e.fifo("pipe")); }, 1,
+        {input.option, "pipe", "FIFO"});
+    add(c, input.name + "Device", [command](Env e) { return command(e, "/dev/zero"); }, 1,
+        {input.option, "/dev/zero", "device"});
+  }
+  // Class 1: an output onto an input's side file.
+  add(c, "IkmOutputIsParamsSideFile",
+      [](Env e) {
+        const std::string params = paramsWithSide(e);
+        return "ikm --params " + params + " --poses " + effectorPoses(e) + " -o " + e.p("id_covariance.csv");
+      },
+      2, {"-o", "id_covariance.csv", "the side file of the input --params", "overwritten"});
+  add(c, "FkmCameraSideFileIsParamsSideFile",
+      [](Env e) {
+        const std::string params = paramsWithSide(e);
+        return "fkm --params " + params + " --joints " + e.joints_csv() + " --frame camera -o " + e.p("id.csv");
+      },
+      2, {"the covariance side file of -o", "the side file of the input --params"});
+  add(c, "SimulateCampaignRerunKeepsUserFiles",
+      [](Env e) {
+        e.write("previous/truth/robot.yaml", "# a previous campaign\n");
+        e.write("previous/my_notes.txt", "my notes");
+        return "simulate campaign --mechanism delta -o " + e.p("previous");
+      },
+      2, {"previous", "my_notes.txt", "mire did not write", "would delete them"});
+  // Class 3: counts bounded before any work.
+  add(c, "PlanCandidatesBillion",
+      [](Env e) { return plan(e, e.write("workspace.yaml", kH4Workspace), "--candidates 1000000000"); }, 2,
+      {"--candidates 1000000000", "at most 100000"});
+  add(c, "PlanCameraHugeBoard",
+      [](Env e) {
+        const std::string board =
+            e.write("target.yaml", "%YAML:1.0\n---\ntype: chessboard\ncols: 400\nrows: 300\nsquare_size_m: 0.001\n");
+        return plan(e, e.write("workspace.yaml", kH4Workspace), "--camera " + e.camera() + " --target " + board);
+      },
+      1, {"target.yaml", "120000 features", "at most 20000"});
+  add(c, "PlanCameraImplausibleCamera",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", kH4Workspace),
+                    "--camera " + cameraFile(e, "420., 0., -5000., 0., 420., 179.5, 0., 0., 1.", kD) + " --target " +
+                        e.target());
+      },
+      1, {"camera.yaml", "principal point"});
+  // Class 4: absurd values accepted before.
+  add(c, "PlanCameraK1Hundred",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", kH4Workspace),
+                    "--camera " + cameraFile(e, kK, "100., 0.02, 0., 0., 0.") + " --target " + e.target());
+      },
+      1, {"camera.yaml", "stretches the image corner"});
+  add(c, "PlanPixelSigmaZero",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", kH4Workspace),
+                    "--camera " + e.camera() + " --target " + e.target() + " --pixel-sigma 0");
+      },
+      2, {"--pixel-sigma 0", "never 0"});
+  add(c, "CalibrateImageSizeZero",
+      [](Env e) {
+        return "calibrate --target " + e.cal_target() + " --detections " + e.write("det.csv", "x\n") +
+               " --image-size 0 0 -o " + e.p("out/camera.yaml");
+      },
+      2, {"--image-size", "WIDTH HEIGHT"});
+  add(c, "CalibrateFixEveryParameter",
+      [](Env e) { return calibrate(e, e.cal_target(), e.images(), "--model pinhole --fix fx,fy,cx,cy"); }, 1,
+      {"every parameter", "no free parameter"});
+  add(c, "CalibrateSameImageTwice",
+      [](Env e) {
+        return calibrate(e, e.cal_target(), imagesWith(e, "view_100.png", slurp(e.f.cal / "images/view_000.png")));
+      },
+      1, {"view_100.png", "exactly the detections of view_000.png", "same image twice"});
+  add(c, "IdentifyDeltaOnH4Joints", [](Env e) { return identifyDefault(e, "--model delta"); }, 1,
+      {"joints.csv", "q4_rad", "another mechanism"});
+  add(c, "SelectDeltaModelsOnH4Joints",
+      [](Env e) {
+        return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models delta,delta-legs";
+      },
+      1, {"joints.csv", "q4_rad", "another mechanism"});
+  add(c, "IkmThetaInDegrees",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return ikm(e, params, e.write("effector.csv", "pose_id,x_m,y_m,z_m,theta_rad\na,0,0,-0.6,20\n"));
+      },
+      1, {"effector.csv:2", "theta_rad = 20", "degrees"});
+  add(c, "FkmHexapodJointsOutOfStroke",
+      [](Env e) {
+        // The nominal hexapod as a parameter file (its legs' stroke is about ±0.1 m around 0.05).
+        std::string params = mechanism::parameterFileString(mechanism::makeRegisteredModel("gough-stewart").nominal, {},
+                                                            {{"model", "gough-stewart"}});
+        for (const std::string& name :
+             mechanism::ExternalParameterization(mechanism::ExternalForm::Full).parameters().names())
+          params += name + ": 0\n";
+        return fkm(e, e.write("gs.yaml", params),
+                   e.write("joints.csv", "pose_id,q1_m,q2_m,q3_m,q4_m,q5_m,q6_m\na,0.5,0.5,0.5,0.5,0.5,0.5\n"));
+      },
+      1, {"joints.csv:2", "pose 'a'", "outside their stroke", "1 (0.5 m)"});
+  add(c, "FkmJointsInDegrees",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return fkm(e, params, e.write("joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,10,20,30,40\n"));
+      },
+      1, {"joints.csv:2", "q1_rad = 10", "degrees"});
+  add(c, "CovarianceSideNotPositiveNamesFile",
+      [](Env e) {
+        std::string text = "pose_id,part,row,tx,ty,tz,rx,ry,rz\n";
+        for (const char* axis : {"tx", "ty", "tz", "rx", "ry", "rz"})
+          text += std::string("1,total,") + axis + ",0,0,0,0,0,0\n";  // a zero covariance
+        return identifyDefault(e, "--pose-covariances " + e.write("cov.csv", text));
+      },
+      1, {"cov.csv", "pose '1'", "not positive definite"});
+  add(c, "PlanOnePointWorkspace",
+      [](Env e) {
+        return plan(e, e.write("workspace.yaml", "x_m: [0, 0]\ny_m: [0, 0]\nz_m: [-0.6, -0.6]\ntheta_deg: [0, 0]\n"));
+      },
+      1, {"workspace.yaml", "single point"});
+  add(c, "FkmJointsHuge",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return fkm(e, params, e.write("joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,1e308,0.3,0.3,0.3\n"));
+      },
+      1, {"joints.csv:2", "q1_rad = 1e+308", "degrees"});
+  add(c, "SelectOnOnePoseRepeated",
+      [](Env e) {
+        // Twelve copies of the campaign's first pose (and its joints), under distinct ids.
+        const auto firstRowTwelveTimes = [](const std::string& text) {
+          std::stringstream in(text);
+          std::string header, row, out;
+          std::getline(in, header);
+          std::getline(in, row);
+          out = header + "\n";
+          for (int k = 1; k <= 12; ++k) out += "r" + std::to_string(k) + row.substr(row.find(',')) + "\n";
+          return out;
+        };
+        const std::string poses = e.write("poses.csv", firstRowTwelveTimes(slurp(e.f.campaign / "poses.csv")));
+        const std::string joints = e.write("joints.csv", firstRowTwelveTimes(slurp(e.f.campaign / "joints.csv")));
+        return "select --poses " + poses + " --joints " + joints;
+      },
+      1, {"poses.csv", "no candidate model could be identified on these 12 poses", "repeat one another"});
+  // Class 4: an empty model list is not the default list.
+  add(c, "SelectModelsEmpty",
+      [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models ''"; }, 2,
+      {"--models", "empty"});
+}
+
 std::vector<Case> makeCases() {
   std::vector<Case> cases;
   inputCases(cases);
@@ -780,6 +969,7 @@ std::vector<Case> makeCases() {
   csvCases(cases);
   specCases(cases);
   simulateCampaignCases(cases);
+  newerCommandCases(cases);
   return cases;
 }
 

@@ -98,5 +98,34 @@ TEST(FkmIkmCli, UnknownModelIsNamed) {
   EXPECT_FALSE(fs::exists(d / "id.yaml"));
 }
 
+// A full disk (a file-size limit here: `ulimit -f`, SIGXFSZ ignored, so write() fails with
+// EFBIG as it fails with ENOSPC) while fkm --frame camera writes its pair: neither file, no
+// temporary, and the message names the file the user gave and the system's reason.
+TEST(FkmIkmCli, FailedWriteLeavesNeitherFileOfThePair) {
+  test::TempDir dir;
+  const datasets::Campaign c = datasets::simulateCampaign("delta", 13, 0.2e-3, 0.03 * datasets::kCampaignDeg, 20);
+  datasets::writeCampaignFiles(c, dir.path(), 0, c.poses.size());
+  const fs::path d = dir.path();
+  ASSERT_EQ(test::runMireIn(dir, "identify --model delta --poses " + (d / "poses.csv").string() + " --joints " +
+                                     (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  const std::string fkm = test::mireBinary().string() + " fkm --params " + (d / "id.yaml").string() + " --joints " +
+                          (d / "joints.csv").string() + " --frame camera -o " + (d / "out/pred.csv").string();
+  int code = 0;
+  // 16 KiB: the prediction (about 9 KB) fits, its covariance side file does not.
+  const std::string output = test::captureCommand("bash -c \"ulimit -f 16; trap '' XFSZ; exec " + fkm + "\"", &code);
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_NE(output.find("pred_covariance.csv: cannot be written: File too large"), std::string::npos) << output;
+  EXPECT_EQ(output.find(".tmp-"), std::string::npos) << output;
+  EXPECT_TRUE(!fs::exists(d / "out") || fs::is_empty(d / "out")) << "a partial output or a temporary was left";
+  // Without the limit, the same command writes both.
+  const std::string written = test::captureCommand(fkm, &code);
+  ASSERT_EQ(code, 0) << written;
+  EXPECT_TRUE(fs::exists(d / "out/pred.csv") && fs::exists(d / "out/pred_covariance.csv"));
+  EXPECT_LT(fs::file_size(d / "out/pred.csv"), 16u * 1024u);
+  EXPECT_GT(fs::file_size(d / "out/pred_covariance.csv"), 16u * 1024u);
+}
+
 }  // namespace
 }  // namespace mire::app

@@ -133,17 +133,24 @@ TEST(SimulateCampaign, RefusesAForeignFolderReplacesAPreviousCampaign) {
   EXPECT_EQ(mire::test::readText(mine / "notes.txt"), "my notes");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);  // no temporary
 
-  // A previous campaign (its truth/robot.yaml) is replaced whole: a stale file goes.
+  // A previous campaign holding a file mire does not write (a user's notes, at the top or
+  // inside poses/) is refused before any rendering: a rerun never deletes what it did not write.
   const fs::path previous = dir.path() / "previous";
   fs::create_directories(previous / "truth");
+  fs::create_directories(previous / "poses/p001");
+  fs::create_directories(previous / "calibration/images");
   mire::test::writeText(previous / "truth/robot.yaml", "model: delta-legs\n");
-  mire::test::writeText(previous / "stale.txt", "from an older run");
-  ASSERT_EQ(mireIn(dir.path(),
-                   "simulate campaign --mechanism delta -o previous --images-per-pose 1 --calibration-views 3 --seed 7",
-                   &output),
-            0)
-      << output;
-  EXPECT_FALSE(fs::exists(previous / "stale.txt"));
+  mire::test::writeText(previous / "poses/p001/notes.txt", "my notes");
+  mire::test::writeText(previous / "calibration/images/view_099.png", "an older run's extra view");
+  const std::string rerun =
+      "simulate campaign --mechanism delta -o previous --images-per-pose 1 --calibration-views 3 --seed 7";
+  EXPECT_EQ(mireIn(dir.path(), rerun, &output), 2);
+  EXPECT_NE(output.find("poses/p001/notes.txt"), std::string::npos) << output;
+  EXPECT_EQ(mire::test::readText(previous / "poses/p001/notes.txt"), "my notes");
+  // Without it, the previous campaign is replaced whole (the older run's extra view goes).
+  fs::remove(previous / "poses/p001/notes.txt");
+  ASSERT_EQ(mireIn(dir.path(), rerun, &output), 0) << output;
+  EXPECT_FALSE(fs::exists(previous / "calibration/images/view_099.png"));
   EXPECT_TRUE(fs::exists(previous / "poses/p027/img_00.png"));
   EXPECT_NE(mire::test::readText(previous / "truth/robot.yaml").find("geometry:"), std::string::npos);
   EXPECT_NE(output.find("(seed 7)"), std::string::npos) << output;
