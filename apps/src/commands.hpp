@@ -29,6 +29,8 @@ Runner addFkmCommand(CLI::App& app);
 Runner addIkmCommand(CLI::App& app);
 Runner addPlanCommand(CLI::App& app);
 Runner addSelectCommand(CLI::App& app);
+Runner addAccuracyCommand(CLI::App& app);
+Runner addCompensateCommand(CLI::App& app);
 
 // The version string printed by `mire --version`.
 std::string versionString();

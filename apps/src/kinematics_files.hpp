@@ -20,8 +20,11 @@ struct EffectorRow {
   std::string id;
   Eigen::VectorXd pose;
   int line = 0;
+  std::string group;  // the `group_column` cell, when one is asked for
 };
-// Reads effector.csv (pose_id + poseColumnNames()); errors name file:line.
-std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& mechanism);
+// Reads effector.csv (pose_id + poseColumnNames(), + `group_column` when not empty: accuracy's
+// `position`); errors name file:line.
+std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& mechanism,
+                                         const std::string& group_column = {});
 
 }  // namespace mire::app
