@@ -12,6 +12,8 @@
 #include "kinematics_files.hpp"
 #include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/compensation.hpp"
+#include "mire/mechanism/controller_fit.hpp"
+#include "mire/mechanism/io.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
@@ -25,7 +27,7 @@ namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
 struct CompensateArguments {
-  std::string params, covariance, poses, nominal, workspace, output;
+  std::string params, covariance, poses, nominal, workspace, controller_model, output;
   double grid = 0.0;
 };
 
@@ -92,13 +94,43 @@ std::string correctionMapCsv(const mech::LoadedPredictionModel& loaded, const Ei
   return out.str();
 }
 
+// The controller model's parameters fitted over a 5 × 5 × 3 grid of the --workspace box.
+int runControllerFit(const CompensateArguments& args, const mech::LoadedPredictionModel& loaded) {
+  const auto [low, high] = parseWorkspace(args.workspace);
+  const mech::RegisteredModel controller = mech::makeRegisteredModel(args.controller_model);
+  std::vector<Eigen::VectorXd> workspace;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 3; ++k) {
+        Eigen::VectorXd pose = Eigen::VectorXd::Zero(controller.mechanism->poseDof());
+        pose.head<3>() = low + (high - low).cwiseProduct(Eigen::Vector3d(i / 4.0, j / 4.0, k / 2.0));
+        workspace.push_back(pose);
+      }
+  const mech::ControllerFit fit = mech::fitControllerModel(loaded.model, controller, workspace);
+  if (!fit.converged) throw std::runtime_error("the controller model's fit did not converge");
+  const auto mm = [](double metres) { return support::formatNumber(metres * 1e3, 4) + " mm"; };
+  mech::writeParameterFile(args.output, fit.parameters, {}, {{"model", controller.name}},
+                           "controller model " + controller.name + " fitted to " + args.params + " over " +
+                               std::to_string(fit.poses) + " workspace poses; predicted residual RMS " +
+                               mm(fit.rms_position_error) + ", max " + mm(fit.max_position_error));
+  std::cout << "controller model " << controller.name << " fitted to " << loaded.model.model_name << " over "
+            << fit.poses << " poses of the workspace\n"
+            << "predicted residual error (what " << controller.name << " cannot correct): RMS "
+            << mm(fit.rms_position_error) << ", max " << mm(fit.max_position_error) << " at ("
+            << support::formatNumber(fit.worst_pose[0], 5) << ", " << support::formatNumber(fit.worst_pose[1], 5)
+            << ", " << support::formatNumber(fit.worst_pose[2], 5) << ") m; joint residual RMS "
+            << support::formatNumber(fit.rms_joint_residual, 4) << "\nwrote " << args.output << "\n";
+  return kOk;
+}
+
 int runCompensate(const CompensateArguments& args) {
-  if (args.poses.empty() == (args.grid <= 0.0))
-    throw UsageError("give either --poses or --grid STEP (with --workspace)");
-  if (args.grid > 0.0 && args.workspace.empty())
-    throw UsageError("--grid needs --workspace xmin,xmax,ymin,ymax,zmin,zmax");
-  if (args.grid <= 0.0 && (!args.workspace.empty() || !args.nominal.empty()))
-    throw UsageError("--workspace and --nominal go with --grid");
+  const int modes = !args.poses.empty() + (args.grid > 0.0) + !args.controller_model.empty();
+  if (modes != 1) throw UsageError("give one of --poses, --grid STEP (with --workspace), --controller-model");
+  if ((args.grid > 0.0 || !args.controller_model.empty()) && args.workspace.empty())
+    throw UsageError("--grid and --controller-model need --workspace xmin,xmax,ymin,ymax,zmin,zmax");
+  if (!args.poses.empty() && !args.workspace.empty())
+    throw UsageError("--workspace goes with --grid or --controller-model");
+  if (args.grid <= 0.0 && !args.nominal.empty()) throw UsageError("--nominal goes with --grid");
   CommandPaths paths{{{args.params, "--params"}}, {}, {{args.output, "-o"}}, {}};
   if (!args.poses.empty()) paths.input_files.push_back({args.poses, "--poses"});
   if (!args.covariance.empty()) paths.input_files.push_back({args.covariance, "--covariance"});
@@ -109,6 +141,7 @@ int runCompensate(const CompensateArguments& args) {
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
   const mech::Mechanism& m = *loaded.model.mechanism;
   const std::string sigma_note = loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0";
+  if (!args.controller_model.empty()) return runControllerFit(args, loaded);
   if (!args.poses.empty()) {
     const JointCommandTable table = jointCommandTable(loaded.model, readEffectorCsv(args.poses, m), args.poses);
     for (const auto& u : table.unreachable) std::cerr << "mire compensate: " << u << "\n";
@@ -154,9 +187,14 @@ Runner addCompensateCommand(CLI::App& app) {
                   ",rx_rad,ry_rad,rz_rad]): joint commands");
   cmd->add_option("--grid", args->grid, "grid step [m]: pose corrections over --workspace (correction_map.csv)");
   cmd->add_option("--workspace", args->workspace, "the grid's box in the base frame: xmin,xmax,ymin,ymax,zmin,zmax [m]");
+  cmd->add_option("--controller-model", args->controller_model,
+                  "the model the controller runs (a model name or description file): its parameters fitted over "
+                  "--workspace (controller.yaml)");
   cmd->add_option("--nominal", args->nominal,
                   "the geometry the controller runs (parameter YAML; default the model's nominal)");
-  cmd->add_option("-o,--output", args->output, "commands.csv (--poses) or correction_map.csv (--grid)")->required();
+  cmd->add_option("-o,--output", args->output,
+                  "commands.csv (--poses), correction_map.csv (--grid) or controller.yaml (--controller-model)")
+      ->required();
   return [args] { return runCompensate(*args); };
 }
 
