@@ -109,7 +109,15 @@ int runControllerFit(const CompensateArguments& args, const mech::LoadedPredicti
   const mech::ControllerFit fit = mech::fitControllerModel(loaded.model, controller, workspace);
   if (!fit.converged) throw std::runtime_error("the controller model's fit did not converge");
   const auto mm = [](double metres) { return support::formatNumber(metres * 1e3, 4) + " mm"; };
-  mech::writeParameterFile(args.output, fit.parameters, {}, {{"model", controller.name}},
+  // The frame F travels with the parameters: the controller commands F·X for a pose X of the
+  // identified base frame.
+  mech::ParameterSet written = fit.parameters;
+  const mech::PoseVector f = mech::toPoseVector(fit.frame);
+  const char* keys[6] = {"frame_tx", "frame_ty", "frame_tz", "frame_rx", "frame_ry", "frame_rz"};
+  for (int k = 0; k < 6; ++k)
+    written.add({keys[k], f[k], k < 3 ? mech::Unit::Metre : mech::Unit::Radian, true,
+                 "the controller's base frame from the identified one"});
+  mech::writeParameterFile(args.output, written, {}, {{"model", controller.name}},
                            "controller model " + controller.name + " fitted to " + args.params + " over " +
                                std::to_string(fit.poses) + " workspace poses; predicted residual RMS " +
                                mm(fit.rms_position_error) + ", max " + mm(fit.max_position_error));

@@ -3,6 +3,7 @@
 
 #include <ceres/ceres.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -10,27 +11,54 @@
 namespace mire::mechanism {
 namespace {
 
-// IKM_controller(X, ξc) − IKM_identified(X) at one pose, over the controller's free parameters.
+// F from (rx, ry, rz, tx, ty, tz).
+Eigen::Isometry3d frameOf(const double* f) {
+  PoseVector v;
+  v << f[3], f[4], f[5], f[0], f[1], f[2];
+  return toIsometry(v);
+}
+
+// F·X as the controller can command it: its own pose components (a Delta keeps the identity
+// orientation, an H4 its rotation about z).
+Eigen::Isometry3d controllerPose(const Mechanism& controller, const Eigen::Isometry3d& frame,
+                                 const Eigen::Isometry3d& pose) {
+  return controller.poseToTransform(controller.transformToPose(frame * pose));
+}
+
+// IKM_controller(F·X, ξc) − IKM_identified(X) at one pose, over the controller's free parameters
+// and the frame F.
 struct JointMismatch {
   const Mechanism* mechanism;
   ParameterSet parameters;  // the controller's, fixed values kept
   std::vector<std::size_t> free;
   Eigen::Isometry3d pose;
   Eigen::VectorXd target;
+  std::vector<bool> revolute;
 
   bool operator()(double const* const* blocks, double* residual) const {
+    const Eigen::Isometry3d frame = frameOf(blocks[1]);
     Eigen::VectorXd values = parameters.values();
     for (std::size_t k = 0; k < free.size(); ++k) values[static_cast<Eigen::Index>(free[k])] = blocks[0][k];
     ParameterSet p = parameters;
     p.setValues(values);  // re-synchronises tied parameters
-    const IkmResult q = mechanism->inverseKinematics(p.values(), pose);
+    const IkmResult q = mechanism->inverseKinematics(p.values(), controllerPose(*mechanism, frame, pose));
     if (!q.reachable()) return false;
-    for (Eigen::Index k = 0; k < target.size(); ++k) residual[k] = q.joints[k] - target[k];
+    // Revolute joints agree modulo 2π (the models may take their angles on different branches).
+    for (Eigen::Index k = 0; k < target.size(); ++k) {
+      const double difference = q.joints[k] - target[k];
+      residual[k] =
+          revolute[static_cast<std::size_t>(k)] ? std::remainder(difference, 2.0 * 3.14159265358979323846) : difference;
+    }
     return true;
   }
 };
 
 }  // namespace
+
+Eigen::VectorXd controllerCommand(const Mechanism& controller, const Eigen::Isometry3d& frame,
+                                  const Eigen::Isometry3d& pose) {
+  return controller.transformToPose(frame * pose);
+}
 
 ControllerFit fitControllerModel(const PredictionModel& identified, const RegisteredModel& controller,
                                  const std::vector<Eigen::VectorXd>& workspace) {
@@ -44,17 +72,21 @@ ControllerFit fitControllerModel(const PredictionModel& identified, const Regist
   const std::vector<std::size_t> free = fit.parameters.freeIndices();
   std::vector<double> x;
   for (std::size_t k : free) x.push_back(fit.parameters[k].value);
+  std::array<double, 6> frame{};  // rx, ry, rz, tx, ty, tz
   ceres::Problem problem;
   std::vector<Eigen::VectorXd> used;
+  std::vector<bool> revolute;
+  for (Unit u : c.jointUnits()) revolute.push_back(u == Unit::Radian);
   for (const Eigen::VectorXd& pose : workspace) {
     const Eigen::Isometry3d T = id.poseToTransform(pose);
     const IkmResult target = id.inverseKinematics(identified.geometric.values(), T);
     if (!target.reachable() || !c.inverseKinematics(fit.parameters.values(), T).reachable()) continue;
     auto cost = std::make_unique<ceres::DynamicNumericDiffCostFunction<JointMismatch, ceres::CENTRAL>>(
-        new JointMismatch{&c, fit.parameters, free, T, target.joints});
+        new JointMismatch{&c, fit.parameters, free, T, target.joints, revolute});
     cost->AddParameterBlock(static_cast<int>(x.size()));
+    cost->AddParameterBlock(6);
     cost->SetNumResiduals(c.jointCount());
-    problem.AddResidualBlock(cost.release(), nullptr, x.data());
+    problem.AddResidualBlock(cost.release(), nullptr, x.data(), frame.data());
     used.push_back(pose);
   }
   if (used.empty()) throw std::invalid_argument("no workspace pose is reachable by both models");
@@ -70,13 +102,15 @@ ControllerFit fitControllerModel(const PredictionModel& identified, const Regist
   Eigen::VectorXd values = fit.parameters.values();
   for (std::size_t k = 0; k < free.size(); ++k) values[static_cast<Eigen::Index>(free[k])] = x[k];
   fit.parameters.setValues(values);
+  fit.frame = frameOf(frame.data());
   fit.poses = static_cast<int>(used.size());
   fit.rms_joint_residual = std::sqrt(2.0 * summary.final_cost / (static_cast<double>(used.size()) * c.jointCount()));
   // Where the identified robot goes with the fitted controller's commands.
   double sum_sq = 0.0;
   int counted = 0;
   for (const Eigen::VectorXd& pose : used) {
-    const IkmResult q = c.inverseKinematics(fit.parameters.values(), c.poseToTransform(pose));
+    const IkmResult q =
+        c.inverseKinematics(fit.parameters.values(), controllerPose(c, fit.frame, id.poseToTransform(pose)));
     if (!q.reachable()) continue;
     const FkmResult f = id.forwardKinematics(identified.geometric.values(), q.joints, pose);
     if (!f.converged) continue;
