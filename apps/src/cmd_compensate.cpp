@@ -108,6 +108,8 @@ int runControllerFit(const CompensateArguments& args, const mech::LoadedPredicti
       }
   const mech::ControllerFit fit = mech::fitControllerModel(loaded.model, controller, workspace);
   if (!fit.converged) throw std::runtime_error("the controller model's fit did not converge");
+  if (fit.worst_pose.size() < 3)
+    throw std::runtime_error("the identified robot reaches no workspace pose with the fitted controller's commands");
   const auto mm = [](double metres) { return support::formatNumber(metres * 1e3, 4) + " mm"; };
   // The frame F travels with the parameters: the controller commands F·X for a pose X of the
   // identified base frame.

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "mire/mechanism/pose_accuracy.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -21,7 +22,7 @@ IsoPose isoPose(const Eigen::Isometry3d& transform) {
 
 IsoPose isoDeviation(const Eigen::Isometry3d& commanded, const Eigen::Isometry3d& attained) {
   IsoPose d = isoPose(attained) - isoPose(commanded);
-  for (int k = 3; k < 6; ++k) d[k] = std::remainder(d[k], 2.0 * 3.14159265358979323846);
+  for (int k = 3; k < 6; ++k) d[k] = std::remainder(d[k], 2.0 * support::kPi);
   return d;
 }
 

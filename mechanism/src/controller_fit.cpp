@@ -8,6 +8,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "mire/support/constants.hpp"
+
 namespace mire::mechanism {
 namespace {
 
@@ -46,8 +48,7 @@ struct JointMismatch {
     // Revolute joints agree modulo 2π (the models may take their angles on different branches).
     for (Eigen::Index k = 0; k < target.size(); ++k) {
       const double difference = q.joints[k] - target[k];
-      residual[k] =
-          revolute[static_cast<std::size_t>(k)] ? std::remainder(difference, 2.0 * 3.14159265358979323846) : difference;
+      residual[k] = revolute[static_cast<std::size_t>(k)] ? std::remainder(difference, 2.0 * support::kPi) : difference;
     }
     return true;
   }

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "mire/mechanism/evaluation.hpp"
+#include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 #include "pose_accuracy_stats.hpp"
 
@@ -45,7 +46,7 @@ std::vector<PositionCycles> groupByPosition(const std::vector<AccuracySample>& s
 }
 
 std::string mm(double metres) { return support::formatNumber(metres * 1e3, 3) + " mm"; }
-std::string deg(double radians) { return support::formatNumber(radians * 180.0 / 3.14159265358979323846, 3) + " deg"; }
+std::string deg(double radians) { return support::formatNumber(radians / support::kRadiansPerDegree, 3) + " deg"; }
 
 // A figure at or below what the noise alone gives 95 % of the time is not resolved.
 void warnUnresolved(std::vector<std::string>& warnings, const std::string& figure, double value, const NoiseOnly& noise,
