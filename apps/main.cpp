@@ -31,7 +31,9 @@ int main(int argc, char** argv) {
                                                                 {"ikm", addIkmCommand(app)},
                                                                 {"plan", addPlanCommand(app)},
                                                                 {"select", addSelectCommand(app)},
-                                                                {"check-mechanism", addCheckMechanismCommand(app)}};
+                                                                {"check-mechanism", addCheckMechanismCommand(app)},
+                                                                {"accuracy", addAccuracyCommand(app)},
+                                                                {"compensate", addCompensateCommand(app)}};
 
   // Name an unknown subcommand plainly (CLI11 would only say that one is required).
   if (argc > 1 && argv[1][0] != '-') {

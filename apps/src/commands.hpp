@@ -30,6 +30,8 @@ Runner addIkmCommand(CLI::App& app);
 Runner addPlanCommand(CLI::App& app);
 Runner addSelectCommand(CLI::App& app);
 Runner addCheckMechanismCommand(CLI::App& app);
+Runner addAccuracyCommand(CLI::App& app);
+Runner addCompensateCommand(CLI::App& app);
 
 // The version string printed by `mire --version`.
 std::string versionString();

@@ -46,9 +46,11 @@ std::vector<std::string> poseColumnNames(const mechanism::Mechanism& m) {
   return names;
 }
 
-std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& m) {
+std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, const mechanism::Mechanism& m,
+                                         const std::string& group_column) {
   const support::CsvTable table = support::readCsv(path);
   const std::size_t id_col = table.column("pose_id");
+  const std::size_t group_col = group_column.empty() ? id_col : table.column(group_column);
   std::vector<std::size_t> cols;
   for (const std::string& name : poseColumnNames(m)) cols.push_back(table.column(name));
   std::vector<EffectorRow> rows;
@@ -59,6 +61,10 @@ std::vector<EffectorRow> readEffectorCsv(const std::filesystem::path& path, cons
     row.line = static_cast<int>(table.line_numbers[r]);
     if (row.id.empty()) throw std::runtime_error(table.where(r) + ": empty pose_id");
     if (!seen.insert(row.id).second) throw std::runtime_error(table.where(r) + ": duplicate pose_id '" + row.id + "'");
+    if (!group_column.empty()) {
+      row.group = table.rows[r][group_col];
+      if (row.group.empty()) throw std::runtime_error(table.where(r) + ": empty " + group_column);
+    }
     row.pose.resize(static_cast<Eigen::Index>(cols.size()));
     const auto units = m.poseComponentUnits();
     for (std::size_t k = 0; k < cols.size(); ++k) {
