@@ -12,6 +12,7 @@
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/side_files.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -27,6 +28,15 @@ namespace {
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 using support::kDegreesPerRadian;
+
+// A median camera residual above these (5 mm, 1 deg) means a wrong chain, not noise.
+constexpr double kImplausibleResidualM = 0.005;
+constexpr double kImplausibleResidualRad = 1.0 / kDegreesPerRadian;
+
+double median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+  return values[values.size() / 2];
+}
 
 // --robot-sigma T_MM,R_DEG.
 std::optional<mech::RobotPoseSigma> parseRobotSigma(const std::string& text) {
@@ -128,6 +138,18 @@ std::string reportText(const HandEyeIdentifyArguments& args, const HandEyeInputs
   out << "; condition number " << fixed("%.4g", result.identifiability.condition_number) << "; start: OpenCV "
       << result.closed_form_method << (result.converged ? "" : "; warning: the solver did not report convergence")
       << "\n";
+  // A camera residual of many millimetres or degrees is no measurement error: the chain is wrong.
+  std::vector<double> camera_t, camera_r;
+  for (const auto& score : result.poses) {
+    camera_t.push_back(score.camera_t_m.norm());
+    camera_r.push_back(score.camera_r_rad);
+  }
+  const double median_t = median(camera_t), median_r = median(camera_r);
+  if (median_t > kImplausibleResidualM || median_r > kImplausibleResidualRad)
+    out << "warning: the median camera residual is " << fixed("%.1f", median_t * 1e3) << " mm, "
+        << fixed("%.2f", median_r * kDegreesPerRadian)
+        << " deg: far beyond a pose measurement's error; is the mounting right (--mounting "
+        << (on_effector ? "camera-fixed" : "camera-on-effector") << "?), and are both files in the same units?\n";
   for (const auto& outlier : result.outliers)
     out << "outlier pose removed: " << outlier.id << " (chi2 " << fixed("%.1f", outlier.chi2) << " of 6 dof; camera "
         << fixed("%.3f", outlier.camera_t_m.norm() * 1e3) << " mm, "

@@ -57,8 +57,13 @@ TEST(IdentifyHandEyeCli, VispDataMatchPublishedResultInEitherOrder) {
   EXPECT_EQ(side.rfind("name,value,tx_EC,ty_EC,tz_EC,rx_EC,ry_EC,rz_EC,tx_BM", 0), 0u) << side;
   const std::string yaml = test::readText(dir.path() / "handeye.yaml");
   EXPECT_NE(yaml.find("sigma_tz_EC"), std::string::npos);
-  EXPECT_NE(yaml.find("mounting: camera-on-effector"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("mounting: \"camera-on-effector\""), std::string::npos) << yaml;
 
+  EXPECT_EQ(out.find("warning"), std::string::npos) << out;
+  // The wrong mounting fits, badly: the report says so.
+  out = identify(dir, "robot_poses.csv", "poses.csv", "fixed.yaml", "--mounting camera-fixed --robot-sigma 1,0.1", &code);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("is the mounting right (--mounting camera-on-effector?)"), std::string::npos) << out;
   out = identify(dir, "robot_reversed.csv", "poses_reversed.csv", "reversed.yaml", options, &code);
   ASSERT_EQ(code, 0) << out;
   const auto reversed = readEtc(dir.path() / "reversed.yaml");
