@@ -118,6 +118,32 @@ struct HandEyeTransforms {
 HandEyeTransforms handEyeClosedForm(const std::vector<HandEyeObservation>& poses, HandEyeMounting mounting,
                                     const std::string& method);
 
+// ---- experiment design: which robot poses to visit (doc/mechanisms.md, "Hand-eye calibration") ----
+// A guess of the two transforms and the noise expected at every pose.
+struct HandEyeDesignModel {
+  HandEyeMounting mounting = HandEyeMounting::CameraOnEffector;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d Z = Eigen::Isometry3d::Identity();
+  RobotPoseSigma robot_sigma;
+  PoseCovariance camera_covariance = PoseCovariance::Identity();  // of each cTm, (m, rad)
+};
+
+// The information (12×12, over handEyeParameterNames) one robot pose bTe brings, its nuisance
+// pose marginalised: the poses' informations add, and the covariance of a set is the inverse
+// of their sum (the solve's covariance with the stated σ).
+Eigen::Matrix<double, 12, 12> handEyePoseInformation(const HandEyeDesignModel& model, const Eigen::Isometry3d& bTe);
+
+struct HandEyePlan {
+  std::vector<std::size_t> chosen;  // indices into the candidates, in choice order
+  Eigen::MatrixXd covariance;       // 12×12 predicted for the chosen set
+  Eigen::VectorXd sigma;            // its sqrt(diagonal)
+};
+// Greedy choice of `count` candidate poses minimising Σ σ²(eTc or cTb component) / σ_ref², with
+// σ_ref the robot's σ (translation, rotation): each step adds the candidate that lowers it most.
+// Throws std::invalid_argument when count < 3 or exceeds the candidates.
+HandEyePlan planHandEye(const HandEyeDesignModel& model, const std::vector<Eigen::Isometry3d>& candidates,
+                        std::size_t count);
+
 // Parameter names of a mounting: {"tx_EC",...,"rz_EC","tx_BM",...,"rz_BM"} or the CB/EM ones.
 std::vector<std::string> handEyeParameterNames(HandEyeMounting mounting);
 
