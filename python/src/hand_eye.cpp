@@ -1,6 +1,6 @@
 // Hand-eye calibration of a robot that reports its own pose (mechanism/hand_eye.hpp,
 // doc/mechanisms.md "Hand-eye calibration"): observations, the joint solve with its covariance,
-// OpenCV's closed forms, robot_poses.csv. Transforms are 4×4 matrices, poses 6-vectors (t, r).
+// OpenCV's closed forms, robot_poses.csv, the choice of poses (planHandEye). Transforms are 4×4 matrices, poses 6-vectors (t, r).
 #include "bindings.hpp"
 
 #include "mire/mechanism/hand_eye.hpp"
@@ -20,7 +20,9 @@ void bindHandEye(py::module_& m) {
 
   using S = mech::RobotPoseSigma;
   py::class_<S>(m, "RobotPoseSigma")
-      .def(py::init([](double translation_m, double rotation_rad) { return S{translation_m, rotation_rad}; }),
+      .def(py::init([](double translation_m, double rotation_rad) {
+             return S{translation_m, rotation_rad};
+           }),
            py::arg("translation_m"), py::arg("rotation_rad"))
       .def_readwrite("translation_m", &S::translation_m)
       .def_readwrite("rotation_rad", &S::rotation_rad);
@@ -79,6 +81,37 @@ void bindHandEye(py::module_& m) {
       .def_readonly("rotation_spread", &R::rotation_spread)
       .def_readonly("converged", &R::converged);
   m.def("solveHandEye", &mech::solveHandEye, py::arg("poses"), py::arg("mounting"), py::arg("options") = Opt{});
+  using D = mech::HandEyeDesignModel;
+  py::class_<D>(m, "HandEyeDesignModel")
+      .def(py::init<>())
+      .def_readwrite("mounting", &D::mounting)
+      .def_property(
+          "X", [](const D& d) { return toMatrix(d.X); },
+          [](D& d, const Eigen::Matrix4d& X) { d.X = toIsometry(X, "HandEyeDesignModel.X"); })
+      .def_property(
+          "Z", [](const D& d) { return toMatrix(d.Z); },
+          [](D& d, const Eigen::Matrix4d& Z) { d.Z = toIsometry(Z, "HandEyeDesignModel.Z"); })
+      .def_readwrite("robot_sigma", &D::robot_sigma)
+      .def_readwrite("camera_covariance", &D::camera_covariance);
+  using Plan = mech::HandEyePlan;
+  py::class_<Plan>(m, "HandEyePlan")
+      .def_readonly("chosen", &Plan::chosen)
+      .def_readonly("covariance", &Plan::covariance)
+      .def_readonly("sigma", &Plan::sigma);
+  m.def(
+      "handEyePoseInformation",
+      [](const D& model, const Eigen::Matrix4d& bTe) {
+        return Eigen::MatrixXd(mech::handEyePoseInformation(model, toIsometry(bTe, "bTe")));
+      },
+      py::arg("model"), py::arg("bTe"));
+  m.def(
+      "planHandEye",
+      [](const D& model, const std::vector<Eigen::Matrix4d>& candidates, std::size_t count) {
+        std::vector<Eigen::Isometry3d> poses;
+        for (const Eigen::Matrix4d& c : candidates) poses.push_back(toIsometry(c, "candidates"));
+        return mech::planHandEye(model, poses, count);
+      },
+      py::arg("model"), py::arg("candidates"), py::arg("count"));
   m.def(
       "handEyeClosedForm",
       [](const std::vector<O>& poses, mech::HandEyeMounting mounting, const std::string& method) {

@@ -120,3 +120,22 @@ def test_visp_panda_data():
     assert np.all(np.abs(result.X[:3, 3] - visp[:3, 3]) < 2 * result.sigma[:3])
     assert np.linalg.norm(log_rotation(result.X[:3, :3] @ visp[:3, :3].T)) < 0.1 * DEG
     assert result.sigma_from_residuals
+
+
+def test_plan_chooses_poses_with_a_smaller_predicted_sigma():
+    rng = np.random.default_rng(6)
+    eTc, poses = simulated_campaign(rng, count=60)
+    model = mech.HandEyeDesignModel()
+    model.X = eTc
+    model.Z = matrix([0.55, 0.08, -0.05, 3.0, 0.2, -0.1])
+    model.robot_sigma = mech.RobotPoseSigma(0.2e-3, 0.02 * DEG)
+    model.camera_covariance = np.diag([0.1e-3] * 3 + [0.03 * DEG] * 3) ** 2
+    candidates = [matrix(p.bTe) for p in poses]
+    plan = mech.planHandEye(model, candidates, 10)
+    assert len(plan.chosen) == 10 and len(set(plan.chosen)) == 10
+    first = sum(mech.handEyePoseInformation(model, c) for c in candidates[:10])
+    first_sigma = np.sqrt(np.diag(np.linalg.inv(first)))
+    assert np.linalg.norm(plan.sigma[:3]) < np.linalg.norm(first_sigma[:3])
+    assert np.allclose(plan.covariance, plan.covariance.T)
+    with pytest.raises(ValueError, match="between 3 and 60"):
+        mech.planHandEye(model, candidates, 2)
