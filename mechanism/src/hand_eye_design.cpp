@@ -40,8 +40,8 @@ Matrix12 handEyePoseInformation(const HandEyeDesignModel& model, const Eigen::Is
   pose.cTm = toPoseVector(cTm);
   pose.cTm_covariance = model.camera_covariance;
   pose.robot_sigma = model.robot_sigma;
-  const detail::CameraCost camera{model.mounting,     bTe.linear(),  cTm.linear(), bTe.translation(),
-                                  cTm.translation(), detail::cameraWhitening(pose)};
+  const detail::CameraCost camera{model.mounting,    bTe.linear(),      cTm.linear(),
+                                  bTe.translation(), cTm.translation(), detail::cameraWhitening(pose)};
   const ceres::AutoDiffCostFunction<detail::CameraCost, 6, 6, 6, 6> cost(new detail::CameraCost(camera));
   const PoseVector x = toPoseVector(model.X), z = toPoseVector(model.Z), d = PoseVector::Zero();
   const double* parameters[] = {x.data(), z.data(), d.data()};
@@ -91,8 +91,9 @@ HandEyePlan planHandEye(const HandEyeDesignModel& model, const std::vector<Eigen
   }
   const Eigen::FullPivLU<Matrix12> lu(total);
   if (!lu.isInvertible())
-    throw std::invalid_argument("hand-eye plan: the candidates do not determine the transforms (rotations about "
-                                "one axis only?)");
+    throw std::invalid_argument(
+        "hand-eye plan: the candidates do not determine the transforms (rotations about "
+        "one axis only?)");
   plan.covariance = lu.inverse();
   plan.sigma = plan.covariance.diagonal().cwiseSqrt();
   return plan;

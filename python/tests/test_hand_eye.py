@@ -81,7 +81,7 @@ def test_simulated_campaign_recovers_etc_within_its_sigma_and_ignores_order():
     assert result.covariance.shape == (12, 12)
     assert np.allclose(result.X[:3, 3], [result.parameters[k].value for k in range(3)])
     reversed_result = mech.solveHandEye(poses[::-1], mech.HandEyeMounting.CameraOnEffector)
-    assert np.abs(reversed_result.X[:3, 3] - result.X[:3, 3]).max() < 1e-9
+    assert np.abs(reversed_result.X[:3, 3] - result.X[:3, 3]).max() < 1e-6  # 1 µm
     X, Z = mech.handEyeClosedForm(poses, mech.HandEyeMounting.CameraOnEffector, "park")
     assert np.linalg.norm(X[:3, 3] - eTc[:3, 3]) < 2e-3
     assert len(result.poses) == 15 and result.outliers == []
