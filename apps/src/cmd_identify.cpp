@@ -4,6 +4,7 @@
 // is written: bad input stops with a message naming the file/line and writes nothing.
 #include "commands.hpp"
 #include "identify_checks.hpp"
+#include "identify_hand_eye.hpp"
 #include "identify_report.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
@@ -47,6 +48,7 @@ using support::kDegreesPerRadian;
 
 struct IdentifyArguments {
   std::string poses, joints, covariances, nominal, model, variant, lines, output, report, shared;
+  std::string robot_poses, mounting, robot_sigma;  // hand-eye (identify_hand_eye.hpp)
   std::vector<std::string> fix, priors, mc;
   bool robust = false, unweighted = false, independent_poses = false;
   int mc_repeats = 100, threads = 2;
@@ -436,8 +438,14 @@ Runner addIdentifyCommand(CLI::App& app) {
       "identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
   cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, doc/file-formats.md)")->required();
   cmd->add_option("--joints", args->joints,
-                  "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)")
-      ->required();
+                  "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)");
+  CLI::Option* robot = cmd->add_option(
+      "--robot-poses", args->robot_poses,
+      "hand-eye calibration of a robot that reports its pose: robot_poses.csv (bTe per pose), instead of --joints");
+  cmd->add_option("--mounting", args->mounting, "with --robot-poses: camera-on-effector or camera-fixed")->needs(robot);
+  cmd->add_option("--robot-sigma", args->robot_sigma,
+                  "with --robot-poses: the robot pose sigma T_MM,R_DEG (per component) for rows without their own")
+      ->needs(robot);
   cmd->add_option("--pose-covariances", args->covariances,
                   "6x6 pose covariances (default: <poses>_covariance.csv beside poses.csv when it exists, "
                   "else the sigma_ columns)");
@@ -477,6 +485,15 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
   cmd->add_option("--report", args->report, "folder for report.md, its PNG charts and report.json");
   return [args, cmd] {
+    if (!args->robot_poses.empty()) {
+      for (const char* other : {"--joints", "--model", "--variant", "--nominal", "--fix", "--prior", "--lines", "--mc",
+                                "--shared-term", "--report", "--robust", "--unweighted"})
+        if (cmd->count(other) > 0)
+          throw UsageError(std::string(other) + " does not apply to --robot-poses (hand-eye calibration)");
+      return runHandEyeIdentify(
+          {args->robot_poses, args->poses, args->covariances, args->mounting, args->robot_sigma, args->output});
+    }
+    if (args->joints.empty()) throw UsageError("--joints is required (or --robot-poses for a hand-eye calibration)");
     args->command_line = commandLineOf(*cmd);
     std::string command_line = "mire identify --poses " + args->poses + " --joints " + args->joints + " --model " +
                                (args->model.empty() ? "(default)" : args->model) +

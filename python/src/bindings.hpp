@@ -48,6 +48,7 @@ void bindMeasurement(py::module_& m);
 void bindMechanisms(py::module_& m);  // calls bindIdentification
 void bindIdentification(py::module_& m);
 void bindExperiment(py::module_& m);  // plan / select (after bindMechanisms)
+void bindHandEye(py::module_& m);     // after bindMechanisms (ParameterSet, IdentifiabilityReport)
 void bindPipeline(py::module_& m);    // after bindMechanisms
 
 }  // namespace mire::python

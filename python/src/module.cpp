@@ -16,6 +16,7 @@ PYBIND11_MODULE(mire, m) {
       m.def_submodule("mechanism", "mechanisms, identification, evaluation, plan/select (mire::mechanism)");
   mp::bindMechanisms(mechanism);
   mp::bindExperiment(mechanism);
+  mp::bindHandEye(mechanism);
   auto pipeline =
       m.def_submodule("pipeline", "the end-to-end stages: the identification recipe, pose sets (mire::pipeline)");
   mp::bindPipeline(pipeline);
