@@ -48,8 +48,7 @@ pipeline::ModelChoice chooseModel(const CheckArguments& args) {
 
 std::string vectorText(const Eigen::VectorXd& values) {
   std::string text;
-  for (Eigen::Index k = 0; k < values.size(); ++k)
-    text += (k ? " " : "") + support::formatNumber(values[k], 6);
+  for (Eigen::Index k = 0; k < values.size(); ++k) text += (k ? " " : "") + support::formatNumber(values[k], 6);
   return text;
 }
 
@@ -70,12 +69,12 @@ void printCheck(const mech::Mechanism& mechanism, const pipeline::MechanismCheck
     std::cout << "): " << vectorText(check.home) << "\n  joints at home: " << vectorText(check.home_joints) << "\n";
   }
   if (check.home_condition > 0)
-    std::cout << "  condition number of dq/dX at home (unit-norm columns): " << support::formatNumber(check.home_condition, 4)
-              << "\n";
+    std::cout << "  condition number of dq/dX at home (unit-norm columns): "
+              << support::formatNumber(check.home_condition, 4) << "\n";
   if (check.protocol_poses)
     std::cout << "  protocol poses around home: " << check.protocol_reachable << " of " << check.protocol_poses
-              << " reachable (the built-in robot's protocol scaled by " << support::formatNumber(check.protocol_scale, 3)
-              << ")\n";
+              << " reachable (the built-in robot's protocol scaled by "
+              << support::formatNumber(check.protocol_scale, 3) << ")\n";
   if (check.gauge) {
     const mech::GaugeAnalysis& gauge = *check.gauge;
     std::cout << "  parameters: " << check.geometric_free << " geometric + " << check.external_free
@@ -93,8 +92,9 @@ void printCheck(const mech::Mechanism& mechanism, const pipeline::MechanismCheck
   }
   for (const std::string& warning : check.warnings) std::cout << "warning: " << warning << "\n";
   for (const std::string& error : check.errors) std::cerr << "error: " << error << "\n";
-  std::cout << (check.ok() ? "verdict: usable" : "verdict: not usable as described (" +
-                                                     std::to_string(check.errors.size()) + " error(s) above)")
+  std::cout << (check.ok()
+                    ? "verdict: usable"
+                    : "verdict: not usable as described (" + std::to_string(check.errors.size()) + " error(s) above)")
             << "\n";
 }
 
@@ -113,8 +113,7 @@ Runner addCheckMechanismCommand(CLI::App& app) {
       "check-mechanism",
       "Check a mechanism (a description file, doc/mechanisms.md, or a model name) before recording a campaign: "
       "home pose, legs' branches, singularity, protocol reach, expected identifiable rank and gauge");
-  cmd->add_option("mechanism", args->model, "A description file (robot.yaml) or " + mech::registeredModelList())
-      ->required();
+  cmd->add_option("mechanism", args->model, "A description file (robot.yaml) or " + mech::registeredModelList())->required();
   cmd->add_option("--nominal", args->nominal, "The model's nominal geometry (a parameter or identified file)");
   cmd->add_flag("--combinations", args->combinations, "List every unidentifiable direction with its coefficients");
   return [args] { return runCheck(*args); };

@@ -169,8 +169,7 @@ void checkIdentifiability(const ModelChoice& choice, const std::vector<mech::Pos
              ? check.geometric_free
              : check.external_free);
   } catch (const std::exception& error) {
-    check.errors.push_back(std::string("the identifiability analysis failed on an exact-model campaign: ") +
-                           error.what());
+    check.errors.push_back(std::string("the identifiability analysis failed on an exact-model campaign: ") + error.what());
   }
 }
 

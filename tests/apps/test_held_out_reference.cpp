@@ -53,8 +53,8 @@ struct Case {
 void expectAsGoodAsTheReference(const Case& test) {
   const int held = 20;
   const mech::ParameterSet truth = datasets::perturbedBy(test.model.nominal, test.seed, test.metre, test.radian);
-  const datasets::Campaign c = datasets::simulateCampaign(test.model, truth, test.seed, 0.2e-3,
-                                                          0.03 * datasets::kCampaignDeg, held, test.count);
+  const datasets::Campaign c =
+      datasets::simulateCampaign(test.model, truth, test.seed, 0.2e-3, 0.03 * datasets::kCampaignDeg, held, test.count);
   const std::size_t train = c.poses.size() - held;
   const std::vector<mech::PoseObservation> poses(c.poses.begin(), c.poses.begin() + static_cast<long>(train));
   pipeline::ModelChoice choice = pipeline::chooseModel(test.model.name, "");

@@ -26,10 +26,12 @@ inline mechanism::PredictionModel plainLeastSquares(const mechanism::RegisteredM
   mech::IdentificationModel& model = result.model;
   Eigen::VectorXd geometric = model.geometricValues(), external = model.externalValues();
   ceres::Problem problem;
-  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(model.mechanism->jointCount(), model.mechanism->jointCount());
+  const Eigen::MatrixXd identity =
+      Eigen::MatrixXd::Identity(model.mechanism->jointCount(), model.mechanism->jointCount());
   for (const mech::PoseObservation& pose : poses)
-    problem.AddResidualBlock(model.mechanism->makeJointResidual(model.external, pose.cTm, pose.joints, identity).release(),
-                             nullptr, geometric.data(), external.data());
+    problem.AddResidualBlock(
+        model.mechanism->makeJointResidual(model.external, pose.cTm, pose.joints, identity).release(), nullptr,
+        geometric.data(), external.data());
   const auto ridge = [](const Eigen::VectorXd& start) {
     return new ceres::NormalPrior(1e-4 * Eigen::MatrixXd::Identity(start.size(), start.size()), start);
   };

@@ -32,7 +32,7 @@ struct MechanismCheck {
   Eigen::VectorXd home_joints;                // IKM there (NaN for a leg that does not assemble)
   double home_condition = 0.0;                // of the column-scaled ∂q/∂X at home
   int protocol_poses = 0, protocol_reachable = 0;
-  double protocol_scale = 0.0;  // datasets::protocolScale(): the built-in robot's protocol times this
+  double protocol_scale = 0.0;                    // datasets::protocolScale(): the built-in robot's protocol times this
   std::optional<mechanism::GaugeAnalysis> gauge;  // from the exact-model campaign
   std::vector<std::string> errors;                // the description cannot be used as it is
   std::vector<std::string> warnings;              // it can, with the stated consequence
