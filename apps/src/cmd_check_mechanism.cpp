@@ -82,7 +82,7 @@ void printCheck(const mech::Mechanism& mechanism, const pipeline::MechanismCheck
               << " (noise-free campaign at the protocol poses)\n";
     printList("identified alone", gauge.identified);
     printList("identified in combinations only", gauge.combination_only);
-    printList("gauge (held at the nominal)", gauge.gauge);
+    printList("gauge (held at their starting values)", gauge.gauge);
     if (!gauge.no_influence.empty()) printList("of which without any influence", gauge.no_influence);
     if (show_combinations)
       for (const mech::UnidentifiableCombination& c : gauge.report.combinations) std::cout << "  " << c.text() << "\n";
