@@ -119,11 +119,12 @@ void checkRange(const std::optional<int>& value, int low, int high, const std::s
 // replaced only when it is empty or a previous campaign.
 void checkCampaignOptions(const CampaignOptions& options) {
   if (options.mechanism.empty()) throw UsageError("give --mechanism NAME or --model robot.yaml");
+  const bool described = mechanism::isDescriptionFile(options.mechanism);
   CommandPaths paths;
   paths.output_folders = {{options.output, "-o"}};
-  if (mechanism::isDescriptionFile(options.mechanism)) {
-    paths.input_files = {{options.mechanism, "--model"}};
-    checkCommandPaths(paths);
+  if (described) paths.input_files = {{options.mechanism, "--model"}};
+  checkCommandPaths(paths);
+  if (described) {
     mechanism::readMechanismDescription(options.mechanism);  // file:line: key: what is wrong
   } else {
     try {
@@ -136,7 +137,6 @@ void checkCampaignOptions(const CampaignOptions& options) {
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
              " views (calibrate needs at least 3)");
-  checkCommandPaths(paths);
   const fs::path out = options.output;
   if (fs::is_directory(out) && !fs::is_empty(out) && !fs::exists(out / kCampaignMarker))
     throw UsageError("-o '" + options.output + "': exists, holds files and is not a previous campaign (no " +
