@@ -5,7 +5,6 @@
 #include "output_paths.hpp"
 #include "validate.hpp"
 
-#include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
@@ -39,10 +38,7 @@ pipeline::ModelChoice chooseModel(const CheckArguments& args) {
   } catch (const std::invalid_argument& error) {
     throw UsageError(error.what());
   }
-  if (!args.nominal.empty())
-    pipeline::applyNominalFile(choice, args.nominal);
-  else if (mech::modelInfo(choice.model).h4_nominal)
-    pipeline::applyNominalFile(choice, datasets::specPath("h4_nominal.yaml"));
+  pipeline::applyNominal(choice, args.nominal);
   return choice;
 }
 

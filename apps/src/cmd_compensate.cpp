@@ -10,7 +10,6 @@
 #include "commands.hpp"
 #include "joint_commands.hpp"
 #include "kinematics_files.hpp"
-#include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/compensation.hpp"
 #include "mire/mechanism/controller_fit.hpp"
 #include "mire/mechanism/io.hpp"
@@ -52,10 +51,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> parseWorkspace(const std::string& te
 Eigen::VectorXd controllerGeometry(const std::string& model, const std::string& nominal) {
   pipeline::ModelChoice choice;
   choice.model = model;
-  if (!nominal.empty())
-    pipeline::applyNominalFile(choice, nominal);
-  else if (mech::modelInfo(model).h4_nominal)
-    pipeline::applyNominalFile(choice, datasets::specPath("h4_nominal.yaml"));
+  pipeline::applyNominal(choice, nominal);
   return choice.registered().nominal.values();
 }
 

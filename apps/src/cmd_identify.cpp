@@ -11,7 +11,6 @@
 #include "report_json.hpp"
 #include "validate.hpp"
 
-#include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/io.hpp"
@@ -55,8 +54,6 @@ struct IdentifyArguments {
   unsigned long long mc_seed = 1;
   std::vector<std::string> command_line;  // as parsed, for report.json
 };
-
-std::string defaultNominalPath() { return datasets::specPath("h4_nominal.yaml").string(); }
 
 // --prior name=value:sigma (SI).
 mech::GaussianPrior parsePrior(const std::string& text) {
@@ -151,10 +148,7 @@ pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
   } catch (const std::invalid_argument& error) {  // names the option at fault
     throw UsageError(error.what());
   }
-  if (!args.nominal.empty())
-    pipeline::applyNominalFile(choice, args.nominal);
-  else if (mech::modelInfo(choice.model).h4_nominal)
-    pipeline::applyNominalFile(choice, defaultNominalPath());
+  pipeline::applyNominal(choice, args.nominal);
   return choice;
 }
 

@@ -43,21 +43,21 @@ JointResidualCriteria jointResidualCriteria(const IdentificationModel& model,
   return criteria;
 }
 
-double straightness(const std::vector<Eigen::Vector3d>& points) {
+FittedLine fitLine(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < 2) throw std::invalid_argument("straightness: needs at least 2 points");
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : points) centroid += p;
-  centroid /= static_cast<double>(points.size());
+  FittedLine line;
+  for (const auto& p : points) line.centroid += p;
+  line.centroid /= static_cast<double>(points.size());
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) scatter += (p - centroid) * (p - centroid).transpose();
-  // The least-squares line runs along the principal axis (largest eigenvalue).
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
-  const Eigen::Vector3d direction = solver.eigenvectors().col(2);
+  for (const auto& p : points) scatter += (p - line.centroid) * (p - line.centroid).transpose();
+  line.direction = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+  return line;
+}
+
+double straightness(const std::vector<Eigen::Vector3d>& points) {
+  const FittedLine line = fitLine(points);
   double sum_sq = 0.0;
-  for (const auto& p : points) {
-    const Eigen::Vector3d r = p - centroid;
-    sum_sq += (r - r.dot(direction) * direction).squaredNorm();
-  }
+  for (const auto& p : points) sum_sq += (p - line.projection(p)).squaredNorm();
   return std::sqrt(sum_sq / static_cast<double>(points.size()));
 }
 

@@ -1,8 +1,6 @@
 // ISO 9283 pose accuracy and repeatability, distance accuracy, straightness (pose_accuracy.hpp).
 #include "mire/mechanism/pose_accuracy.hpp"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -170,20 +168,16 @@ DistanceAccuracy distanceOf(const PositionCycles& a, const PositionCycles& b, co
   return out;
 }
 
-// Distances of points to their least-squares line: RMS and largest.
+// Distances of points to their least-squares line (fitLine): RMS and largest.
 std::pair<double, double> lineDistances(const std::vector<Eigen::Vector3d>& points) {
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : points) centroid += p;
-  centroid /= static_cast<double>(points.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) scatter += (p - centroid) * (p - centroid).transpose();
-  const Eigen::Vector3d axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
-  double largest = 0.0;
+  const FittedLine line = fitLine(points);
+  double sum_sq = 0.0, largest = 0.0;
   for (const auto& p : points) {
-    const Eigen::Vector3d r = p - centroid;
-    largest = std::max(largest, (r - r.dot(axis) * axis).norm());
+    const double d = line.distance(p);
+    sum_sq += d * d;
+    largest = std::max(largest, d);
   }
-  return {straightness(points), largest};
+  return {std::sqrt(sum_sq / static_cast<double>(points.size())), largest};
 }
 
 }  // namespace
@@ -217,12 +211,7 @@ LineStraightness lineStraightness(const std::string& line, const std::vector<Eig
   std::tie(out.rms, out.max) = lineDistances(points);
   if (!covariances.empty()) {
     // A perfectly straight motion: the points' projections on their line, seen through the noise.
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const auto& p : points) centroid += p;
-    centroid /= static_cast<double>(points.size());
-    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-    for (const auto& p : points) scatter += (p - centroid) * (p - centroid).transpose();
-    const Eigen::Vector3d axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+    const FittedLine fitted = fitLine(points);
     std::vector<IsoPoseCovariance> six;
     for (const Eigen::Matrix3d& c : covariances) {
       IsoPoseCovariance s = IsoPoseCovariance::Zero();
@@ -234,8 +223,7 @@ LineStraightness lineStraightness(const std::string& line, const std::vector<Eig
     for (int r = 0; r < options.noise_draws; ++r) {
       const std::vector<IsoPose> e = draws.draw();
       std::vector<Eigen::Vector3d> straight;
-      for (std::size_t j = 0; j < points.size(); ++j)
-        straight.push_back(centroid + (points[j] - centroid).dot(axis) * axis + e[j].head<3>());
+      for (std::size_t j = 0; j < points.size(); ++j) straight.push_back(fitted.projection(points[j]) + e[j].head<3>());
       const auto [a, b] = lineDistances(straight);
       rms.push_back(a);
       largest.push_back(b);

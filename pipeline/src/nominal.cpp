@@ -1,4 +1,5 @@
 // A model's nominal geometry from a parameter file (identify.hpp, applyNominalFile).
+#include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/pipeline/identify.hpp"
 
@@ -69,6 +70,13 @@ void applyNominalFile(ModelChoice& choice, const std::filesystem::path& path) {
   mech::ParameterSet nominal = mech::makeRegisteredModel(choice.model, choice.h4).nominal;
   mech::applyParameterFile(file, nominal, mountingKeys());
   choice.nominal = std::move(nominal);
+}
+
+void applyNominal(ModelChoice& choice, const std::string& file) {
+  if (!file.empty())
+    applyNominalFile(choice, file);
+  else if (mech::modelInfo(choice.model).h4_nominal)
+    applyNominalFile(choice, datasets::specPath("h4_nominal.yaml"));
 }
 
 }  // namespace mire::pipeline

@@ -29,8 +29,20 @@ JointResidualCriteria jointResidualCriteria(const IdentificationModel& model,
                                             const std::vector<PoseObservation>& validation);
 
 // ---- V3 ---------------------------------------------------------------------------------
-// RMS distance of points to their least-squares 3-D line (principal axis through the
-// centroid): the straightness R of paper §6.1. Needs ≥ 2 points.
+// The least-squares 3-D line of points: through their centroid along the principal axis of their
+// scatter (largest eigenvalue). Needs ≥ 2 points.
+struct FittedLine {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit
+  Eigen::Vector3d projection(const Eigen::Vector3d& p) const {
+    return centroid + (p - centroid).dot(direction) * direction;
+  }
+  double distance(const Eigen::Vector3d& p) const { return (p - projection(p)).norm(); }
+};
+FittedLine fitLine(const std::vector<Eigen::Vector3d>& points);
+
+// RMS distance of points to their least-squares 3-D line: the straightness R of paper §6.1.
+// Needs ≥ 2 points.
 double straightness(const std::vector<Eigen::Vector3d>& points);
 
 struct StraightnessResult {

@@ -43,6 +43,9 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
 // sigma_ keys are ignored); a file of another model (`model:`), an unknown key or a missing
 // parameter throws std::runtime_error naming the file, the line and the key.
 void applyNominalFile(ModelChoice& choice, const std::filesystem::path& file);
+// applyNominalFile(`file`) when given (`--nominal`), else the model's default: the H4 models'
+// datasets/specs/h4_nominal.yaml, the others' built-in nominal.
+void applyNominal(ModelChoice& choice, const std::string& file);
 
 // Where the shared term's refits hold the parameters the main fit held (its gauge, --fix):
 // `HeldAtMainFit`, at the main fit's values, so that the refits measure the estimate's change
