@@ -71,8 +71,8 @@ void study(const Setting& setting, int campaigns) {
       std::printf("  campaign %d: %s\n", k, error.what());
     }
   }
-  std::printf("%s: %d campaigns (%d failed), %zu free parameters, %.2f s per identification\n", setting.model.c_str(),
-              campaigns, failed, names.size(), seconds / std::max(1, campaigns - failed));
+  std::printf("%s: %d campaigns (%d failed), %zu free parameters, %.1f ms per identification\n", setting.model.c_str(),
+              campaigns, failed, names.size(), 1e3 * seconds / std::max(1, campaigns - failed));
   double lo = 1e9, hi = 0.0;
   std::string lo_name, hi_name;
   int outside = 0;

@@ -101,25 +101,31 @@ struct DescribedKinematics {
     return true;
   }
 
-  // IKM at bTe = (R column-major, t): q̄_i = (s_i − offset_i)/g_i. Returns the bit mask of the
-  // legs that cannot assemble (their q̄_i set to 0).
+  // One leg's reading at bTe = (R column-major, t): q̄_i = (s_i − offset_i)/g_i; false where the
+  // leg cannot assemble. `leg`'s indices point into `g` (the geometric vector, or one leg's
+  // values alone: described_joint_cost.cpp).
+  template <class T>
+  static bool legJoint(const DescribedLeg& leg, const T* g, const T* R, const T* t, T* joint) {
+    const T* A = g + leg.base;
+    const T* p = g + leg.platform;
+    T w[3];
+    for (int k = 0; k < 3; ++k) w[k] = t[k] + R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2] - A[k];
+    T s;
+    if (!actuation(leg, g, w, &s)) return false;
+    *joint = s - g[leg.offset];
+    if (leg.gain >= 0) *joint /= g[leg.gain];
+    return true;
+  }
+
+  // IKM at bTe = (R column-major, t). Returns the bit mask of the legs that cannot assemble
+  // (their q̄_i set to 0).
   template <class T>
   int inverseKinematics(const T* g, const T* R, const T* t, T* joints) const {
     int mask = 0;
     for (std::size_t i = 0; i < legs.size(); ++i) {
-      const DescribedLeg& leg = legs[i];
-      const T* A = g + leg.base;
-      const T* p = g + leg.platform;
-      T w[3];
-      for (int k = 0; k < 3; ++k) w[k] = t[k] + R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2] - A[k];
-      T s;
-      if (!actuation(leg, g, w, &s)) {
-        mask |= 1 << i;
-        joints[i] = T(0);
-        continue;
-      }
-      joints[i] = s - g[leg.offset];
-      if (leg.gain >= 0) joints[i] /= g[leg.gain];
+      if (legJoint(legs[i], g, R, t, &joints[i])) continue;
+      mask |= 1 << i;
+      joints[i] = T(0);
     }
     return mask;
   }

@@ -1,15 +1,15 @@
 // The Mechanism of a description file (described.hpp; doc/mechanisms.md, "Described mechanisms").
-// The geometric parameter count depends on the file, so the identification residual is a
-// ceres::DynamicAutoDiffCostFunction; the FKM and ∂q/∂cTm have fixed pose sizes (3 or 6) and
-// use ceres::AutoDiffCostFunction with a dynamic residual count.
+// The geometric parameter count depends on the file: the identification residual is built leg by
+// leg (described_joint_cost.hpp); the FKM and ∂q/∂cTm have fixed pose sizes (3 or 6) and use
+// ceres::AutoDiffCostFunction with a dynamic residual count.
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/ceres.h>
-#include <ceres/dynamic_autodiff_cost_function.h>
 
 #include <limits>
 #include <stdexcept>
 #include <utility>
 
+#include "described_joint_cost.hpp"
 #include "described_kinematics.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/external.hpp"
@@ -20,39 +20,12 @@ namespace {
 
 using detail::DescribedKinematics;
 
-// Derivatives per pass of the dynamic autodiff: a 6-leg description with the full mounting has
-// 54–102 parameters; 8 keeps the passes few without slowing every Jet operation.
-constexpr int kStride = 8;
-
 std::vector<int> unreachableList(int mask, std::size_t joints) {
   std::vector<int> list;
   for (std::size_t i = 0; i < joints; ++i)
     if (mask & (1 << i)) list.push_back(static_cast<int>(i));
   return list;
 }
-
-// W·(q̄ − f(X(ξe, cTm), ξg)) of one pose (eq. 4), parameter blocks [ξg, ξe].
-struct JointResidual {
-  DescribedKinematics kinematics;
-  ExternalParameterization external;
-  ExternalParameterization::PreparedPose pose;
-  Eigen::VectorXd joints;
-  Eigen::MatrixXd whitening;
-
-  template <class T>
-  bool operator()(T const* const* parameters, T* residual) const {
-    const Eigen::Index n = joints.size();
-    T R[9], t[3];
-    external.effectorInBase(parameters[1], pose, R, t);
-    std::vector<T> q(static_cast<std::size_t>(n));
-    if (kinematics.inverseKinematics(parameters[0], R, t, q.data()) != 0) return false;
-    for (Eigen::Index r = 0; r < n; ++r) {
-      residual[r] = T(0);
-      for (Eigen::Index c = 0; c < n; ++c) residual[r] += whitening(r, c) * (T(joints[c]) - q[c]);
-    }
-    return true;
-  }
-};
 
 // f(X(ξe, cTm), ξg) as a function of cTm only, for ∂f/∂cTm.
 struct PoseJoints {
@@ -187,12 +160,8 @@ class DescribedMechanism final : public Mechanism {
     checkSize(measured_joints, n, "joint vector");
     if (whitening.rows() != n || whitening.cols() != n)
       throw std::invalid_argument(name() + ": whitening matrix must be " + std::to_string(n) + "x" + std::to_string(n));
-    auto cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<JointResidual, kStride>>(
-        new JointResidual{kinematics_, external, external.prepare(cTm), measured_joints, whitening});
-    cost->AddParameterBlock(geometric_count_);
-    cost->AddParameterBlock(external.size());
-    cost->SetNumResiduals(n);
-    return cost;
+    return std::make_unique<detail::DescribedJointCost>(kinematics_, geometric_count_, external, cTm, measured_joints,
+                                                        whitening);
   }
 
   std::unique_ptr<Mechanism> clone() const override { return std::make_unique<DescribedMechanism>(*this); }
