@@ -6,6 +6,7 @@
 
 #include "mire/mechanism/registry.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -35,15 +36,28 @@ Runner addDemoCommand(CLI::App& app) {
   demo->add_option("--seed", options->seed, "Seed of the simulated robot, images and random subsets")->capture_default_str();
   std::vector<std::string> mechanisms;
   for (const mechanism::MechanismFamily& family : mechanism::mechanismFamilies()) mechanisms.push_back(family.name);
-  demo->add_option("--mechanism", options->mechanism,
-                   "The paper's experiment on the first, or another robot of the table: " +
-                       mechanism::mechanismFamilyList() + " (doc/demo-mechanisms.md)")
-      ->check(CLI::IsMember(mechanisms))
+  const CLI::Validator family_or_description(
+      [mechanisms](std::string& value) -> std::string {
+        if (mechanism::isDescriptionFile(value) ||
+            std::find(mechanisms.begin(), mechanisms.end(), value) != mechanisms.end())
+          return {};
+        return "unknown mechanism '" + value + "' (known: " + mechanism::mechanismFamilyList() +
+               ", or a description file robot.yaml)";
+      },
+      "MECHANISM|FILE.yaml");
+  demo->add_option(
+          "--mechanism", options->mechanism,
+          "The paper's experiment on the first, or another robot of the table: " + mechanism::mechanismFamilyList() +
+              ", or your own robot's description file (doc/demo-mechanisms.md, doc/mechanisms.md)")
+      ->check(family_or_description)
       ->capture_default_str();
   return [options, demo] {
     options->command_line = commandLineOf(*demo);
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
-    checkCommandPaths({{}, {}, {}, {{options->output, "-o"}}});
+    // A description file is read before the simulation starts too.
+    CommandPaths paths{{}, {}, {}, {{options->output, "-o"}}};
+    if (mechanism::isDescriptionFile(options->mechanism)) paths.input_files = {{options->mechanism, "--mechanism"}};
+    checkCommandPaths(paths);
     if (options->mechanism != mechanism::mechanismFamilies().front().name)
       return printMechanismDemo(runMechanismDemo(*options), options->output);
     const DemoResults results = runDemo(*options);

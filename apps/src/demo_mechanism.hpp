@@ -28,8 +28,10 @@ struct MechanismModelScore {
   std::vector<DemoParameterScore> identified;                     // every free parameter; truth NaN without one
   Eigen::MatrixXd covariance;                                     // of `identified` (that order), SI
   double error_over_sigma_rms = 0.0, error_over_sigma_max = 0.0;  // over `identified` (has_truth)
-  // V3 (paper eq. 29) from lines.csv, and the positioning test: a 100 mm square commanded
-  // through the model's IKM, reached by the true robot, 3-D side-length errors.
+  // V3 (paper eq. 29) from lines.csv, and the positioning test: a square (100 mm, smaller on a
+  // robot whose protocol is: datasets::protocolScale) commanded through the model's IKM, reached
+  // by the true robot, 3-D side-length errors.
+  double square_side_mm = 100.0;
   double v3_before_m = 0.0, v3_after_m = 0.0;
   std::array<double, 4> square_before_mm{}, square_after_mm{};
   double square_rms_before_mm = 0.0, square_rms_after_mm = 0.0;

@@ -4,7 +4,9 @@
 // `mire identify --model NAME` makes; the truth scores only at the end.
 #include "demo_mechanism.hpp"
 
+#include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
+#include "mire/mechanism/described.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
@@ -12,6 +14,7 @@
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
 #include "mire/pipeline/scored_stages.hpp"
+#include "mire/support/atomic_file.hpp"
 #include "mire/support/progress.hpp"
 #include "mire/support/side_files.hpp"
 
@@ -50,11 +53,16 @@ void scoreParameters(const mech::IdentificationResult& result, const std::option
   score.error_over_sigma_rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, result.free_names.size())));
 }
 
-// The positioning test in mm (datasets::positioningTestSides: a 100 mm square).
+// The positioning test in mm (datasets::positioningTestSides): a 100 mm square, scaled down with
+// the protocol on a smaller robot.
+double squareSide(const mech::Mechanism& model, const Eigen::VectorXd& geometric) {
+  return 0.1 * std::min(1.0, datasets::protocolScale(model, geometric, model.referencePose(geometric)));
+}
+
 std::array<double, 4> squareSides(const datasets::DefectiveRobot& robot, const mech::Mechanism& model,
-                                  const Eigen::VectorXd& geometric) {
-  std::array<double, 4> sides_mm = datasets::positioningTestSides(robot, model, geometric);
-  for (double& side : sides_mm) side *= 1e3;
+                                  const Eigen::VectorXd& geometric, double side) {
+  std::array<double, 4> sides_mm = datasets::positioningTestSides(robot, model, geometric, side);
+  for (double& error : sides_mm) error *= 1e3;
   return sides_mm;
 }
 
@@ -91,16 +99,20 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
   const pipeline::InitialModel& initial = identification.initial;
   const mech::IdentificationResult& result = identification.result;
   const auto& orientation_covariance = identification.mean_orientation_covariance;
+  const bool described = mech::isDescriptionFile(name);
   MechanismModelScore score;
-  score.model = name;
+  score.model = described ? fs::path(name).stem().string() : name;
   score.seconds = watch.seconds();
-  score.file = "identified_" + name + ".yaml";
+  score.file = "identified_" + score.model + ".yaml";
+  // A described robot's identified file travels with its description (as `mire identify` writes it).
+  const fs::path description_file = support::mechanismSidePath(output / score.file);
+  if (described) support::writeFileAtomically(description_file, mech::readMechanismDescription(name).yamlString());
   mech::writePredictionCovarianceCsv(support::covarianceSidePath(output / score.file),
                                      mech::predictionModelFrom(name, result, orientation_covariance));
-  mech::writeParameterFile(
-      output / score.file, result.model.parameters, result.sigma,
-      {{"model", name}, {"created_by", "mire demo --mechanism " + campaign.robot.geometry_model.name}},
-      "Identified by mire demo (" + name + ") from poses.csv and the campaign's joints.csv");
+  mech::writeParameterFile(output / score.file, result.model.parameters, result.sigma,
+                           {{"model", described ? description_file.filename().string() : name},
+                            {"created_by", "mire demo --mechanism " + campaign.robot.geometry_model.name}},
+                           "Identified by mire demo (" + score.model + ") from poses.csv and the campaign's joints.csv");
 
   const mech::Mechanism& model = *initial.model.mechanism;
   score.joint_unit = model.jointUnits().front() == mech::Unit::Radian ? "rad" : "m";
@@ -111,15 +123,17 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
   score.rms_joint_after = result.rms_joint_residual;
   score.chi2_per_dof = result.chi2 / std::max(1, result.dof);
   score.sigma_method = result.covariance_method;
-  score.has_truth = name == campaign.robot.geometry_model.name;
+  score.has_truth = described || name == campaign.robot.geometry_model.name;
   scoreParameters(
       result, score.has_truth ? std::optional(pipeline::truthInGauge(campaign, initial, poses)) : std::nullopt, score);
   const Eigen::VectorXd nominal = initial.model.geometricValues(), identified = result.model.geometricValues();
   const auto lines = data.lineJoints();
   score.v3_before_m = straightnessOf(model, nominal, lines);
   score.v3_after_m = straightnessOf(model, identified, lines);
-  score.square_before_mm = squareSides(campaign.robot, model, nominal);
-  score.square_after_mm = squareSides(campaign.robot, model, identified);
+  const double side = squareSide(model, nominal);
+  score.square_side_mm = 1e3 * side;
+  score.square_before_mm = squareSides(campaign.robot, model, nominal, side);
+  score.square_after_mm = squareSides(campaign.robot, model, identified, side);
   score.square_rms_before_mm = rms(score.square_before_mm);
   score.square_rms_after_mm = rms(score.square_after_mm);
   return score;
@@ -172,7 +186,7 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   files.lines = campaign->lines_file();
   const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign->robot.mechanism().jointColumnNames());
   results.true_v3_m = trueStraightness(campaign->robot, data.lineJoints());
-  for (const auto& name : mechanism::mechanismFamily(options.mechanism).models)
+  for (const auto& name : mechanism::mechanismFamilyOf(options.mechanism).models)
     stage("identify " + name + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
   results.files = writeMechanismDemoReport(options, results);

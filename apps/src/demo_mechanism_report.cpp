@@ -22,7 +22,7 @@ using demo_report::fixed;
 using demo_report::format;
 using demo_report::percent;
 
-const mechanism::MechanismFamily& family(const std::string& name) { return mechanism::mechanismFamily(name); }
+mechanism::MechanismFamily family(const std::string& name) { return mechanism::mechanismFamilyOf(name); }
 
 // The encoder noise the campaign adds follows the joints' unit (mechanism_image_campaign.hpp).
 bool revoluteJoints(const std::string& name) {
@@ -86,8 +86,9 @@ void writeCriteriaSection(const MechanismDemoResults& r, std::ostream& md) {
   md << "\n## 4. V3 and the positioning test, before and after identification\n\n"
      << "V3 (paper eq. 29): straightness of two recorded straight-line motions rebuilt with the model's FKM (the "
         "true robot's own: "
-     << fixed(1e3 * r.true_v3_m, 4)
-     << " mm). Positioning test: a 100 mm square at the workspace centre commanded through the model's IKM and "
+     << fixed(1e3 * r.true_v3_m, 4) << " mm). Positioning test: a "
+     << fixed(r.models.empty() ? 100.0 : r.models.front().square_side_mm, 0)
+     << " mm square at the workspace centre commanded through the model's IKM and "
         "reached by the true robot, RMS of the 3-D side-length errors. Paper (H4): V3 −68 %.\n\n"
      << "| model | V3 nominal (mm) | V3 identified (mm) | change | square RMS nominal (mm) | square RMS identified "
         "(mm) | change |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
@@ -138,8 +139,9 @@ void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& 
     sides.push_back(identified);
   }
   writePng(out / "positioning_test.png",
-           barChart(family(r.mechanism).plain_title + ": |side error| of a 100 mm square", "|error| (mm)",
-                    {"side 1", "side 2", "side 3", "side 4"}, sides, 960, 540, YScale::log10));
+           barChart(family(r.mechanism).plain_title + ": |side error| of a " +
+                        fixed(r.models.empty() ? 100.0 : r.models.front().square_side_mm, 0) + " mm square",
+                    "|error| (mm)", {"side 1", "side 2", "side 3", "side 4"}, sides, 960, 540, YScale::log10));
   if (!with_parameters) return;
   for (const auto& s : r.models) {
     if (!s.has_truth) continue;

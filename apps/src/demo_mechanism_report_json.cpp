@@ -23,6 +23,7 @@ Json modelJson(const MechanismModelScore& s) {
   setNumber(out, "error_over_sigma_max", s.has_truth ? s.error_over_sigma_max : NAN, no_truth);
   setNumber(out, "v3_nominal_m", s.v3_before_m, none);
   setNumber(out, "v3_identified_m", s.v3_after_m, none);
+  setNumber(out, "square_side_mm", s.square_side_mm, none);
   out["square_side_error_nominal_mm"] =
       numberArray(std::vector<double>(s.square_before_mm.begin(), s.square_before_mm.end()));
   out["square_side_error_identified_mm"] =

@@ -72,13 +72,14 @@ void DescribedJointCost::effectorDerivatives(const double* external, double* Rt,
   std::vector<ExternalJet> values(static_cast<std::size_t>(size));
   for (int first = 0; first < size; first += kExternalStride) {
     for (int k = 0; k < size; ++k)
-      values[k] = k >= first && k < first + kExternalStride ? ExternalJet(external[k], k - first)
-                                                            : ExternalJet(external[k]);
+      values[k] =
+          k >= first && k < first + kExternalStride ? ExternalJet(external[k], k - first) : ExternalJet(external[k]);
     ExternalJet entries[kPoseEntries];
     external_.effectorInBase(values.data(), pose_, entries, entries + 9);
     for (int m = 0; m < kPoseEntries; ++m) {
       Rt[m] = entries[m].a;
-      for (int k = first; k < size && k < first + kExternalStride; ++k) d_external[m * size + k] = entries[m].v[k - first];
+      for (int k = first; k < size && k < first + kExternalStride; ++k)
+        d_external[m * size + k] = entries[m].v[k - first];
     }
   }
 }

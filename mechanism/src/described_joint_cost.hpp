@@ -30,8 +30,8 @@ class DescribedJointCost final : public ceres::CostFunction {
 
  private:
   // ∂q_i/∂(bTe's R, t) and ∂q_i/∂(leg i's values) at (R, t); false where leg i cannot assemble.
-  bool legDerivatives(const LocalLeg& leg, const double* g, const double* R, const double* t, double* q,
-                      double* d_pose, double* d_local) const;
+  bool legDerivatives(const LocalLeg& leg, const double* g, const double* R, const double* t, double* q, double* d_pose,
+                      double* d_local) const;
   // bTe's 12 entries (R column-major, t) and their derivatives, row-major 12 × E.
   void effectorDerivatives(const double* external, double* Rt, double* d_external) const;
 

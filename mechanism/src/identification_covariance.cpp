@@ -209,6 +209,20 @@ struct FitTerm {
   int dof = 0;
 };
 
+// M_j with its eigenvalues clipped at 1: the shared part of a pose's error cannot exceed the
+// whole, so that H − B = Σ_j A_jᵀ(I − M_j)A_j stays positive semi-definite. It exceeds it in
+// measure's files where the detector's shared-bias modes are larger than the pose's own
+// covariance in one direction (that covariance is the features' scatter × the fit's reduced χ²,
+// which holds the bias on the trace, not direction by direction: doc/uncertainty.md): on a
+// described 6-RUS campaign (81 poses, 66 free parameters) M_j's largest eigenvalue was 1.0–11.4,
+// and H⁻¹ − H⁻¹BH⁻¹ had a negative variance (σ NaN).
+Eigen::MatrixXd atMostIdentity(const Eigen::MatrixXd& M) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (M + M.transpose()));
+  if (eigen.eigenvalues().maxCoeff() <= 1.0) return M;
+  const Eigen::VectorXd clipped = eigen.eigenvalues().cwiseMin(1.0);
+  return eigen.eigenvectors() * clipped.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
 FitTerm independentFitTerm(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
                            const SharedPoseTerm& shared) {
   const IdentificationModel& model = result.model;
@@ -226,7 +240,7 @@ FitTerm independentFitTerm(const IdentificationResult& result, const std::vector
     const Eigen::MatrixXd A_j = W * J_rad.middleRows(static_cast<Eigen::Index>(j) * J, J);
     const Eigen::MatrixXd Jp = model.mechanism->jointJacobianWrtPose(model.external, g, e, poses[j].cTm);
     const Eigen::MatrixXd WJD = W * (Jp * shared.sensitivity.at(poses[j].id));
-    const Eigen::MatrixXd M = WJD * shared.covariance * WJD.transpose();
+    const Eigen::MatrixXd M = atMostIdentity(WJD * shared.covariance * WJD.transpose());
     B += A_j.transpose() * M * A_j;
     trace_m += M.trace();
     fit.chi2 += (W * result.poses.at(j).residual).squaredNorm();

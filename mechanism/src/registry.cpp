@@ -219,6 +219,24 @@ const MechanismFamily& mechanismFamily(const std::string& name) {
   throw std::invalid_argument("unknown mechanism '" + name + "' (known: " + mechanismFamilyList() + ")");
 }
 
+MechanismFamily mechanismFamilyOf(const std::string& name_or_file) {
+  if (!isDescriptionFile(name_or_file)) return mechanismFamily(name_or_file);
+  const MechanismDescription description = readMechanismDescription(name_or_file);
+  MechanismFamily family;
+  family.name = name_or_file;
+  family.title = "described robot '" + description.name + "' (" + std::to_string(description.legs.size()) + " legs)";
+  family.plain_title = std::filesystem::path(name_or_file).stem().string();
+  family.models = {name_or_file};
+  family.truth_model = name_or_file;
+  family.defects = SimulatedDefects::BentReadings;
+  family.simulated_robot =
+      "the described robot (`" + name_or_file +
+      "`) drawn 0.5 mm / 0.3 deg around its description on every leg parameter, with defects no description "
+      "represents: bent encoder readings and, on a translating platform, a plate tilting with travel "
+      "(doc/simulation.md)";
+  return family;
+}
+
 const MechanismFamily& familyWithDefects(SimulatedDefects defects) {
   const auto& families = mechanismFamilies();
   const auto it = std::find_if(families.begin(), families.end(),

@@ -79,3 +79,25 @@ TEST(DemoMechanisms, HexapodFromImages) {
   EXPECT_LT(gains.square_rms_after_mm, 0.5 * hexapod.square_rms_after_mm);
   for (const auto& file : r.files) EXPECT_TRUE(std::filesystem::exists(dir.path() / file)) << file;
 }
+
+// A robot of your own: the description file is the demo's only model and its truth (bent encoder
+// readings outside the model). Quick run measured: every σ finite, error/σ RMS 0.81 (max 2.03),
+// square RMS 0.066 → 0.0084 mm on a 15 mm square (the protocol's size), V3 −36 %.
+TEST(DemoMechanisms, DescribedLinearDeltaFromImages) {
+  mire::test::TempDir dir;
+  const std::string file = (mire::test::sourceDir() / "examples" / "mechanisms" / "linear-delta.yaml").string();
+  const auto r = runQuick(file, dir.path());
+  expectImagesMeasured(r, 27);
+  ASSERT_EQ(r.models.size(), 1u);
+  const auto& robot = model(r, "linear-delta");
+  ASSERT_TRUE(robot.has_truth);
+  EXPECT_EQ(robot.identified.size(), static_cast<std::size_t>(robot.free_parameters));
+  for (const auto& p : robot.identified) EXPECT_TRUE(std::isfinite(p.si_sigma) && p.si_sigma > 0) << p.name;
+  EXPECT_LT(robot.error_over_sigma_rms, 2.0);
+  EXPECT_LT(robot.square_side_mm, 100.0);  // scaled with the protocol of a small printer
+  EXPECT_LT(robot.square_rms_after_mm, 0.32 * robot.square_rms_before_mm);
+  EXPECT_LT(robot.v3_after_m, robot.v3_before_m);
+  EXPECT_EQ(robot.file, "identified_linear-delta.yaml");
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "identified_linear-delta_mechanism.yaml"));
+  for (const auto& f : r.files) EXPECT_TRUE(std::filesystem::exists(dir.path() / f)) << f;
+}

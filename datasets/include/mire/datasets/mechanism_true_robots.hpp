@@ -94,7 +94,9 @@ struct DefectiveRobot {
         Eigen::VectorXd a = X, b = X;
         a[k] += 1e-7;
         b[k] -= 1e-7;
-        J.col(k) = (joints(a) - joints(b)) / 2e-7;
+        const Eigen::VectorXd qa = joints(a), qb = joints(b);
+        if (qa.size() == 0 || qb.size() == 0) throw std::runtime_error("true robot: FKM left the workspace");
+        J.col(k) = (qa - qb) / 2e-7;
       }
       X -= J.colPivHouseholderQr().solve(r);
     }

@@ -44,6 +44,7 @@ enum class SimulatedDefects {
   H4Parallelograms,      // per-leg H4 geometry, tilted arm axes, bar mismatch (datasets/h4_true_robot.hpp)
   PlateTilt,             // legs that differ, a plate tilting with travel
   GainsAndEccentricity,  // per-leg encoder gains, joint eccentricities
+  BentReadings,          // a described robot: bent encoder readings, a plate tilt on translating platforms
 };
 
 // A robot mire simulates (`demo --mechanism`, `simulate campaign --mechanism`) and its models.
@@ -78,6 +79,10 @@ const std::vector<MechanismFamily>& mechanismFamilies();  // the paper's robot f
 std::string mechanismFamilyList();
 // Throws std::invalid_argument "unknown mechanism 'x' (known: ...)".
 const MechanismFamily& mechanismFamily(const std::string& name);
+// A built-in family by name, or the family of one described robot (a description file): its
+// description is its only model and its truth, with BentReadings defects. Throws as
+// mechanismFamily, or naming the description file's line and key.
+MechanismFamily mechanismFamilyOf(const std::string& name_or_file);
 const MechanismFamily& familyWithDefects(SimulatedDefects defects);
 
 // Throws as modelInfo(). The H4 models take their
