@@ -72,6 +72,24 @@ def float_image():
     return np.full((360, 480), 128.0)
 
 
+def negative_length(folder):
+    """The nominal H4 with L = -0.29 m, read as `mire fkm --params` reads it."""
+    text = open(os.path.join(os.environ["MIRE_SOURCE_DIR"], "datasets/specs/h4_nominal.yaml")).read()
+    (folder / "id.yaml").write_text(text.replace("L: 0.30 ", "L: -0.29 "))
+    return mech.applyParameterFile(mech.readParameterFile(folder / "id.yaml"),
+                                   mech.h4Model12Parameters(mech.H4Nominal()))
+
+
+def robust_fit_on_joints_of_no_robot():
+    """Robust identification on the H4's poses with joints moved by up to ±0.05 rad at random."""
+    ids, cTm, joints, covariance = Robot().observe(Robot.protocol(), np.random.default_rng(5))
+    joints = joints + np.random.default_rng(7).uniform(-0.05, 0.05, joints.shape)
+    poses = mech.observationsFromArrays(ids, cTm, joints, covariance)
+    options = mech.IdentificationOptions()
+    options.loss = mech.RobustLoss.Huber
+    return mech.identify(mech.makeH4VariantModel("D", mech.H4Nominal(), poses), poses, options)
+
+
 # name -> (call(folder), exception, message fragments). The readers that blocked on a FIFO or
 # /dev/zero (class 3 of doc/robustness.md), then the counts, then the calls that returned
 # instead of raising (class 6).
@@ -114,24 +132,6 @@ CASES.update({
     "DesignCovarianceIndexOutside": (lambda folder: mech.designCovariance(design_information(), [0, 200]),
                                      ValueError, ["design index 200"]),
 })
-
-
-def negative_length(folder):
-    """The nominal H4 with L = -0.29 m, read as `mire fkm --params` reads it."""
-    text = open(os.path.join(os.environ["MIRE_SOURCE_DIR"], "datasets/specs/h4_nominal.yaml")).read()
-    (folder / "id.yaml").write_text(text.replace("L: 0.30 ", "L: -0.29 "))
-    return mech.applyParameterFile(mech.readParameterFile(folder / "id.yaml"),
-                                   mech.h4Model12Parameters(mech.H4Nominal()))
-
-
-def robust_fit_on_joints_of_no_robot():
-    """Robust identification on the H4's poses with joints moved by up to ±0.05 rad at random."""
-    ids, cTm, joints, covariance = Robot().observe(Robot.protocol(), np.random.default_rng(5))
-    joints = joints + np.random.default_rng(7).uniform(-0.05, 0.05, joints.shape)
-    poses = mech.observationsFromArrays(ids, cTm, joints, covariance)
-    options = mech.IdentificationOptions()
-    options.loss = mech.RobustLoss.Huber
-    return mech.identify(mech.makeH4VariantModel("D", mech.H4Nominal(), poses), poses, options)
 
 
 def snapshot(folder):

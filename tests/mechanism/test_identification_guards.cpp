@@ -53,9 +53,11 @@ TEST(IdentificationGuards, RobustFitWithEveryPoseMisweightedIsResidualScaled) {
   EXPECT_GT(result.sigma.maxCoeff(), 0.0);
 }
 
-// Joints moved by up to ±0.05 rad at random belong to no pose: the robust fit used to end on the
-// few poses that happen to agree (R off by half a metre with a σ of 0.3 m, chi2/dof 1e6, exit 0).
-// It must refuse; the same fit on the true joints (one gross error, as above) must not.
+// Joints moved by up to ±0.1 rad at random belong to no pose: the robust fit ends on the few poses
+// that happen to agree, with a larger joint residual RMS than the nominal (here 58 of 81 poses
+// worse, 0.060 -> 0.077 rad). It must refuse; the same fit on the true joints (one gross error, as
+// above) must not. (At ±0.05 rad this robot's fit lowers the RMS and is accepted, with a
+// residual-scaled σ of R of 0.1 m that says what the answer is worth: doc/robustness.md, rule 7.)
 TEST(IdentificationGuards, RobustFitOnJointsOfNoRobotIsRefused) {
   const test::TestRobot robot;
   std::mt19937 rng(6);
@@ -65,7 +67,7 @@ TEST(IdentificationGuards, RobustFitOnJointsOfNoRobotIsRefused) {
   auto valid = poses;
   valid[40].joints[2] += 0.02;
   EXPECT_NO_THROW(identify(initialModel(robot, valid), valid, options));
-  std::uniform_real_distribution<double> offset(-0.05, 0.05);
+  std::uniform_real_distribution<double> offset(-0.1, 0.1);
   for (auto& p : poses)
     for (Eigen::Index k = 0; k < p.joints.size(); ++k) p.joints[k] += offset(rng);
   try {
