@@ -415,7 +415,11 @@ int runIdentify(const IdentifyArguments& args, const std::string& command_line) 
   run.choice = chooseModel(args);
   run.inputs = readIdentifyInputs(args, files, run.choice);
   const auto& poses = run.inputs.observations.poses;
-  run.identification = pipeline::identify(run.choice, poses, run.inputs.shared, run.inputs.options);
+  try {
+    run.identification = pipeline::identify(run.choice, poses, run.inputs.shared, run.inputs.options);
+  } catch (const mech::PosesRejectedError& error) {  // the library does not know the files' names
+    throw std::runtime_error(args.poses + " with " + args.joints + ": " + error.what());
+  }
   if (!run.identification.result.converged)
     std::cerr << "mire identify: warning: the solver did not report convergence\n";
   run.before = residualsOf(run.identification.initial.model, poses);

@@ -21,10 +21,10 @@ std::string indexed(const std::string& base, int i) { return base + std::to_stri
 
 ParameterSet deltaParameters(const DeltaNominal& n) {
   ParameterSet set;
-  set.add({"R", n.R, Unit::Metre, false, "radius of the arm pivots' circle"});
-  set.add({"r", n.r, Unit::Metre, true, "radius of the plate joints' circle (only R - r enters)"});
-  set.add({"L", n.L, Unit::Metre, false, "arm length"});
-  set.add({"l", n.l, Unit::Metre, false, "forearm (parallelogram) length"});
+  set.add(positiveLength("R", n.R, "radius of the arm pivots' circle"));
+  set.add(positiveLength("r", n.r, "radius of the plate joints' circle (only R - r enters)", true));
+  set.add(positiveLength("L", n.L, "arm length"));
+  set.add(positiveLength("l", n.l, "forearm (parallelogram) length"));
   for (int i = 0; i < 3; ++i)
     set.add({indexed("alpha", i), n.alpha[static_cast<std::size_t>(i)], Unit::Radian, i == 0,
              "direction of arm pivot " + std::to_string(i + 1) + " about z_B" + (i == 0 ? " (defines x_B)" : "")});
@@ -46,8 +46,8 @@ ParameterSet deltaLegsFromDelta(const ParameterSet& d) {
     // In (−π, π], where every parameter-file reader takes it (a leg at α = 240° has ψ = 60°).
     set.add({indexed("psi", i), std::remainder(a + kPi, 2.0 * kPi), Unit::Radian, false, "arm axis azimuth" + leg});
     set.add({indexed("beta", i), 0.5 * kPi, Unit::Radian, false, "arm axis tilt" + leg});
-    set.add({indexed("L", i), d.value("L"), Unit::Metre, false, "arm length" + leg});
-    set.add({indexed("l", i), d.value("l"), Unit::Metre, false, "forearm length" + leg});
+    set.add(positiveLength(indexed("L", i), d.value("L"), "arm length" + leg));
+    set.add(positiveLength(indexed("l", i), d.value("l"), "forearm length" + leg));
     set.add({indexed("q0", i), d.value(indexed("q0", i)), Unit::Radian, false, "joint offset" + leg});
   }
   return set;

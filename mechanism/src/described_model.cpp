@@ -33,7 +33,7 @@ void addLeg(ParameterSet& set, const LegDescription& d, int i, bool gains) {
     set.add({"ub" + n, 0.0, Unit::Radian, false, "axis tilt towards e_b" + of});
   }
   if (d.actuator == LegActuator::Revolute) addVector(set, "arm", n, d.arm, "arm at s = 0" + of);
-  if (d.actuator != LegActuator::Extensible) set.add({"l" + n, d.rod, Unit::Metre, false, "rod length" + of});
+  if (d.actuator != LegActuator::Extensible) set.add(positiveLength("l" + n, d.rod, "rod length" + of));
   addVector(set, "p", n, d.platform, "platform joint p" + n + " in E");
   if (d.actuator == LegActuator::Extensible)
     set.add({"rho0" + n, d.offset, Unit::Metre, false, "leg " + n + " length at reading 0"});

@@ -50,11 +50,11 @@ std::string h4ModelName(H4ModelKind kind) {
 
 ParameterSet h4Model12Parameters(const H4Nominal& n) {
   ParameterSet set;
-  set.add({"R", n.R, Unit::Metre, false, "nacelle attachment to arm pivot distance (H configuration)"});
-  set.add({"L", n.L, Unit::Metre, false, "arm length"});
-  set.add({"l", n.l, Unit::Metre, false, "forearm length"});
-  set.add({"h", n.h, Unit::Metre, false, "half nacelle width along x_B"});
-  set.add({"d", n.d, Unit::Metre, true, "half nacelle length along y_B (no influence in model 12)"});
+  set.add(positiveLength("R", n.R, "nacelle attachment to arm pivot distance (H configuration)"));
+  set.add(positiveLength("L", n.L, "arm length"));
+  set.add(positiveLength("l", n.l, "forearm length"));
+  set.add(positiveLength("h", n.h, "half nacelle width along x_B"));
+  set.add(positiveLength("d", n.d, "half nacelle length along y_B (no influence in model 12)", true));
   for (int i = 0; i < 4; ++i)
     set.add({indexed("alpha", i), n.alpha[static_cast<std::size_t>(i)], Unit::Radian, false,
              "direction of arm pivot " + std::to_string(i + 1) + " about z_B"});
@@ -87,12 +87,12 @@ ParameterSet model31FromModel12(const ParameterSet& m12, Eigen::Vector3d* origin
   for (int i = 0; i < 4; ++i)
     set.add({indexed("beta", i), kPi / 2.0, Unit::Radian, false,
              "pivot axis " + std::to_string(i + 1) + ", second Euler angle (eq. 17)"});
-  for (int i = 0; i < 4; ++i) set.add({indexed("L", i), L, Unit::Metre, false, "arm length"});
-  for (int i = 0; i < 4; ++i) set.add({indexed("l", i), l, Unit::Metre, false, "forearm length"});
+  for (int i = 0; i < 4; ++i) set.add(positiveLength(indexed("L", i), L, "arm length"));
+  for (int i = 0; i < 4; ++i) set.add(positiveLength(indexed("l", i), l, "forearm length"));
   for (int i = 0; i < 4; ++i)
     set.add({indexed("q0", i), m12.value(indexed("q0", i)), Unit::Radian, false, "joint offset"});
-  set.add({"h", h, Unit::Metre, false, "half nacelle width"});
-  set.add({"d", d, Unit::Metre, false, "half nacelle length"});
+  set.add(positiveLength("h", h, "half nacelle width"));
+  set.add(positiveLength("d", d, "half nacelle length"));
   return set;
 }
 
@@ -127,10 +127,9 @@ ParameterSet model31CameraFromModel31(const ParameterSet& m31, const Eigen::Isom
         {indexed("beta", i), beta[static_cast<std::size_t>(i)], Unit::Radian, false, "pivot axis, second Euler angle"});
   for (int i = 0; i < 4; ++i)
     set.add({indexed("q0", i), wrap(q0[static_cast<std::size_t>(i)]), Unit::Radian, false, "joint offset"});
-  for (int i = 0; i < 4; ++i)
-    set.add({indexed("l", i), m31.value(indexed("l", i)), Unit::Metre, false, "forearm length"});
-  for (int i = 0; i < 4; ++i) set.add({indexed("L", i), m31.value(indexed("L", i)), Unit::Metre, false, "arm length"});
-  set.add({"h", m31.value("h"), Unit::Metre, false, "half nacelle width"});
+  for (int i = 0; i < 4; ++i) set.add(positiveLength(indexed("l", i), m31.value(indexed("l", i)), "forearm length"));
+  for (int i = 0; i < 4; ++i) set.add(positiveLength(indexed("L", i), m31.value(indexed("L", i)), "arm length"));
+  set.add(positiveLength("h", m31.value("h"), "half nacelle width"));
   return set;
 }
 

@@ -14,6 +14,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "mire/support/yaml.hpp"
+
 #include "large_problem.hpp"
 #include "pose_chunk_cost.hpp"
 
@@ -729,6 +731,46 @@ bool postprocessDirect(IdentificationResult& result, const std::vector<PoseObser
   return deficient;
 }
 
+// A least-squares fit ends with smaller joint residuals than it started from; a robust loss may
+// end with larger ones, by down-weighting poses. When, after the fit, more than half the poses
+// have a larger joint residual than at the initial values and the RMS over all poses is larger,
+// the loss has traded the majority for the few poses that happen to agree: the answer describes
+// no robot (joints of another robot or campaign, corrupted poses), however small its σ. Compared
+// in radians (the "before/after" RMS `mire identify` prints): the fit's whitening moves with the
+// parameters, and the weights of an absurd geometry are as absurd as the geometry.
+double radiansSquared(const IdentificationResult& result, const Eigen::VectorXd& whitened, std::size_t pose) {
+  const int J = result.model.mechanism->jointCount();
+  const Eigen::VectorXd r = whitened.segment(static_cast<Eigen::Index>(pose) * J, J);
+  return result.whitening[pose].triangularView<Eigen::Lower>().solve(r).squaredNorm();
+}
+
+void checkRobustFitKeptMostPoses(const IdentificationModel& initial, const IdentificationResult& result,
+                                 const std::vector<PoseObservation>& poses, const IdentificationOptions& options) {
+  if (options.loss == RobustLoss::None || poses.empty()) return;
+  Eigen::VectorXd before, after;
+  std::vector<std::string> unreachable_before;
+  evaluateRange(initial, poses, result.whitening, 0, poses.size(), &before, nullptr, &unreachable_before);
+  if (!unreachable_before.empty()) return;  // the start is not comparable pose by pose
+  evaluateAll(result.model, poses, result.whitening, &after, nullptr);
+  std::size_t worse = 0;
+  double sum_before = 0.0, sum_after = 0.0;
+  for (std::size_t j = 0; j < poses.size(); ++j) {
+    const double b = radiansSquared(result, before, j), a = radiansSquared(result, after, j);
+    worse += a > b ? 1 : 0;
+    sum_before += b;
+    sum_after += a;
+  }
+  if (2 * worse <= poses.size() || sum_after <= sum_before) return;
+  const double rows = static_cast<double>(before.size());
+  throw PosesRejectedError(
+      "the robust fit gave up most poses: " + std::to_string(worse) + " of " + std::to_string(poses.size()) +
+      " fit worse than with the initial parameters (more than half is refused) and the joint residual RMS rose from " +
+      support::formatMessageNumber(std::sqrt(sum_before / rows)) + " to " +
+      support::formatMessageNumber(std::sqrt(sum_after / rows)) +
+      " rad: the poses and joints do not describe one robot of this model (joints of another robot or campaign, "
+      "poses of another target or corrupted?)");
+}
+
 }  // namespace
 
 // Preprocess (checks, free set, weights) / minimise (Ceres) / postprocess (outliers,
@@ -745,6 +787,7 @@ IdentificationResult identify(const IdentificationModel& initial, const std::vec
       blockExpansions(result.model.parameters, initial.geometricCount(), initial.external.size());
 
   result.whitening = solveWeighted(result, poses, expansions, options);
+  checkRobustFitKeptMostPoses(initial, result, poses, options);
 
   const PriorRows prior = priorRows(result.model.parameters, options.priors);
   const auto rows = static_cast<Eigen::Index>(poses.size()) * initial.mechanism->jointCount();

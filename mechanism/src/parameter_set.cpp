@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace mire::mechanism {
 
@@ -41,6 +42,10 @@ double toDisplay(Unit unit, double value_in_si) {
       return value_in_si;
   }
   return value_in_si;
+}
+
+Parameter positiveLength(std::string name, double value, std::string description, bool fixed) {
+  return Parameter{std::move(name), value, Unit::Metre, fixed, std::move(description), true};
 }
 
 namespace {

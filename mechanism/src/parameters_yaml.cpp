@@ -62,6 +62,14 @@ void checkAngle(const ParameterFile& file, const ParameterFileEntry& entry, cons
                            support::formatMessageNumber(value * kTwoPi / 360.0) + ")");
 }
 
+// A rod, arm, leg or radius of zero or negative length is a typo or a sign slip, not a robot
+// (Parameter::positive); kinematics would still run on it and write confident predictions.
+void checkPositive(const ParameterFile& file, const ParameterFileEntry& entry, const Parameter& parameter, double value) {
+  if (!parameter.positive || value > 0.0) return;
+  throw std::runtime_error(file.where(entry) + ": " + entry.key + " = " + support::formatMessageNumber(value) + " " +
+                           unitName(parameter.unit) + ": a length must be positive (" + parameter.description + ")");
+}
+
 void checkNoneMissing(const ParameterFile& file, const ParameterSet& parameters,
                       const std::vector<std::string>& set_names, const std::vector<std::string>& may_default) {
   std::vector<std::string> missing;
@@ -145,6 +153,7 @@ std::vector<std::string> applyParameterFile(const ParameterFile& file, Parameter
         continue;
       }
       checkAngle(file, entry, parameters.at(name), value);
+      checkPositive(file, entry, parameters.at(name), value);
       parameters.setValue(name, value);
       set_names.push_back(name);
       continue;

@@ -13,6 +13,7 @@
 #include "mire/support/constants.hpp"
 #include "mire/support/csv.hpp"
 #include "mire/support/side_files.hpp"
+#include "mire/support/yaml.hpp"
 
 namespace mire::mechanism {
 
@@ -318,6 +319,42 @@ void readPredictionCovarianceCsv(const std::filesystem::path& path, PredictionMo
                                m.covariance_names[static_cast<std::size_t>(k)] + "'");
 }
 
+namespace {
+
+// An identified file of an aligned form holds x_BC.. and x_ME.. while its side file holds the full
+// mounting (tx_CB..rz_EM) that predictions use. The aligned values map to the full ones through the
+// axis alignment, which neither file holds, but two things do not depend on it: the camera centre
+// in the base frame (x_BC, y_BC, z_BC = bTc's translation, external.cpp) and the effector's distance
+// from the target origin (|(x_ME, y_ME, z_ME)| = |t_EM|). An edited or foreign value there must not
+// be silently replaced by the side file's.
+constexpr double kMountingTolerance = 1e-9;  // m, absolute and relative: the files hold 17 digits
+
+// `what` of the parameter file (at `key`'s line) against the side file's `side_value`.
+void checkAgrees(const ParameterFile& file, const std::filesystem::path& side, const std::string& key,
+                 const std::string& what, double yaml_value, double side_value) {
+  if (std::abs(yaml_value - side_value) <= kMountingTolerance * std::max(1.0, std::abs(side_value))) return;
+  throw std::runtime_error(file.where(*file.find(key)) + ": " + what + " = " +
+                           support::formatMessageNumber(yaml_value) + " m, but the mounting of " + side.string() +
+                           " (tx_CB..rz_EM) gives " + support::formatMessageNumber(side_value) +
+                           " m: the files do not belong together (or one was edited)");
+}
+
+void checkAlignedMountingAgrees(const ParameterFile& file, const std::filesystem::path& side, const PredictionModel& m) {
+  const auto value = [&file](const std::string& key) { return file.number(*file.find(key)); };
+  const Eigen::Vector3d centre = fullForm().baseFromCamera(m.mounting.values()).translation();
+  const char* const centre_keys[3] = {"x_BC", "y_BC", "z_BC"};
+  for (int k = 0; k < 3; ++k)
+    if (file.find(centre_keys[k]))
+      checkAgrees(file, side, centre_keys[k], centre_keys[k], value(centre_keys[k]), centre[k]);
+  if (!file.find("x_ME") || !file.find("y_ME")) return;
+  const double z = file.find("z_ME") ? value("z_ME") : 0.0;
+  checkAgrees(file, side, "x_ME", "|(x_ME, y_ME, z_ME)| (the effector origin's distance from the target origin)",
+              Eigen::Vector3d(value("x_ME"), value("y_ME"), z).norm(),
+              fullForm().targetFromEffector(m.mounting.values()).translation().norm());
+}
+
+}  // namespace
+
 LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
                                           const std::optional<std::filesystem::path>& covariance_csv) {
   const ParameterFile file = readParameterFile(yaml);
@@ -366,6 +403,7 @@ LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
       mounting_in_side = mounting_in_side && found;
     }
     out.has_mounting = out.has_mounting || mounting_in_side;
+    if (mounting_in_side && !mounting_in_yaml) checkAlignedMountingAgrees(file, side, m);
     out.has_covariance = true;
   }
   return out;

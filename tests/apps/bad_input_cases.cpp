@@ -10,6 +10,8 @@
 
 #include <unistd.h>
 
+#include <cmath>
+
 namespace mire::app::badinput {
 
 std::string posesBlock(const std::string& list);
@@ -959,6 +961,110 @@ void newerCommandCases(std::vector<Case>& c) {
       {"--models", "empty"});
 }
 
+// ---- class 4, absurd input accepted: a robust fit on joints of no robot, a negative length, an
+// edited mounting beside its side file, a tag family read on another family's tags ----
+
+// `mire <arguments>` run while a case prepares its inputs (before the snapshot); "" when it succeeded.
+std::string prepareWithMire(const std::string& arguments) {
+  int code = -1;
+  const std::string output = test::captureCommand(test::mireBinary().string() + " " + arguments + " </dev/null", &code);
+  return code == 0 ? "" : "\n# PREPARATION FAILED: mire " + arguments + "\n" + output;
+}
+
+// The campaign's joints.csv with every reading moved by a pseudo-random offset in ±amplitude
+// (reproducible: a hash of the row and column), i.e. joints that belong to none of the poses.
+std::string scrambledJoints(Env e, double amplitude) {
+  std::stringstream in(slurp(e.f.campaign / "joints.csv"));
+  std::string line, out;
+  std::getline(in, line);
+  out = line + "\n";
+  for (int row = 0; std::getline(in, line); ++row) {
+    std::stringstream cells(line);
+    std::string cell;
+    std::getline(cells, cell, ',');
+    out += cell;
+    for (int column = 0; std::getline(cells, cell, ','); ++column) {
+      const double hash = std::sin(12.9898 * (4 * row + column + 1)) * 43758.5453;
+      out += "," + std::to_string(std::stod(cell) + amplitude * (2.0 * (hash - std::floor(hash)) - 1.0));
+    }
+    out += "\n";
+  }
+  return e.write("joints.csv", out);
+}
+
+// An identified H4 file (id.yaml + id_covariance.csv, from the campaign) with one line edited.
+std::string identifiedWithEdit(Env e, const std::string& key, const std::string& value) {
+  const std::string failed =
+      prepareWithMire("identify --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " -o " + e.p("id.yaml"));
+  std::stringstream in(slurp(e.dir / "id.yaml"));
+  std::string line, out;
+  while (std::getline(in, line)) out += (line.rfind(key + ":", 0) == 0 ? key + ": " + value : line) + "\n";
+  return e.write("id.yaml", out + failed);
+}
+
+// tag36h11 images (2 poses, or 4 calibration views) rendered in the case folder; `kind` is
+// "poses" or "calibration".
+void renderTag36h11(Env e, const std::string& kind) {
+  e.write("camera.yaml", slurp(e.f.root / "specs/camera.yaml"));
+  e.write("target.yaml",
+          "%YAML:1.0\n---\ntype: apriltag\ncols: 3\nrows: 2\nfamily: tag36h11\n"
+          "tag_size_m: 0.05\ntag_spacing_m: 0.065\nfirst_id: 0\n");
+  const std::string block = kind == "poses"
+                                ? "poses:\n  images_per_pose: 1\n  list:\n"
+                                  "    - { id: \"p1\", t: [ -0.08, -0.05, 0.4 ], r: [ 0.0, 0.0, 0.0 ] }\n"
+                                  "    - { id: \"p2\", t: [ -0.07, -0.04, 0.45 ], r: [ 0.2, 0.1, 0.0 ] }\n"
+                                : "calibration:\n  views: 4\n  distance_m: [ 0.35, 0.45 ]\n  max_tilt_deg: 25\n";
+  const std::string spec = e.write("spec.yaml",
+                                   "%YAML:1.0\n---\ncamera: \"camera.yaml\"\ntarget: \"target.yaml\"\n"
+                                   "seed: 4\nrender:\n  supersampling: 2\nnoise:\n  gaussian_sigma: 2.0\n" +
+                                       block);
+  const std::string failed = prepareWithMire("simulate " + kind + " --spec " + spec + " -o " + e.p("sim"));
+  e.write("tag16h5.yaml",
+          "%YAML:1.0\n---\ntype: apriltag\ncols: 3\nrows: 2\nfamily: tag16h5\n"
+          "tag_size_m: 0.05\ntag_spacing_m: 0.065\nfirst_id: 0\n" +
+              failed);
+}
+
+void class4Cases(std::vector<Case>& c) {
+  add(c, "IdentifyRobustJointsOfNoRobot",
+      [](Env e) { return identify(e, e.poses_csv(), scrambledJoints(e, 0.05), "--robust"); }, 1,
+      {"poses.csv with {dir}/joints.csv", "the robust fit gave up most poses", "more than half",
+       "do not describe one robot"});
+  add(c, "NominalNegativeLength",
+      [](Env e) {
+        return identifyDefault(e, "--nominal " + e.edit(test::sourceDir() / "datasets/specs/h4_nominal.yaml",
+                                                        "nominal.yaml", "L: 0.30 ", "L: -0.29 "));
+      },
+      1, {"nominal.yaml:5: L = -0.29 m: a length must be positive"});
+  add(c, "FkmParamsNegativeLength",
+      [](Env e) {
+        return fkm(e, e.edit(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "id.yaml", "L: 0.30 ", "L: -0.29 "),
+                   e.joints_csv());
+      },
+      1, {"id.yaml:5: L = -0.29 m: a length must be positive"});
+  add(c, "IkmParamsZeroForearm",
+      [](Env e) {
+        return ikm(e, e.edit(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "id.yaml", "l: 0.70 ", "l: 0 "),
+                   effectorPoses(e));
+      },
+      1, {"id.yaml:6: l = 0 m: a length must be positive"});
+  add(c, "FkmCameraMountingEditedBesideSideFile",
+      [](Env e) { return fkm(e, identifiedWithEdit(e, "z_BC", "-1e9"), e.joints_csv(), "--frame camera"); }, 1,
+      {"id.yaml:", "z_BC = -1e+09 m", "id_covariance.csv", "do not belong together"});
+  add(c, "MeasureTag16h5OnTag36h11Images",
+      [](Env e) {
+        renderTag36h11(e, "poses");
+        return measure(e, e.p("sim/camera.yaml"), e.p("tag16h5.yaml"), e.p("sim/poses"));
+      },
+      1, {"decoded exactly", "another tag family", "no pose could be measured"});
+  add(c, "CalibrateTag16h5OnTag36h11Images",
+      [](Env e) {
+        renderTag36h11(e, "calibration");
+        return calibrate(e, e.p("tag16h5.yaml"), e.p("sim/images"));
+      },
+      1, {"decoded exactly", "another tag family"});
+}
+
 std::vector<Case> makeCases() {
   std::vector<Case> cases;
   inputCases(cases);
@@ -970,6 +1076,7 @@ std::vector<Case> makeCases() {
   specCases(cases);
   simulateCampaignCases(cases);
   newerCommandCases(cases);
+  class4Cases(cases);
   return cases;
 }
 

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -140,10 +141,18 @@ struct IdentificationResult {
   std::string solver_report;  // Ceres brief report
 };
 
+// A robust fit that gave up most poses (identify()): the poses and joints do not describe one
+// robot of the model. Its own type so that a command can name the files it read them from.
+struct PosesRejectedError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // Runs the identification from the model's current values. Throws std::invalid_argument
 // on bad input (unknown names in options, non-finite values, joint count mismatch,
 // fewer residuals than unknowns) and std::runtime_error naming the unreachable pose ids
-// when the IKM fails at the initial values.
+// when the IKM fails at the initial values. Under a robust loss, throws PosesRejectedError
+// when more than half the poses fit worse than at the initial values and the whole χ² rose
+// (doc/robustness.md).
 IdentificationResult identify(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                               const IdentificationOptions& options = {});
 

@@ -24,7 +24,14 @@ struct Parameter {
   Unit unit = Unit::Metre;
   bool fixed = false;  // held at `value` during identification
   std::string description;
+  // A physical length that only makes sense > 0 (a rod, arm, forearm, leg, radius or half
+  // width): parameter files refuse a value <= 0 (doc/file-formats.md). Offsets, positions
+  // and angles may take any sign.
+  bool positive = false;
 };
+
+// A length parameter that must be > 0 (Parameter::positive).
+Parameter positiveLength(std::string name, double value, std::string description, bool fixed = false);
 
 // An ordered list of uniquely named parameters. Every accessor taking a name throws
 // std::invalid_argument naming the unknown parameter (and listing the known ones);
