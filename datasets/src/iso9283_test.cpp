@@ -77,7 +77,7 @@ Iso9283Spec iso9283SpecFor(const H4ProtocolGrid& grid) {
 
 Iso9283Test simulateIso9283Test(const mech::Mechanism& controller, const Eigen::VectorXd& controller_geometric,
                                 const TrueRobotReach& reach, const Eigen::Isometry3d& bTc, const Eigen::Isometry3d& mTe,
-                                const Iso9283Spec& spec) {
+                                const Iso9283Spec& spec, const CameraReading& camera) {
   if (spec.cycles < 2) throw std::invalid_argument("ISO 9283 test: at least 2 cycles");
   const std::vector<Eigen::VectorXd> positions = iso9283Positions(spec.centre, spec.side);
   std::vector<Eigen::VectorXd> commands;
@@ -104,7 +104,8 @@ Iso9283Test simulateIso9283Test(const mech::Mechanism& controller, const Eigen::
       if (!bTe) throw std::runtime_error("ISO 9283 test: the robot does not reach position " + position);
       mech::PoseObservation seen;
       seen.id = "c" + std::to_string(cycle) + "_" + position;
-      seen.cTm = mech::toPoseVector(bTc.inverse() * *bTe * mTe.inverse());
+      const Eigen::Isometry3d cTm = bTc.inverse() * *bTe * mTe.inverse();
+      seen.cTm = camera ? camera(cTm) : mech::toPoseVector(cTm);
       for (int c = 0; c < 3; ++c) seen.cTm[c] += spec.noise_t * normal(rng);
       for (int c = 3; c < 6; ++c) seen.cTm[c] += spec.noise_r * normal(rng);
       seen.covariance = covariance;

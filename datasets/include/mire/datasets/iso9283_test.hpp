@@ -37,6 +37,9 @@ struct Iso9283Spec {
 
 // Where the true robot goes for joint commands q (its effector bTe); nullopt when it cannot.
 using TrueRobotReach = std::function<std::optional<Eigen::Isometry3d>(const Eigen::VectorXd& joints)>;
+// What the camera reports for a true target pose before its noise: the true pose for an ideal
+// camera; through a calibrated camera, its systematic error (the one the identification shares).
+using CameraReading = std::function<mechanism::PoseVector(const Eigen::Isometry3d& true_cTm)>;
 
 struct Iso9283Test {
   std::vector<std::string> ids, positions;           // per stop: "c<cycle>_P<k>", "P<k>"
@@ -67,11 +70,11 @@ Iso9283Spec iso9283SpecFor(const H4ProtocolGrid& grid);
 
 // Runs the test: each cycle visits P1..P5 in order, commanded through `controller`'s IKM at
 // `controller_geometric`; `reach` (the true robot) moves; the camera at bTc sees the target at
-// mTe. Throws std::runtime_error naming the position when the controller or the robot cannot
-// reach it.
+// mTe and reports `camera` (default: the true pose) plus the spec's noise. Throws
+// std::runtime_error naming the position when the controller or the robot cannot reach it.
 Iso9283Test simulateIso9283Test(const mechanism::Mechanism& controller, const Eigen::VectorXd& controller_geometric,
                                 const TrueRobotReach& reach, const Eigen::Isometry3d& bTc, const Eigen::Isometry3d& mTe,
-                                const Iso9283Spec& spec);
+                                const Iso9283Spec& spec, const CameraReading& camera = {});
 
 // Writes <dir>/commanded.csv, <dir>/poses.csv (σ columns from the spec's noise) and
 // <dir>/joints.csv (the controller's commands), each atomically.
