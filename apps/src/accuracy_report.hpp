@@ -10,6 +10,10 @@
 
 namespace mire::app {
 
+// {"pose_components", "cycles_used", "unmeasured", "positions", "distances", "lines"}: the figures
+// as accuracy.json holds them (the demos' closed-loop section reuses them).
+Json accuracyFiguresJson(const pipeline::AccuracyResult& result);
+
 void writeAccuracyJson(const std::filesystem::path& path, const ReportProvenance& provenance,
                        const std::string& model_name, const pipeline::AccuracyResult& result);
 

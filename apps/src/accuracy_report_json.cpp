@@ -65,11 +65,8 @@ Json lineJson(const mech::LineStraightness& l) {
 
 }  // namespace
 
-void writeAccuracyJson(const std::filesystem::path& path, const ReportProvenance& provenance,
-                       const std::string& model_name, const pipeline::AccuracyResult& result) {
-  Json doc = reportHeader("accuracy", provenance);
-  doc["model"] = model_name;
-  doc["standard"] = "ISO 9283:1998";
+Json accuracyFiguresJson(const pipeline::AccuracyResult& result) {
+  Json doc;
   doc["pose_components"] = {"x_m", "y_m", "z_m", "a_rad", "b_rad", "c_rad"};
   doc["cycles_used"] = result.cycles_used;
   doc["unmeasured"] = result.unmeasured;
@@ -80,6 +77,15 @@ void writeAccuracyJson(const std::filesystem::path& path, const ReportProvenance
   doc["positions"] = positions;
   doc["distances"] = distances;
   doc["lines"] = lines;
+  return doc;
+}
+
+void writeAccuracyJson(const std::filesystem::path& path, const ReportProvenance& provenance,
+                       const std::string& model_name, const pipeline::AccuracyResult& result) {
+  Json doc = reportHeader("accuracy", provenance);
+  doc["model"] = model_name;
+  doc["standard"] = "ISO 9283:1998";
+  doc.update(accuracyFiguresJson(result));
   writeReportJson(path, doc);
 }
 

@@ -7,11 +7,13 @@
 #include "validate.hpp"
 
 #include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "mire/pipeline/identify.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
@@ -60,9 +62,10 @@ bool writtenByACampaign(const fs::path& relative, bool folder) {
   const std::string& top = parts.front();
   if (top == "measurement") return true;  // left by an interrupted run; the generator removes it
   if (parts.size() == 1)
-    return folder ? (top == "calibration" || top == "poses" || top == "truth")
+    return folder ? (top == "calibration" || top == "poses" || top == "truth" || top == "iso9283")
                   : (top == "joints.csv" || top == "lines.csv" || top == "target.yaml");
-  if (top == "truth") return parts.size() == 2 && !folder && (extension == ".yaml" || extension == ".csv");
+  if (top == "truth" || top == "iso9283")
+    return parts.size() == 2 && !folder && (extension == ".yaml" || extension == ".csv");
   if (top == "calibration")
     return parts[1] == "images" && (parts.size() == 2 ? folder : parts.size() == 3 && extension == ".png");
   if (top == "poses") return parts.size() == 2 ? folder : parts.size() == 3 && !folder && extension == ".png";
@@ -166,16 +169,44 @@ void writeTruthParameters(const fs::path& directory, const std::string& model, c
                                 {{"model", model}, {"created_by", "mire simulate campaign"}}, what);
 }
 
+// The controller of the campaign's ISO 9283 test: the model at the nominal `mire identify` starts
+// from (the H4's datasets/specs/h4_nominal.yaml, the others' built-in one; doc/mechanisms.md).
+mechanism::RegisteredModel nominalController(const std::string& model) {
+  pipeline::ModelChoice choice;
+  choice.model = model;
+  pipeline::applyNominal(choice, "");
+  return choice.registered();
+}
+
+// The ISO 9283 test of the campaign's robot driven by its nominal controller (doc/accuracy.md, "The
+// ISO 9283 test"): <dir>/iso9283/ and, for scoring, truth/iso9283.yaml (the frame of its commands).
+void writeIsoTest(const fs::path& directory, const mechanism::RegisteredModel& controller,
+                  const datasets::TrueRobotReach& reach, const Eigen::Isometry3d& bTc, const Eigen::Isometry3d& mTe,
+                  datasets::Iso9283Spec spec, const CampaignOptions& options, const mechanism::ParameterSet& truth,
+                  const std::string& model_key) {
+  spec.seed = options.seed;
+  const datasets::Iso9283Test test =
+      datasets::simulateIso9283Test(*controller.mechanism, controller.nominal.values(), reach, bTc, mTe, spec);
+  datasets::writeIso9283Test(directory / "iso9283", test, *controller.mechanism, spec);
+  datasets::writeIso9283Truth(directory / "truth" / "iso9283.yaml", truth, model_key, bTc, mTe);
+}
+
 WrittenCampaign generateH4(const CampaignOptions& options, const fs::path& directory,
                            const datasets::ProgressCallback& progress) {
   datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
   applyOptions(options, spec);
   const datasets::H4Campaign campaign = datasets::generateH4Campaign(spec, directory, progress);
   // The model-12 part of the true robot (the demo scores model 12 against it, demo_pipeline.cpp).
-  writeTruthParameters(directory, mechanism::mechanismFamily(options.mechanism).truth_model,
-                       mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, spec.seed)),
+  const std::string model = mechanism::mechanismFamily(options.mechanism).truth_model;
+  const mechanism::ParameterSet truth =
+      mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, spec.seed));
+  writeTruthParameters(directory, model, truth,
                        "True geometry of the simulated H4 in model 12's parameters (SI); its unmodelled defects "
                        "are in robot.yaml");
+  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(datasets::H4ProtocolGrid{});
+  iso.joint_repeatability = spec.encoder_noise_rad;
+  writeIsoTest(directory, nominalController(model), datasets::reachOf(campaign.robot), campaign.robot.baseTCamera(),
+               campaign.robot.markerTEffector(), iso, options, truth, model);
   return {spec.calibration_views,
           spec.images_per_pose,
           campaign.poses.size(),
@@ -190,7 +221,16 @@ WrittenCampaign generateMechanism(const CampaignOptions& options, const fs::path
   const datasets::MechanismImageCampaign campaign = datasets::generateMechanismImageCampaign(spec, directory, progress);
   const std::string what = "True geometry of the simulated " + campaign.robot.geometry_model.name +
                            " (SI); its unmodelled defects are in robot.yaml";
-  if (mechanism::isDescriptionFile(options.mechanism)) {
+  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(campaign.robot);
+  iso.joint_repeatability = campaign.robot.mechanism().jointUnits().front() == mechanism::Unit::Radian
+                                ? spec.encoder_noise_rad
+                                : spec.encoder_noise_m;
+  const bool described = mechanism::isDescriptionFile(options.mechanism);
+  writeIsoTest(
+      directory, described ? campaign.robot.geometry_model : nominalController(campaign.robot.geometry_model.name),
+      datasets::reachOf(campaign.robot), campaign.bTc, campaign.mTe, iso, options, campaign.robot.geometry,
+      described ? support::mechanismSidePath("robot_geometry.yaml").string() : campaign.robot.geometry_model.name);
+  if (described) {
     // As an identified file of a described robot: the description beside it (identify's shape).
     const fs::path truth = directory / "truth" / "robot_geometry.yaml";
     support::writeFileAtomically(support::mechanismSidePath(truth),
@@ -245,6 +285,8 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << "  " << in("poses") << ": " << written.poses << " poses x " << written.images_per_pose << " images\n"
             << "  " << in("joints.csv") << " (" << written.joint_columns.front() << ".." << written.joint_columns.back()
             << "), " << in("lines.csv") << " (" << written.lines << " straight lines), " << in("target.yaml") << "\n"
+            << "  " << in("iso9283") << ": an ISO 9283 test (5 positions x 30 cycles, nominal controller): "
+            << "commanded.csv, poses.csv (measured), joints.csv (commands)\n"
             << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << next.truth_file << ")\n"
             << "next, as on a real robot (results in the current folder):\n"
             << "  mire calibrate --target " << in("target.yaml") << " --images " << in("calibration/images")
@@ -255,7 +297,10 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << " --model " << next.model << " -o identified.yaml\n"
             << "then compare identified.yaml with " << in(next.truth_file) << ": " << next.comparable
             << "; doc/simulation.md, \"Whole campaigns\"\n"
-            << "other models: " << next.others << "\n";
+            << "other models: " << next.others << "\n"
+            << "the ISO 9283 figures (in the true base frame the commands are given in):\n"
+            << "  mire accuracy --params " << in("truth/iso9283.yaml") << " --commanded " << in("iso9283/commanded.csv")
+            << " --poses " << in("iso9283/poses.csv") << " -o accuracy.json\n";
 }
 
 int runCampaign(const CampaignOptions& options) {

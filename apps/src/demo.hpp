@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "mire/metrology/detector_bias.hpp"
 #include "mire/metrology/target.hpp"
 
+#include "mire/pipeline/closed_loop.hpp"
 #include "mire/pipeline/scored_stages.hpp"
 
 namespace mire::app {
@@ -88,6 +90,8 @@ struct DemoResults {
   std::string sigma_method;                    // which σ identify printed (and why)
   double chi2_per_dof = 0.0;
   std::size_t outlier_count = 0;
+  // The ISO 9283 test of the true robot before / after compensation with variant D (closed_loop.hpp).
+  std::optional<pipeline::ClosedLoopTest> closed_loop;
   std::vector<std::string> files;  // written, relative to the output folder
 };
 

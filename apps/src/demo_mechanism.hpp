@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,9 @@ struct MechanismDemoResults {
   pipeline::MeasurementScore measurement;
   double true_v3_m = 0.0;  // the true robot's own straightness along the recorded lines
   std::vector<MechanismModelScore> models;
+  // The ISO 9283 test of the true robot before / after compensation with the truth's model
+  // (closed_loop.hpp).
+  std::optional<pipeline::ClosedLoopTest> closed_loop;
   std::vector<std::string> files;  // written, relative to the output folder
 };
 

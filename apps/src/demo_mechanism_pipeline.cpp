@@ -4,6 +4,7 @@
 // `mire identify --model NAME` makes; the truth scores only at the end.
 #include "demo_mechanism.hpp"
 
+#include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/described.hpp"
@@ -11,6 +12,7 @@
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/translating_target.hpp"
+#include "mire/pipeline/closed_loop.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
 #include "mire/pipeline/scored_stages.hpp"
@@ -189,6 +191,24 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   for (const auto& name : mechanism::mechanismFamilyOf(options.mechanism).models)
     stage("identify " + name + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
+  stage("close the loop (" + results.truth_model + " commands, ISO 9283 before / after)", [&] {
+    // The file a user hands to `mire compensate`, and the geometry the uncompensated controller runs.
+    // The model of the true robot's kind (a described robot: its description).
+    const auto truth = std::find_if(results.models.begin(), results.models.end(),
+                                    [](const MechanismModelScore& m) { return m.has_truth; });
+    if (truth == results.models.end()) throw std::logic_error("demo: no identified model of the true robot's kind");
+    const mech::LoadedPredictionModel identified = mech::loadPredictionModel(output / truth->file);
+    datasets::Iso9283Spec spec = datasets::iso9283SpecFor(campaign->robot);
+    spec.seed = options.seed;
+    const datasets::MechanismImageCampaignSpec campaign_spec = campaignSpec(options);
+    spec.joint_repeatability = campaign->robot.mechanism().jointUnits().front() == mech::Unit::Radian
+                                   ? campaign_spec.encoder_noise_rad
+                                   : campaign_spec.encoder_noise_m;
+    results.closed_loop =
+        pipeline::closedLoopTest(identified.model, campaign->robot.geometry_model.nominal.values(),
+                                 datasets::reachOf(campaign->robot), campaign->bTc, campaign->mTe, spec,
+                                 pipeline::calibratedCameraReading(campaign->camera, camera, target));
+  });
   results.files = writeMechanismDemoReport(options, results);
   return results;
 }

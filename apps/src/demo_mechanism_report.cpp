@@ -172,6 +172,9 @@ std::vector<std::string> writeMechanismDemoReport(const DemoOptions& options, co
   }
   if (with_parameters) md << "\n![parameter errors](parameter_errors.png)\n";
   writeCriteriaSection(r, md);
+  if (r.closed_loop)
+    demo_report::writeClosedLoopSection(*r.closed_loop, "## 5. Closing the loop: ISO 9283 before and after compensation",
+                                        "the nominal " + r.truth_model + " geometry", md);
   md << "\nFiles: `camera.yaml`, `poses.csv` (+ `poses_covariance.csv`, `poses_shared.csv`)";
   for (const auto& s : r.models) md << ", `" << s.file << "`";
   md << "; the simulated campaign under `campaign/` (its truth under `campaign/truth/`).\n";

@@ -46,6 +46,7 @@ void writeMechanismDemoReportJson(const std::filesystem::path& path, const Repor
   Json models = Json::array();
   for (const auto& s : r.models) models.push_back(modelJson(s));
   doc["models"] = models;
+  if (r.closed_loop) doc["closed_loop"] = demo_report::closedLoopJson(*r.closed_loop);
   doc["files"] = r.files;
   writeReportJson(path, doc);
 }

@@ -4,10 +4,13 @@
 #include "demo.hpp"
 
 #include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/iso9283_test.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/variants.hpp"
+#include "mire/pipeline/closed_loop.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
 #include "mire/support/progress.hpp"
@@ -173,9 +176,16 @@ void poseCountStudy(const DemoOptions& options, const IdentificationData& data,
   }
 }
 
+// What the closing stage needs of the identification: variant D's prediction model and the
+// nominal geometry it started from (the uncompensated controller's).
+struct IdentifiedController {
+  mechanism::PredictionModel model;
+  Eigen::VectorXd nominal;
+};
+
 // Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
-void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campaign, const fs::path& output,
-                   DemoResults& results) {
+IdentifiedController identifyStage(const DemoOptions& options, const datasets::H4Campaign& campaign,
+                                   const fs::path& output, DemoResults& results) {
   const fs::path poses_csv = output / "poses.csv";
   const IdentificationData data = identificationData(options, campaign, poses_csv);
   const auto& poses = data.poses;
@@ -214,6 +224,21 @@ void identifyStage(const DemoOptions& options, const datasets::H4Campaign& campa
   const auto& model = *identified_d.model.mechanism;
   results.square_before_mm = squareSides(campaign.robot, model, initial.geometricValues());
   results.square_after_mm = squareSides(campaign.robot, model, identified_d.model.geometricValues());
+
+  return {mechanism::predictionModelFrom(variant_d.model, identified_d), initial.geometricValues()};
+}
+
+// Stage 5, closing the loop: the ISO 9283 test with the nominal, then the identified model's
+// commands, measured through the calibrated camera.
+pipeline::ClosedLoopTest closedLoopStage(const DemoOptions& options, const datasets::H4Campaign& campaign,
+                                         const calibration::Camera& camera, const metrology::Target& target,
+                                         const IdentifiedController& identified) {
+  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(datasets::H4ProtocolGrid{});
+  iso.seed = options.seed;
+  iso.joint_repeatability = datasets::H4CampaignSpec::reference().encoder_noise_rad;
+  return pipeline::closedLoopTest(identified.model, identified.nominal, datasets::reachOf(campaign.robot),
+                                  campaign.robot.baseTCamera(), campaign.robot.markerTEffector(), iso,
+                                  pipeline::calibratedCameraReading(campaign.camera, camera, target));
 }
 
 }  // namespace
@@ -250,8 +275,11 @@ DemoResults runDemo(const DemoOptions& options) {
         campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
         output / "poses.csv", results.measurement);
   });
+  std::optional<IdentifiedController> identified;
   stage("identify (variants A-H, pose-count study, plan and select, V1-V3, square test)",
-        [&] { identifyStage(options, *campaign, output, results); });
+        [&] { identified = identifyStage(options, *campaign, output, results); });
+  stage("close the loop (variant D commands, ISO 9283 before / after)",
+        [&] { results.closed_loop = closedLoopStage(options, *campaign, camera, target, *identified); });
   results.files = writeDemoReport(options, results);
   return results;
 }

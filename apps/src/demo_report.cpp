@@ -203,6 +203,9 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
   writeExperimentDesignSection(r, md);
   writeIdentifiedSection(r, md);
   writeSquareSection(r, md);
+  if (r.closed_loop)
+    demo_report::writeClosedLoopSection(*r.closed_loop, "### Closing the loop: ISO 9283 before and after compensation",
+                                        "model 12 with the nominal parameters", md);
   writeDemoFigures(options.output, r, charts);
   support::writeFileAtomically(options.output / "report.md", md.str());
   std::vector<std::string> files{

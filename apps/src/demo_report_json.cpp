@@ -78,6 +78,7 @@ void writeDemoReportJson(const std::filesystem::path& path, const ReportProvenan
   doc["square_test"] = {
       {"side_error_nominal_mm", numberArray(std::vector<double>(r.square_before_mm.begin(), r.square_before_mm.end()))},
       {"side_error_identified_mm", numberArray(std::vector<double>(r.square_after_mm.begin(), r.square_after_mm.end()))}};
+  if (r.closed_loop) doc["closed_loop"] = demo_report::closedLoopJson(*r.closed_loop);
   doc["files"] = r.files;
   writeReportJson(path, doc);
 }

@@ -3,6 +3,7 @@
 // number formatting for Markdown, the run-time table, the calibration and pose-measurement
 // sections and their report.json objects.
 #include "demo.hpp"
+#include "mire/pipeline/closed_loop.hpp"
 #include "report_json.hpp"
 
 #include <ostream>
@@ -28,5 +29,12 @@ Json measurementJson(const pipeline::MeasurementScore& m);
 // out["covariance"] of identified parameters.
 void setParameterScores(Json& out, const std::vector<DemoParameterScore>& scores, const Eigen::MatrixXd& covariance,
                         const std::string& truth_key, const std::string& no_truth_reason);
+
+// "Closing the loop": the ISO 9283 test before and after compensation, per position (AP_p and its σ,
+// RP_l and the camera's noise-only RP_l), under `heading`; `controller` names the nominal controller.
+void writeClosedLoopSection(const pipeline::ClosedLoopTest& test, const std::string& heading,
+                            const std::string& controller, std::ostream& md);
+// {"positions", "cycles", "cube_side_m", "before": figures, "after": figures} (accuracy.json's figures).
+Json closedLoopJson(const pipeline::ClosedLoopTest& test);
 
 }  // namespace mire::app::demo_report

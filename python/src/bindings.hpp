@@ -50,5 +50,8 @@ void bindIdentification(py::module_& m);
 void bindExperiment(py::module_& m);  // plan / select (after bindMechanisms)
 void bindHandEye(py::module_& m);     // after bindMechanisms (ParameterSet, IdentifiabilityReport)
 void bindPipeline(py::module_& m);    // after bindMechanisms
+// PredictionModel, ControllerFit in `mechanism`; compensate in `pipeline` (after bindMechanisms).
+void bindCompensation(py::module_& mechanism, py::module_& pipeline);
+void bindAccuracy(py::module_& m);  // after bindCompensation (PredictionModel)
 
 }  // namespace mire::python

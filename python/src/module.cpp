@@ -20,6 +20,8 @@ PYBIND11_MODULE(mire, m) {
   auto pipeline =
       m.def_submodule("pipeline", "the end-to-end stages: the identification recipe, pose sets (mire::pipeline)");
   mp::bindPipeline(pipeline);
+  mp::bindCompensation(mechanism, pipeline);
+  mp::bindAccuracy(pipeline);
 #ifdef MIRE_VERSION
   m.attr("__version__") = MIRE_VERSION;
 #endif

@@ -184,12 +184,18 @@ double trueResidual(const datasets::Campaign& c, const mech::Mechanism& controll
 // (the hexapod's nominal joints leave 0.02 mm), the fitted controller is bounded by both added in
 // quadrature instead of the 1.3× criterion.
 void controllerAcceptance(const std::string& truth_model, const std::string& controller_model,
-                          const Eigen::Vector3d& half_box, bool best_above_noise = true) {
+                          const Eigen::Vector3d& half_box, bool best_above_noise = true, unsigned seed = 41,
+                          int extra = 400) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  // The protocol + 54 random poses: the identification's own error is then below what the
-  // simpler model cannot represent.
-  const datasets::Campaign c = datasets::simulateCampaign(truth_model, 41, 0.2e-3, 0.03 * datasets::kCampaignDeg, 54);
+  // The protocol + 400 random poses: the fitted controller carries the part of the
+  // identification's own error that the simpler model can represent (its residual lies near
+  // √(best² + that part²)), so the 1.3× criterion needs an identification well below what the
+  // simpler model cannot represent; with 54 random poses a Delta of seed 42 fails it at 1.76×
+  // (identification 0.064 mm against best 0.042 mm), with 400 it passes at 1.11×
+  // (doc/studies/2026-11-26-compensation.md).
+  const datasets::Campaign c =
+      datasets::simulateCampaign(truth_model, seed, 0.2e-3, 0.03 * datasets::kCampaignDeg, extra);
   datasets::writeCampaignFiles(c, d, 0, c.poses.size());
   ASSERT_EQ(test::runMireIn(dir, "identify --model " + truth_model + " --poses " + (d / "poses.csv").string() +
                                      " --joints " + (d / "joints.csv").string() + " -o " + (d / "id.yaml").string()),
@@ -235,10 +241,10 @@ void controllerAcceptance(const std::string& truth_model, const std::string& con
   const mech::LoadedPredictionModel identified = mech::loadPredictionModel(d / "id.yaml");
   const double r_full = trueResidual(c, *c.model.mechanism, identified.model.geometric.values(), grid);
   std::printf(
-      "%s robot, 5x5x3 grid, frame-free RMS: fitted %s controller %.3f mm, best %s %.3f mm (ratio %.2f), "
-      "nominal %s %.3f mm, full identified model %.3f mm\n",
-      truth_model.c_str(), controller_model.c_str(), r_fitted * 1e3, controller_model.c_str(), r_best * 1e3,
-      r_fitted / r_best, controller_model.c_str(), r_nominal * 1e3, r_full * 1e3);
+      "seed %u, %d extra poses: %s robot, 5x5x3 grid, frame-free RMS: fitted %s controller %.3f mm, best %s %.3f mm "
+      "(ratio %.2f), nominal %s %.3f mm, full identified model %.3f mm\n",
+      seed, extra, truth_model.c_str(), controller_model.c_str(), r_fitted * 1e3, controller_model.c_str(),
+      r_best * 1e3, r_fitted / r_best, controller_model.c_str(), r_nominal * 1e3, r_full * 1e3);
   std::printf("%s", test::readText(d / "stdout.txt").c_str());
   if (best_above_noise)
     EXPECT_LT(r_fitted, 1.3 * r_best);

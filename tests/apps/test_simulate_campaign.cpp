@@ -5,6 +5,8 @@
 
 #include "mire/mechanism/io.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -39,6 +41,22 @@ double number(const mire::mechanism::ParameterFile& file, const std::string& key
   return file.number(*entry);
 }
 
+// The campaign's ISO 9283 test read by the printed `mire accuracy` (through truth/iso9283.yaml):
+// the standard's 5 positions x 30 cycles, the nominal controller's error resolved (AP_p well above
+// its σ and above the camera's noise-only figure).
+void expectIsoTest(const fs::path& accuracy_json) {
+  const auto json = nlohmann::json::parse(mire::test::readText(accuracy_json));
+  EXPECT_EQ(json["cycles_used"], 150);
+  ASSERT_EQ(json["positions"].size(), 5u);
+  for (const auto& p : json["positions"]) {
+    EXPECT_EQ(p["cycles"], 30);
+    const double ap = p["AP_p_m"], sigma = p["sigma_AP_p_m"];
+    std::printf("%s: AP_p %.3f mm, sigma %.3f mm\n", p["position"].get<std::string>().c_str(), ap * 1e3, sigma * 1e3);
+    EXPECT_GT(ap, 10 * sigma);
+    EXPECT_LT(sigma, 0.1e-3);
+  }
+}
+
 }  // namespace
 
 // The fastest mechanism (27 poses), one image per pose, 6 calibration views: about 3 s in all.
@@ -56,11 +74,13 @@ TEST(SimulateCampaign, DeltaByHandIdentifiesTheTrueLengths) {
 
   // The printed chain, exactly as printed, from the folder the campaign was made in.
   const std::vector<std::string> commands = printedCommands(output);
-  ASSERT_EQ(commands.size(), 3u) << output;
+  ASSERT_EQ(commands.size(), 4u) << output;
   EXPECT_EQ(commands[0].rfind("calibrate ", 0), 0u);
   EXPECT_EQ(commands[1].rfind("measure ", 0), 0u);
   EXPECT_NE(commands[2].find("--model delta-legs"), std::string::npos) << commands[2];
+  EXPECT_EQ(commands[3].rfind("accuracy ", 0), 0u);
   for (const std::string& command : commands) ASSERT_EQ(mireIn(dir.path(), command, &output), 0) << command << output;
+  expectIsoTest(dir.path() / "accuracy.json");
 
   // The lengths do not depend on the frame the gauge defines: compared with the truth directly.
   // Measured (seed 2004): |error| <= 0.48 mm, |error/σ| <= 2.4 (RMS 1.3); the other parameters
@@ -107,9 +127,10 @@ TEST(SimulateCampaign, DescribedRobotByHandIdentifiesItsRodsAndGains) {
   EXPECT_NE(mire::test::readText(dir.path() / "campaign/joints.csv").find("q1_m"), std::string::npos);
   EXPECT_NE(mire::test::readText(dir.path() / "campaign/truth/robot.yaml").find("encoder_curvature"), std::string::npos);
   const std::vector<std::string> commands = printedCommands(output);
-  ASSERT_EQ(commands.size(), 3u) << output;
+  ASSERT_EQ(commands.size(), 4u) << output;
   EXPECT_NE(commands[2].find("--model " + description.string()), std::string::npos) << commands[2];
   for (const std::string& command : commands) ASSERT_EQ(mireIn(dir.path(), command, &output), 0) << command << output;
+  expectIsoTest(dir.path() / "accuracy.json");
 
   const auto identified = mire::mechanism::readParameterFile(dir.path() / "identified.yaml");
   const auto truth = mire::mechanism::readParameterFile(dir.path() / "campaign/truth/robot_geometry.yaml");
