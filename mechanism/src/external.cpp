@@ -184,7 +184,7 @@ ParameterSet ExternalParameterization::parameters() const {
     case ExternalForm::CameraFrame:
       addTargetPart();
       break;
-    case ExternalForm::CameraOnEffector:  // BRIEF §15's names
+    case ExternalForm::CameraOnEffector:  // doc/mechanisms.md, "Camera on the effector"
       set.add(length("tx_EC", "camera origin in the effector frame, x (eTc)"));
       set.add(length("ty_EC", "camera origin in the effector frame, y (eTc)"));
       set.add(length("tz_EC", "camera origin in the effector frame, z (eTc)"));

@@ -18,6 +18,7 @@
 #include "mire/pipeline/identify.hpp"
 #include "mire/support/csv.hpp"
 #include "plain_least_squares.hpp"
+#include "sample_statistics.hpp"
 #include "test_support.hpp"
 
 namespace mire::app {
@@ -132,8 +133,77 @@ TEST(EyeInHand, TheAnalysisNamesWhatATranslatingPlateCannotSee) {
   }
 }
 
+// std(error/σ) of the held-out cTm predictions (position, rotation vector) over campaigns of
+// `model`, and, for the mounting values the analysis identifies among `parameters`, of their
+// estimates against the truth.
+struct Coverage {
+  std::vector<double> parameters, position, rotation;
+};
+
+Coverage coverageOver(const std::string& name, unsigned first_seed, int campaigns,
+                      const std::vector<std::string>& parameters) {
+  const mech::RegisteredModel model = mech::makeRegisteredModel(name);
+  Coverage z;
+  for (unsigned seed = first_seed; seed < first_seed + static_cast<unsigned>(campaigns); ++seed) {
+    const datasets::EyeInHandCampaign c = datasets::simulateEyeInHandCampaign(
+        model, datasets::perturbedBy(model.nominal, seed, 1e-3, 0.5 * kDeg), seed, 0.2e-3, 0.03 * kDeg, kHeld);
+    const std::size_t train = c.base.poses.size() - kHeld;
+    const std::vector<mech::PoseObservation> poses(c.base.poses.begin(), c.base.poses.begin() + static_cast<long>(train));
+    pipeline::ModelChoice choice;
+    const pipeline::Identification id = identifyOnEffector({name, model, seed, 1e-3, 0.5 * kDeg}, poses, &choice);
+    const mech::IdentificationResult& r = id.result;
+    const Eigen::Vector3d bTm_rotation = mech::rotationVector(c.bTm.linear());
+    for (const std::string& p : parameters) {
+      EXPECT_FALSE(r.model.parameters.at(p).fixed) << p;
+      const int k = p[1] - 'x';  // rx_BM, ry_BM, rz_BM
+      z.parameters.push_back((r.model.parameters.value(p) - bTm_rotation[k]) / r.sigmaOf(p));
+    }
+    const mech::PredictionModel prediction = mech::predictionModelFrom(name, r, id.mean_orientation_covariance);
+    for (std::size_t j = train; j < c.base.poses.size(); ++j) {
+      const mech::PosePrediction p = mech::predictPose(prediction, c.base.poses[j].joints);
+      EXPECT_TRUE(p.converged);
+      if (!p.converged) continue;
+      const Eigen::Isometry3d t = c.cTm(j);
+      // σ is that of the rotation vector's components (poses.csv's convention).
+      const Eigen::Vector3d dr = p.cTm.tail<3>() - mech::rotationVector(t.linear());
+      for (int k = 0; k < 3; ++k) {
+        z.position.push_back((p.cTm[k] - t.translation()[k]) / std::sqrt(p.cTm_covariance(k, k)));
+        z.rotation.push_back(dr[k] / std::sqrt(p.cTm_covariance(3 + k, 3 + k)));
+      }
+    }
+  }
+  return z;
+}
+
+void expectStandard(const char* what, const std::vector<double>& z) {
+  const double s = test::sampleStandardDeviation(z);
+  std::printf("  std(error/sigma) %s: %.3f over %zu\n", what, s, z.size());
+  EXPECT_GT(s, 0.8) << what;
+  EXPECT_LT(s, 1.25) << what;
+}
+
+// The σ a Delta's eye-in-hand identification prints hold over 30 campaigns: the target's
+// orientation in the base frame (rx_BM..rz_BM, the mounting values it determines) and the
+// held-out predictions of cTm, position and orientation (std(error/σ) in [0.8, 1.25]).
+TEST(EyeInHand, DeltaSigmasHoldOverCampaigns) {
+  const Coverage z = coverageOver("delta", 100, 30, {"rx_BM", "ry_BM", "rz_BM"});
+  std::printf("Delta, camera on the effector, 30 campaigns:\n");
+  expectStandard("rx_BM..rz_BM", z.parameters);
+  expectStandard("held-out cTm position", z.position);
+  expectStandard("held-out cTm rotation", z.rotation);
+}
+
+// The same for the hexapod's predictions over 20 campaigns (its mounting is its gauge: no
+// mounting value is compared with the truth).
+TEST(EyeInHand, HexapodPredictionSigmasHoldOverCampaigns) {
+  const Coverage z = coverageOver("gough-stewart", 200, 20, {});
+  std::printf("Hexapod, camera on the effector, 20 campaigns:\n");
+  expectStandard("held-out cTm position", z.position);
+  expectStandard("held-out cTm rotation", z.rotation);
+}
+
 // The command line: identify --mounting camera-on-effector records the mounting and its keys;
-// fkm --frame camera predicts the eye-in-hand cTm within its σ.
+// fkm --frame camera predicts the eye-in-hand cTm within its σ; ikm reads the file.
 TEST(EyeInHand, IdentifyThenFkmOnTheCommandLine) {
   test::TempDir dir;
   const std::string model = "gough-stewart";
@@ -176,6 +246,21 @@ TEST(EyeInHand, IdentifyThenFkmOnTheCommandLine) {
               1e3 * std::sqrt(err2 / (3.0 * kHeld)), ratio);
   EXPECT_GT(ratio, 0.5);
   EXPECT_LT(ratio, 2.0);
+  // ikm reads the same file: the base-frame FKM poses give the joints back.
+  ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                                     (d / "held_joints.csv").string() + " -o " + (d / "effector.csv").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  ASSERT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " +
+                                     (d / "effector.csv").string() + " -o " + (d / "commands.csv").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  const support::CsvTable commands = support::readCsv(d / "commands.csv");
+  const support::CsvTable held = support::readCsv(d / "held_joints.csv");
+  ASSERT_EQ(commands.rows.size(), static_cast<std::size_t>(kHeld));
+  for (std::size_t r = 0; r < commands.rows.size(); ++r)
+    for (std::size_t k = 1; k < held.header.size(); ++k)
+      EXPECT_NEAR(commands.number(r, commands.column(held.header[k])), held.number(r, k), 1e-8);
   // A bad word is refused, naming the option.
   EXPECT_NE(test::runMireIn(dir, "identify --model " + model + " --mounting eye-in-hand --poses " +
                                      (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() + " -o " +

@@ -27,8 +27,8 @@ struct ModelChoice {
   mechanism::H4Nominal h4;  // the H4 models' nominal geometry
   // The other models' nominal geometry when not the built-in one (`--nominal`, applyNominalFile).
   std::optional<mechanism::ParameterSet> nominal;
-  // `--mounting camera-on-effector` (BRIEF §15): the camera on the effector, the target fixed;
-  // the model's external form is then ExternalForm::CameraOnEffector.
+  // `--mounting camera-on-effector` (doc/mechanisms.md, "Camera on the effector"): the camera on
+  // the effector, the target fixed; the model's external form is then CameraOnEffector.
   bool camera_on_effector = false;
   std::string label() const;                      // `h4-12, variant D`, `h4-31 (base frame)`, `delta`
   mechanism::RegisteredModel registered() const;  // the mechanism, its nominal geometry and external form
