@@ -271,5 +271,28 @@ TEST(EyeInHand, IdentifyThenFkmOnTheCommandLine) {
   EXPECT_FALSE(fs::exists(d / "bad.yaml"));
 }
 
+// The H4 turns about one axis: its paper variants assume the camera fixed, and its own mounting
+// is not initialised with the camera on the effector; both are refused with a message, nothing
+// written.
+TEST(EyeInHand, TheH4IsRefusedWithAMessage) {
+  test::TempDir dir;
+  const datasets::Campaign c = datasets::simulateCampaign("h4-12", 51);
+  datasets::writeCampaignFiles(c, dir.path(), 0, c.poses.size());
+  const fs::path d = dir.path();
+  const std::string files = " --poses " + (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string();
+  EXPECT_NE(test::runMireIn(
+                dir, "identify --model h4-12 --mounting camera-on-effector" + files + " -o " + (d / "a.yaml").string()),
+            0);
+  EXPECT_NE(test::readText(d / "stderr.txt").find("assumes the camera fixed"), std::string::npos)
+      << test::readText(d / "stderr.txt");
+  EXPECT_NE(test::runMireIn(
+                dir, "identify --model h4-31 --mounting camera-on-effector" + files + " -o " + (d / "b.yaml").string()),
+            0);
+  EXPECT_NE(test::readText(d / "stderr.txt").find("turns about one axis only"), std::string::npos)
+      << test::readText(d / "stderr.txt");
+  EXPECT_FALSE(fs::exists(d / "a.yaml"));
+  EXPECT_FALSE(fs::exists(d / "b.yaml"));
+}
+
 }  // namespace
 }  // namespace mire::app
