@@ -296,16 +296,13 @@ TEST(EyeInHand, TheH4IsRefusedWithAMessage) {
   EXPECT_FALSE(fs::exists(d / "b.yaml"));
 }
 
-// From rendered images: `simulate campaign --mounting camera-on-effector` (a Delta, one image per
-// pose, 6 calibration views), then the calibrate -> measure -> identify it prints, as a user
-// would. The rod lengths, which no frame choice moves, match the truth within their σ. Measured
-// (seed 2004): errors −1.30 to +1.65 mm, σ 1.08–3.32 mm, |error/σ| ≤ 0.58; the σ are about 3×
-// the camera-fixed campaign's (0.18–1.0 mm, tests/apps/test_simulate_campaign.cpp), hence the
-// wider bound on the error (doc/studies/2026-11-26-eye-in-hand.md).
-TEST(EyeInHand, RenderedDeltaCampaignByHand) {
+// From rendered images: `simulate campaign --mounting camera-on-effector` (one image per pose, 6
+// calibration views), then the calibrate -> measure -> identify it prints, as a user would. The
+// parameters no frame choice moves (`names`, in truth/<model>.yaml) match the truth within their σ.
+void renderedChainByHand(const std::string& mechanism, const std::string& model, const std::vector<std::string>& names) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  ASSERT_EQ(test::runMireIn(dir, "simulate campaign --mechanism delta --mounting camera-on-effector -o " +
+  ASSERT_EQ(test::runMireIn(dir, "simulate campaign --mechanism " + mechanism + " --mounting camera-on-effector -o " +
                                      (d / "campaign").string() + " --images-per-pose 1 --calibration-views 6"),
             0)
       << test::readText(d / "stderr.txt");
@@ -325,20 +322,32 @@ TEST(EyeInHand, RenderedDeltaCampaignByHand) {
         << command << "\n"
         << test::readText(d / "out.txt");
   const mech::ParameterFile identified = mech::readParameterFile(d / "identified.yaml");
-  const mech::ParameterFile truth = mech::readParameterFile(d / "campaign/truth/delta-legs.yaml");
+  const mech::ParameterFile truth = mech::readParameterFile(d / "campaign/truth" / (model + ".yaml"));
   ASSERT_NE(identified.find("tx_EC"), nullptr);
-  for (const std::string leg : {"1", "2", "3"})
-    for (const std::string length : {"L", "l"}) {
-      const std::string name = length + leg;
-      const double error = identified.number(*identified.find(name)) - truth.number(*truth.find(name));
-      const double sigma = identified.number(*identified.find("sigma_" + name));
-      std::printf("rendered eye-in-hand Delta: %s error %+.3f mm, sigma %.3f mm\n", name.c_str(), 1e3 * error,
-                  1e3 * sigma);
-      EXPECT_LT(std::abs(error), 3e-3) << name;
-      EXPECT_LT(std::abs(error / sigma), 3.0) << name;
-      EXPECT_GT(sigma, 0.05e-3) << name;
-      EXPECT_LT(sigma, 5e-3) << name;
-    }
+  for (const std::string& name : names) {
+    const double error = identified.number(*identified.find(name)) - truth.number(*truth.find(name));
+    const double sigma = identified.number(*identified.find("sigma_" + name));
+    std::printf("rendered eye-in-hand %s: %s error %+.3f mm, sigma %.3f mm\n", mechanism.c_str(), name.c_str(),
+                1e3 * error, 1e3 * sigma);
+    EXPECT_LT(std::abs(error), 3e-3) << name;
+    EXPECT_LT(std::abs(error / sigma), 3.0) << name;
+    EXPECT_GT(sigma, 0.05e-3) << name;
+    EXPECT_LT(sigma, 5e-3) << name;
+  }
+}
+
+// The Delta's rod lengths. Measured (seed 2004): errors −1.30 to +1.65 mm, σ 1.08–3.32 mm,
+// |error/σ| ≤ 0.58; the σ are about 3× the camera-fixed campaign's (0.18–1.0 mm,
+// tests/apps/test_simulate_campaign.cpp), hence the wider bound on the error
+// (doc/studies/2026-11-26-eye-in-hand.md).
+TEST(EyeInHand, RenderedDeltaCampaignByHand) {
+  renderedChainByHand("delta", "delta-legs", {"L1", "L2", "L3", "l1", "l2", "l3"});
+}
+
+// The hexapod's leg lengths at encoder zero. Measured (seed 2004): errors −1.02 to +1.67 mm,
+// σ 1.15–1.29 mm, |error/σ| ≤ 1.45.
+TEST(EyeInHand, RenderedHexapodCampaignByHand) {
+  renderedChainByHand("gough-stewart", "gough-stewart", {"rho01", "rho02", "rho03", "rho04", "rho05", "rho06"});
 }
 
 }  // namespace
