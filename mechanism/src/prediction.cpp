@@ -316,7 +316,8 @@ void readPredictionCovarianceCsv(const std::filesystem::path& path, PredictionMo
       m.mounting.setValue(name, value);
     } else if (!m.geometric.contains(name)) {
       throw std::runtime_error(table.where(r) + ": '" + name + "' is not a parameter of " + m.mechanism->name() +
-                               " nor a mounting value (tx_CB..rz_EM)");
+                               " nor a mounting value (" + m.mounting.names().front() + ".." +
+                               m.mounting.names().back() + ")");
     } else if (std::abs(m.geometric.value(name) - value) > 1e-12 * std::max(1.0, std::abs(value))) {
       throw std::runtime_error(table.where(r) + ": '" + name +
                                "' differs from the parameter file's value: the files do not belong together");
