@@ -96,7 +96,8 @@ int runFkm(const FkmArguments& args) {
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
   const mech::Mechanism& m = *loaded.model.mechanism;
   if (args.frame == "camera" && !loaded.has_mounting)
-    throw std::runtime_error(args.params + ": no mounting (tx_CB..rz_EM) in the file nor in its side file " +
+    throw std::runtime_error(args.params + ": no mounting (" + loaded.model.mounting.names().front() + ".." +
+                             loaded.model.mounting.names().back() + ") in the file nor in its side file " +
                              support::covarianceSidePath(args.params).string() +
                              ": --frame camera needs the identified mounting");
   const auto rows = mech::readJointsCsv(args.joints, m.jointColumnNames());

@@ -145,6 +145,7 @@ pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
   pipeline::ModelChoice choice;
   try {
     choice = pipeline::chooseModel(args.model, args.variant);
+    if (!args.mounting.empty()) pipeline::applyMounting(choice, args.mounting);
   } catch (const std::invalid_argument& error) {  // names the option at fault
     throw UsageError(error.what());
   }
@@ -366,10 +367,13 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
       {"model", described ? description_output.filename().string() : run.choice.model},
       {"variant", run.choice.variant ? std::string(1, run.choice.variant) : std::string("-")},
       {"external_form", mech::externalFormName(result.model.external.form())},
-      {"poses", std::to_string(run.inputs.observations.poses.size())},
-      {"rms_joint_residual_rad", std::to_string(result.rms_joint_residual)},
-      {"condition_number", std::to_string(result.identifiability.condition_number)},
-      {"created_by", "mire identify"}};
+  };
+  // The camera-fixed files stay as they were: the mounting is written when it is the other one.
+  if (run.choice.camera_on_effector) metadata.push_back({"mounting", mech::mountingName(result.model.external.form())});
+  metadata.insert(metadata.end(), {{"poses", std::to_string(run.inputs.observations.poses.size())},
+                                   {"rms_joint_residual_rad", std::to_string(result.rms_joint_residual)},
+                                   {"condition_number", std::to_string(result.identifiability.condition_number)},
+                                   {"created_by", "mire identify"}});
   IdentifyReportData data;
   if (!args.report.empty()) {
     data.command_line = command_line;
@@ -440,7 +444,9 @@ Runner addIdentifyCommand(CLI::App& app) {
   CLI::Option* robot = cmd->add_option(
       "--robot-poses", args->robot_poses,
       "hand-eye calibration of a robot that reports its pose: robot_poses.csv (bTe per pose), instead of --joints");
-  cmd->add_option("--mounting", args->mounting, "with --robot-poses: camera-on-effector or camera-fixed")->needs(robot);
+  cmd->add_option(
+      "--mounting", args->mounting,
+      "camera-fixed (default) or camera-on-effector (the target fixed in the workspace; doc/mechanisms.md)");
   cmd->add_option("--robot-sigma", args->robot_sigma,
                   "with --robot-poses: the robot pose sigma T_MM,R_DEG (per component) for rows without their own")
       ->needs(robot);

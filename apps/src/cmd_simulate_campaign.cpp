@@ -38,6 +38,7 @@ struct CampaignOptions {
   std::string output;
   std::uint64_t seed = 2004;  // the demo's
   std::optional<int> images_per_pose, calibration_views;
+  std::string mounting = "camera-fixed";  // or camera-on-effector (doc/mechanisms.md)
 };
 
 // Bounds of the options: calibrate needs 3 usable views; beyond the upper bounds a campaign
@@ -137,6 +138,10 @@ void checkCampaignOptions(const CampaignOptions& options) {
                        mechanism::mechanismFamilyList() + "; a robot of your own: --model robot.yaml)");
     }
   }
+  if (options.mounting != "camera-fixed" && options.mounting != "camera-on-effector")
+    throw UsageError("--mounting '" + options.mounting + "': expected camera-fixed or camera-on-effector");
+  if (options.mounting == "camera-on-effector" && !described && isH4(mechanism::mechanismFamily(options.mechanism)))
+    throw UsageError("--mounting camera-on-effector: the H4's campaign has the camera fixed only");
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
              " views (calibrate needs at least 3)");
@@ -218,6 +223,7 @@ WrittenCampaign generateMechanism(const CampaignOptions& options, const fs::path
                                   const datasets::ProgressCallback& progress) {
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   applyOptions(options, spec);
+  spec.camera_on_effector = options.mounting == "camera-on-effector";
   const datasets::MechanismImageCampaign campaign = datasets::generateMechanismImageCampaign(spec, directory, progress);
   const std::string what = "True geometry of the simulated " + campaign.robot.geometry_model.name +
                            " (SI); its unmodelled defects are in robot.yaml";
@@ -294,7 +300,8 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << "  mire measure --camera camera.yaml --target " << in("target.yaml") << " --poses " << in("poses")
             << " -o poses.csv\n"
             << "  mire identify --poses poses.csv --joints " << in("joints.csv") << " --lines " << in("lines.csv")
-            << " --model " << next.model << " -o identified.yaml\n"
+            << " --model " << next.model
+            << (options.mounting == "camera-fixed" ? "" : " --mounting " + options.mounting) << " -o identified.yaml\n"
             << "then compare identified.yaml with " << in(next.truth_file) << ": " << next.comparable
             << "; doc/simulation.md, \"Whole campaigns\"\n"
             << "other models: " << next.others << "\n"
@@ -348,6 +355,10 @@ SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
       ->default_str(std::to_string(defaults.images_per_pose));
   campaign->add_option("--calibration-views", options->calibration_views, "Calibration views (3 to 500)")
       ->default_str(std::to_string(defaults.calibration_views));
+  campaign
+      ->add_option("--mounting", options->mounting,
+                   "camera-fixed, or camera-on-effector: the camera on the effector, the target fixed (not the H4)")
+      ->capture_default_str();
   return {campaign, [options] { return runCampaign(*options); }};
 }
 

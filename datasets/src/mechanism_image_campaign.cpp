@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 namespace mire::datasets {
 namespace fs = std::filesystem;
@@ -135,7 +136,11 @@ std::string truthYaml(const MechanismImageCampaign& campaign) {
       out << (i ? ", " : "") << support::formatYamlNumber(robot.encoder_curvature[i]);
     out << "]  # per m or per rad: q_read = q + c (q - q_home)^2\n";
   }
-  out << isometryYaml("bTc", campaign.bTc) << isometryYaml("mTe", campaign.mTe);
+  if (campaign.camera_on_effector) {
+    out << "mounting: camera-on-effector\n" << isometryYaml("eTc", campaign.eTc) << isometryYaml("bTm", campaign.bTm);
+  } else {
+    out << isometryYaml("bTc", campaign.bTc) << isometryYaml("mTe", campaign.mTe);
+  }
   return out.str();
 }
 
@@ -185,7 +190,19 @@ Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const m
 
 Eigen::Isometry3d MechanismImageCampaign::trueCameraTMarker(const std::string& pose_id) const {
   const auto index = std::find(pose_ids.begin(), pose_ids.end(), pose_id) - pose_ids.begin();
-  return bTc.inverse() * bTe.at(static_cast<std::size_t>(index)) * mTe.inverse();
+  const Eigen::Isometry3d& effector = bTe.at(static_cast<std::size_t>(index));
+  if (camera_on_effector) return eTc.inverse() * effector.inverse() * bTm;
+  return bTc.inverse() * effector * mTe.inverse();
+}
+
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> eyeInHandMounting(const Eigen::Isometry3d& bTc,
+                                                                  const Eigen::Isometry3d& mTe,
+                                                                  const Eigen::Isometry3d& bTe_home) {
+  const Eigen::Isometry3d cTm_home = bTc.inverse() * bTe_home * mTe.inverse();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(180.0 * kCampaignDeg, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d eRc = bTe_home.linear().transpose() * turn * bTc.linear();
+  const Eigen::Isometry3d eTc = isometry(eRc, eRc * Eigen::Vector3d(0.02, -0.015, -0.03));
+  return {eTc, bTe_home * eTc * cTm_home};
 }
 
 // Stages: the true robot and its protocol, the view check, the images, the encoder readings,
@@ -205,8 +222,16 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
                                   {},
                                   {},
                                   {},
-                                  directory};
+                                  directory,
+                                  false,
+                                  Eigen::Isometry3d::Identity(),
+                                  Eigen::Isometry3d::Identity()};
   const Mechanism& mechanism = campaign.robot.mechanism();
+  if (spec.camera_on_effector) {
+    campaign.camera_on_effector = true;
+    const Eigen::Isometry3d home = campaign.robot.effector(mechanism.referencePose(campaign.robot.geometry.values()));
+    std::tie(campaign.eTc, campaign.bTm) = eyeInHandMounting(campaign.bTc, campaign.mTe, home);
+  }
   for (const Eigen::Isometry3d& pose : protocolPoses(mechanism, campaign.robot.geometry.values())) {
     const Eigen::VectorXd X = mechanism.transformToPose(pose);
     campaign.commanded.push_back(X);

@@ -119,8 +119,14 @@ std::string externalFormName(ExternalForm form) {
       return "full";
     case ExternalForm::CameraFrame:
       return "camera-frame";
+    case ExternalForm::CameraOnEffector:
+      return "camera-on-effector";
   }
   return "?";
+}
+
+std::string mountingName(ExternalForm form) {
+  return form == ExternalForm::CameraOnEffector ? "camera-on-effector" : "camera-fixed";
 }
 
 ExternalParameterization::ExternalParameterization(ExternalForm form, AxisAlignment alignment)
@@ -137,6 +143,7 @@ int ExternalParameterization::size(ExternalForm form) {
     case ExternalForm::AxisAligned:
       return 8;
     case ExternalForm::Full:
+    case ExternalForm::CameraOnEffector:
       return 12;
     case ExternalForm::CameraFrame:
       return 4;
@@ -177,6 +184,20 @@ ParameterSet ExternalParameterization::parameters() const {
     case ExternalForm::CameraFrame:
       addTargetPart();
       break;
+    case ExternalForm::CameraOnEffector:  // doc/mechanisms.md, "Camera on the effector"
+      set.add(length("tx_EC", "camera origin in the effector frame, x (eTc)"));
+      set.add(length("ty_EC", "camera origin in the effector frame, y (eTc)"));
+      set.add(length("tz_EC", "camera origin in the effector frame, z (eTc)"));
+      set.add(angle("rx_EC", "eTc rotation vector, x"));
+      set.add(angle("ry_EC", "eTc rotation vector, y"));
+      set.add(angle("rz_EC", "eTc rotation vector, z"));
+      set.add(length("tx_BM", "target origin in the base frame, x (bTm)"));
+      set.add(length("ty_BM", "target origin in the base frame, y (bTm)"));
+      set.add(length("tz_BM", "target origin in the base frame, z (bTm)"));
+      set.add(angle("rx_BM", "bTm rotation vector, x"));
+      set.add(angle("ry_BM", "bTm rotation vector, y"));
+      set.add(angle("rz_BM", "bTm rotation vector, z"));
+      break;
   }
   return set;
 }
@@ -199,6 +220,10 @@ Eigen::Isometry3d ExternalParameterization::baseFromCamera(const Eigen::VectorXd
     case ExternalForm::CameraFrame:
       bTc.linear() = alignment_.camera.transpose();
       break;
+    case ExternalForm::CameraOnEffector:  // bTm
+      bTc.linear() = fromRotationVector(e.segment<3>(9));
+      bTc.translation() = e.segment<3>(6);
+      break;
   }
   return bTc;
 }
@@ -211,6 +236,12 @@ Eigen::Isometry3d ExternalParameterization::targetFromEffector(const Eigen::Vect
     eTm.linear() = fromRotationVector(e.segment<3>(9));
     eTm.translation() = e.segment<3>(6);
     return eTm.inverse();
+  }
+  if (form_ == ExternalForm::CameraOnEffector) {  // cTe = eTc⁻¹
+    Eigen::Isometry3d eTc = Eigen::Isometry3d::Identity();
+    eTc.linear() = fromRotationVector(e.segment<3>(3));
+    eTc.translation() = e.head<3>();
+    return eTc.inverse();
   }
   const Eigen::Vector4d me =
       form_ == ExternalForm::AxisAligned ? Eigen::Vector4d(e.segment<4>(4)) : Eigen::Vector4d(e.head<4>());
@@ -230,6 +261,13 @@ Eigen::Isometry3d ExternalParameterization::effectorInBase(const Eigen::VectorXd
   return bTe;
 }
 
+Eigen::Isometry3d ExternalParameterization::targetInCamera(const Eigen::VectorXd& e, const Eigen::Isometry3d& bTe) const {
+  // bTe = B · cTm^s · E with s = +1 (camera fixed) or −1 (camera on the effector).
+  const Eigen::Isometry3d B = baseFromCamera(e), E = targetFromEffector(e);
+  const Eigen::Isometry3d chained = B.inverse() * bTe * E.inverse();
+  return form_ == ExternalForm::CameraOnEffector ? chained.inverse() : chained;
+}
+
 ExternalParameterization::PreparedPose ExternalParameterization::prepare(const PoseVector& cTm) const {
   const Eigen::Isometry3d measured = toIsometry(cTm);
   PreparedPose pose;
@@ -245,6 +283,11 @@ Eigen::VectorXd ExternalParameterization::valuesFrom(const Eigen::Isometry3d& bT
   if (form_ == ExternalForm::Full) {
     const Eigen::Isometry3d cTb = bTc.inverse(), eTm = mTe.inverse();
     e << cTb.translation(), rotationVector(cTb.linear()), eTm.translation(), rotationVector(eTm.linear());
+    return e;
+  }
+  if (form_ == ExternalForm::CameraOnEffector) {  // bTc is bTm, mTe is cTe
+    const Eigen::Isometry3d eTc = mTe.inverse();
+    e << eTc.translation(), rotationVector(eTc.linear()), bTc.translation(), rotationVector(bTc.linear());
     return e;
   }
   const Eigen::Vector3d me = alignment_.target.transpose() * mTe.translation();
@@ -498,7 +541,7 @@ ParameterSet estimateExternal(const Mechanism& mechanism, const Eigen::VectorXd&
                               ExternalParameterization& parameterization, double z_ME) {
   validatePoses(poses, mechanism.jointCount());
   if (!std::isfinite(z_ME)) throw std::invalid_argument("z_ME is not finite");
-  if (mechanism.motionType() != MotionType::Schoenflies)
+  if (mechanism.motionType() != MotionType::Schoenflies || form == ExternalForm::CameraOnEffector)
     return estimateMountingExternal(mechanism, geometric, poses, form, parameterization);
   AxisAlignment alignment = estimateAxisAlignment(poses);
   const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, geometric, poses);

@@ -115,16 +115,56 @@ Eigen::VectorXd mountingWithTargetOrientation(const Eigen::VectorXd& e, const Ei
   return out;
 }
 
+Eigen::VectorXd mountingWithCameraOrientation(const Eigen::VectorXd& e, const Eigen::Matrix3d& mRc) {
+  const ExternalParameterization form(ExternalForm::CameraOnEffector);
+  const Eigen::Matrix3d bRm = form.baseFromCamera(e).linear();
+  const Eigen::Matrix3d eRc_old = fromRotationVector(e.segment<3>(3));
+  // bRe = bRm · mRc · cRe = I.
+  const Eigen::Matrix3d eRc_new = projectToRotation(bRm * mRc);
+  // The joints see only the effector origin in C, −eRcᵀ·t_EC: keep it while turning eRc.
+  Eigen::VectorXd out = e;
+  out.head<3>() = eRc_new * (eRc_old.transpose() * Eigen::Vector3d(e.head<3>()));
+  out.segment<3>(3) = rotationVector(eRc_new);
+  return out;
+}
+
+Eigen::VectorXd mountingWithMeanOrientation(ExternalForm form, const Eigen::VectorXd& e, const Eigen::Matrix3d& R) {
+  return form == ExternalForm::CameraOnEffector ? mountingWithCameraOrientation(e, R)
+                                                : mountingWithTargetOrientation(e, R);
+}
+
+namespace {
+
+bool alignsOnMeanOrientation(const Mechanism& mechanism, ExternalForm form) {
+  return mechanism.motionType() == MotionType::Translation &&
+         (form == ExternalForm::Full || form == ExternalForm::CameraOnEffector);
+}
+
+// The measured rotation the chain uses: cTm with the camera fixed, mTc = cTm⁻¹ with the camera on
+// the effector (the rotation block of the covariance keeps its value: r(mRc) = −r(cRm)).
+std::vector<PoseObservation> chainedPoses(ExternalForm form, const std::vector<PoseObservation>& poses) {
+  if (form != ExternalForm::CameraOnEffector) return poses;
+  std::vector<PoseObservation> out = poses;
+  for (PoseObservation& p : out) p.cTm = toPoseVector(toIsometry(p.cTm).inverse());
+  return out;
+}
+
+}  // namespace
+
 void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form, ParameterSet& parameters,
                             const std::vector<PoseObservation>& poses) {
-  if (mechanism.motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty()) return;
+  if (!alignsOnMeanOrientation(mechanism, form.form()) || poses.empty()) return;
+  const bool on_effector = form.form() == ExternalForm::CameraOnEffector;
   Eigen::VectorXd e(12);
   const std::vector<std::string> names = form.parameters().names();
   for (int k = 0; k < 12; ++k) e[k] = parameters.value(names[static_cast<std::size_t>(k)]);
   Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
-  for (const PoseObservation& p : poses) mean += toIsometry(p.cTm).linear();
-  const Eigen::VectorXd aligned = mountingWithTargetOrientation(e, projectToRotation(mean));
-  for (int k = 6; k < 12; ++k) parameters.setValue(names[static_cast<std::size_t>(k)], aligned[k]);
+  for (const PoseObservation& p : poses)
+    mean += on_effector ? Eigen::Matrix3d(toIsometry(p.cTm).linear().transpose()) : toIsometry(p.cTm).linear();
+  const Eigen::VectorXd aligned = mountingWithMeanOrientation(form.form(), e, projectToRotation(mean));
+  // The rotation not seen by the joints: eTm's (the last six) or eTc's (the first six).
+  const int first = on_effector ? 0 : 6;
+  for (int k = first; k < first + 6; ++k) parameters.setValue(names[static_cast<std::size_t>(k)], aligned[k]);
 }
 
 namespace {
@@ -166,12 +206,14 @@ Eigen::Matrix3d meanOrientationCovariance(const std::vector<PoseObservation>& po
   return Jl_inverse * omega * Jl_inverse.transpose();
 }
 
-// The target offset's rows and columns of the free-parameter covariance follow t_EM → Q·t_EM.
-void turnTargetOffsetCovariance(IdentificationResult& result, const Eigen::Matrix3d& Q) {
+// The offset's rows and columns of the free-parameter covariance follow t → Q·t (t_EM, or t_EC
+// with the camera on the effector).
+void turnTargetOffsetCovariance(IdentificationResult& result, const Eigen::Matrix3d& Q,
+                                const std::vector<std::string>& offset) {
   const ParameterSet& params = result.model.parameters;
   const std::vector<std::string> free = params.freeNames();
   std::vector<Eigen::Index> rows;
-  for (const char* name : {"tx_EM", "ty_EM", "tz_EM"})
+  for (const std::string& name : offset)
     for (std::size_t f = 0; f < free.size(); ++f)
       if (free[f] == name) rows.push_back(static_cast<Eigen::Index>(f));
   if (rows.size() != 3 || result.covariance.rows() != static_cast<Eigen::Index>(free.size())) return;
@@ -192,31 +234,45 @@ std::optional<Eigen::Matrix3d> alignTranslatingTarget(IdentificationResult& resu
                                                       const std::vector<PoseObservation>& poses) {
   const IdentificationModel& model = result.model;
   const ExternalParameterization& form = model.external;
-  if (model.mechanism->motionType() != MotionType::Translation || form.form() != ExternalForm::Full || poses.empty())
-    return std::nullopt;
-  const Eigen::Matrix3d eRm_old = form.targetFromEffector(model.externalValues()).linear().transpose();
+  if (!alignsOnMeanOrientation(*model.mechanism, form.form()) || poses.empty()) return std::nullopt;
+  const bool on_effector = form.form() == ExternalForm::CameraOnEffector;
+  // The turned rotation: eRm (targetFromEffector() is mTe) or eRc (it is cTe).
+  const auto turned = [&form](const Eigen::VectorXd& e) {
+    return Eigen::Matrix3d(form.targetFromEffector(e).linear().transpose());
+  };
+  const Eigen::Matrix3d old_rotation = turned(model.externalValues());
   alignTranslatingTarget(*model.mechanism, form, result.model.parameters, poses);
   const Eigen::VectorXd e = result.model.externalValues();
-  const Eigen::Matrix3d eRm_new = form.targetFromEffector(e).linear().transpose();
-  turnTargetOffsetCovariance(result, eRm_new * eRm_old.transpose());
-  const Eigen::Matrix3d mean = form.baseFromCamera(e).linear().transpose() * eRm_new;  // R̄ = cRb·eRm
-  return meanOrientationCovariance(poses, mean);
+  const Eigen::Matrix3d new_rotation = turned(e);
+  turnTargetOffsetCovariance(result, new_rotation * old_rotation.transpose(),
+                             on_effector ? std::vector<std::string>{"tx_EC", "ty_EC", "tz_EC"}
+                                         : std::vector<std::string>{"tx_EM", "ty_EM", "tz_EM"});
+  // R̄ = cRb·eRm (camera fixed) or mRb·eRc (camera on the effector).
+  const Eigen::Matrix3d mean = form.baseFromCamera(e).linear().transpose() * new_rotation;
+  return meanOrientationCovariance(chainedPoses(form.form(), poses), mean);
 }
 
 ParameterSet estimateMountingExternal(const Mechanism& mechanism, const Eigen::VectorXd& geometric,
                                       const std::vector<PoseObservation>& poses, ExternalForm form,
                                       ExternalParameterization& parameterization) {
-  if (form != ExternalForm::Full)
+  const bool on_effector = form == ExternalForm::CameraOnEffector;
+  if (form != ExternalForm::Full && !on_effector)
     throw std::invalid_argument("the " + externalFormName(form) + " external form needs one rotation axis; " +
                                 mechanism.name() + " moves in " + motionTypeName(mechanism.motionType()) +
                                 ": use the full form");
+  if (on_effector && mechanism.motionType() == MotionType::Schoenflies)
+    throw std::invalid_argument("camera-on-effector: " + mechanism.name() +
+                                " turns about one axis only; its mounting is not initialised from the data yet");
   const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, geometric, poses);
+  // With the camera on the effector the chain is the same on the inverted measurement:
+  // bTe = bTm · mTc · cTe, so the same closed forms give (bTm, cTe) in place of (bTc, mTe).
   std::vector<PoseVector> cTm;
   cTm.reserve(poses.size());
-  for (const PoseObservation& p : poses) cTm.push_back(p.cTm);
+  for (const PoseObservation& p : poses)
+    cTm.push_back(on_effector ? PoseVector(toPoseVector(toIsometry(p.cTm).inverse())) : p.cTm);
   const Mounting m = mechanism.motionType() == MotionType::Translation ? mountingFromTranslations(bTe, cTm)
                                                                        : mountingFromHandEye(bTe, cTm);
-  parameterization = ExternalParameterization(ExternalForm::Full);
+  parameterization = ExternalParameterization(form);
   ParameterSet set = parameterization.parameters();
   set.setValues(parameterization.valuesFrom(m.bTc, m.mTe));
   return set;

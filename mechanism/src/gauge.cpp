@@ -12,12 +12,10 @@ std::vector<PoseObservation> modelConsistentPoses(const IdentificationModel& mod
                                                   const std::vector<PoseObservation>& poses) {
   const Mechanism& mechanism = *model.mechanism;
   const Eigen::VectorXd g = model.geometricValues(), e = model.externalValues();
-  const Eigen::Isometry3d cTb = model.external.baseFromCamera(e).inverse();
-  const Eigen::Isometry3d eTm = model.external.targetFromEffector(e).inverse();
   const std::vector<Eigen::Isometry3d> bTe = effectorPosesByFkm(mechanism, g, poses);
   std::vector<PoseObservation> out = poses;
   for (std::size_t j = 0; j < out.size(); ++j) {
-    out[j].cTm = toPoseVector(cTb * bTe[j] * eTm);
+    out[j].cTm = toPoseVector(model.external.targetInCamera(e, bTe[j]));
     out[j].covariance.reset();
   }
   return out;
@@ -41,7 +39,9 @@ GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<P
   // then 40–150 mm (13–45σ) from the truth.
   IdentifiabilityOptions prefer_geometry = options;
   const int G = model.geometricCount();
-  const bool full = model.external.form() == ExternalForm::Full;
+  // With the camera on the effector, eTc (the first six) is the camera placement.
+  const bool full =
+      model.external.form() == ExternalForm::Full || model.external.form() == ExternalForm::CameraOnEffector;
   if (prefer_geometry.pivot_priority.empty())
     for (const std::size_t i : model.parameters.freeIndices()) {
       const int k = static_cast<int>(i);

@@ -172,7 +172,8 @@ void refitSensitivity(IdentificationResult& result, const std::vector<PoseObserv
   for (Eigen::Index i = 0; i < n; ++i) inverse_scale[i] = scale[i] > 0.0 ? 1.0 / scale[i] : 0.0;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(inverse_scale.asDiagonal() * shared.covariance *
                                                              inverse_scale.asDiagonal());
-  const bool aligned = result.model.external.form() != ExternalForm::Full;
+  const bool aligned = result.model.external.form() == ExternalForm::AxisAligned ||
+                       result.model.external.form() == ExternalForm::CameraFrame;
   Eigen::MatrixXd columns = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(result.free_names.size()), n);
   Eigen::MatrixXd tilts = Eigen::MatrixXd::Zero(aligned ? 4 : 0, n);
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -130,7 +130,7 @@ std::string parameterFileModel(const ParameterFile& file) {
 const std::vector<std::string>& parameterFileMetadataKeys() {
   static const std::vector<std::string> keys{
       "model",          "variant",          "external_form", "mechanism", "units", "poses", "rms_joint_residual_rad",
-      "residual_scale", "condition_number", "created_by"};
+      "residual_scale", "condition_number", "created_by",    "mounting"};
   return keys;
 }
 

@@ -88,8 +88,21 @@ Eigen::MatrixXd subCovariance(const Eigen::MatrixXd& C, const std::vector<std::s
 
 }  // namespace
 
-Eigen::Isometry3d PredictionModel::cTb() const { return fullForm().baseFromCamera(mounting.values()).inverse(); }
-Eigen::Isometry3d PredictionModel::eTm() const { return fullForm().targetFromEffector(mounting.values()).inverse(); }
+namespace {
+void requireCameraFixed(const PredictionModel& m) {
+  if (m.mounting_form != ExternalForm::Full)
+    throw std::runtime_error(m.model_name + ": the camera is on the effector: there is no cTb nor eTm");
+}
+}  // namespace
+
+Eigen::Isometry3d PredictionModel::cTb() const {
+  requireCameraFixed(*this);
+  return fullForm().baseFromCamera(mounting.values()).inverse();
+}
+Eigen::Isometry3d PredictionModel::eTm() const {
+  requireCameraFixed(*this);
+  return fullForm().targetFromEffector(mounting.values()).inverse();
+}
 
 namespace {
 
@@ -109,13 +122,18 @@ ParameterSet geometricPart(const IdentificationModel& id) {
   return geometric;
 }
 
+// The form a prediction carries the mounting in: the full form, or the camera-on-effector one.
+ExternalForm mountingFormOf(const IdentificationModel& id) {
+  return id.external.form() == ExternalForm::CameraOnEffector ? ExternalForm::CameraOnEffector : ExternalForm::Full;
+}
+
 // External values of the identification's form → the 12 full-form mounting values, and the
 // rotation vectors taken nearest the unperturbed ones (r and r·(1 − 2π/|r|) are the same
 // rotation; near a half turn central differences must not jump by 2π).
 struct FullMountingMap {
   explicit FullMountingMap(const IdentificationModel& model) : id(model) {}
   const IdentificationModel& id;
-  ExternalParameterization full = fullForm();
+  ExternalParameterization full{mountingFormOf(id)};
   Eigen::VectorXd full0;
   // Translating plate aligned on the mean orientation R̄ (alignTranslatingTarget): eRm is
   // not a parameter but cRbᵀ·R̄, so it follows the camera rotation (mean_orientation_covariance).
@@ -135,17 +153,17 @@ struct FullMountingMap {
     return v;
   }
   Eigen::VectorXd operator()(const Eigen::VectorXd& e) const {
-    return nearest(mean_orientation ? mountingWithTargetOrientation(raw(e), *mean_orientation) : raw(e));
+    return nearest(mean_orientation ? mountingWithMeanOrientation(full.form(), raw(e), *mean_orientation) : raw(e));
   }
 };
 
 FullMountingMap fullMountingMap(const IdentificationResult& result, bool aligned_translating_target) {
   FullMountingMap map(result.model);
   map.full0 = map.raw(result.model.externalValues());
-  if (aligned_translating_target) {
-    const Eigen::Isometry3d cTb = map.full.baseFromCamera(map.full0).inverse();
-    const Eigen::Isometry3d eTm = map.full.targetFromEffector(map.full0).inverse();
-    map.mean_orientation = Eigen::Matrix3d(cTb.linear() * eTm.linear());
+  if (aligned_translating_target) {  // cRm = cRb·eRm, or mRc = mRb·eRc with the camera on the effector
+    const Eigen::Matrix3d first = map.full.baseFromCamera(map.full0).linear().transpose();
+    const Eigen::Matrix3d second = map.full.targetFromEffector(map.full0).linear().transpose();
+    map.mean_orientation = Eigen::Matrix3d(first * second);
   }
   return map;
 }
@@ -162,7 +180,7 @@ Eigen::MatrixXd conversionJacobian(const IdentificationResult& result, const Ful
   const auto rows = static_cast<Eigen::Index>(geo.size());
   Eigen::MatrixXd T = Eigen::MatrixXd::Zero(rows + 12, nf);
   for (std::size_t i = 0; i < geo.size(); ++i) T(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(geo[i])) = 1.0;
-  const bool identity = id.external.form() == ExternalForm::Full && !map.mean_orientation;
+  const bool identity = id.external.form() == map.full.form() && !map.mean_orientation;
   const Eigen::VectorXd e0 = id.externalValues();
   for (std::size_t k : ext) {
     const auto index = static_cast<Eigen::Index>(id.parameters.index(result.free_names[k]) - static_cast<std::size_t>(G));
@@ -200,7 +218,7 @@ Eigen::MatrixXd meanOrientationJacobian(const FullMountingMap& map, Eigen::Index
   for (int k = 0; k < 3; ++k) {
     const auto turned = [&](double step) {
       const Eigen::Vector3d r = r0 + step * Eigen::Vector3d::Unit(k);
-      return map.nearest(mountingWithTargetOrientation(map.full0, fromRotationVector(r)));
+      return map.nearest(mountingWithMeanOrientation(map.full.form(), map.full0, fromRotationVector(r)));
     };
     Tr.block(rows, k, 12, 1) = (turned(kConversionStep) - turned(-kConversionStep)) / (2 * kConversionStep);
   }
@@ -221,6 +239,7 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
   m.mechanism = id.mechanism;
   m.geometric = geometricPart(id);
   const FullMountingMap map = fullMountingMap(result, mean_orientation_covariance.has_value());
+  m.mounting_form = map.full.form();
   m.mounting = map.full.parameters();
   m.mounting.freeAll();
   m.mounting.setValues(map.full0);
@@ -245,7 +264,7 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
   // differences of the tilted alignment — leaving it out overstates the σ of the predictions
   // (the parameters' compensation of the alignment error would count as an error).
   const AxisAlignment& alignment = id.external.alignment();
-  if (id.external.form() == ExternalForm::Full || result.alignment_sensitivity.rows() != T.cols() ||
+  if (id.external.form() == map.full.form() || result.alignment_sensitivity.rows() != T.cols() ||
       alignment.covariance.isZero()) {
     m.covariance = T * result.covariance * T.transpose();
     return m;
@@ -298,7 +317,8 @@ void readPredictionCovarianceCsv(const std::filesystem::path& path, PredictionMo
       m.mounting.setValue(name, value);
     } else if (!m.geometric.contains(name)) {
       throw std::runtime_error(table.where(r) + ": '" + name + "' is not a parameter of " + m.mechanism->name() +
-                               " nor a mounting value (tx_CB..rz_EM)");
+                               " nor a mounting value (" + m.mounting.names().front() + ".." +
+                               m.mounting.names().back() + ")");
     } else if (std::abs(m.geometric.value(name) - value) > 1e-12 * std::max(1.0, std::abs(value))) {
       throw std::runtime_error(table.where(r) + ": '" + name +
                                "' differs from the parameter file's value: the files do not belong together");
@@ -372,10 +392,14 @@ LoadedPredictionModel loadPredictionModel(const std::filesystem::path& yaml,
   m.model_name = registered.name;
   m.mechanism = registered.mechanism;
   ParameterSet all = registered.nominal;
-  m.mounting = fullForm().parameters();
+  const ParameterFileEntry* form_key = file.find("external_form");
+  if (form_key && form_key->text == externalFormName(ExternalForm::CameraOnEffector))
+    m.mounting_form = ExternalForm::CameraOnEffector;
+  m.mounting = ExternalParameterization(m.mounting_form).parameters();
   for (const Parameter& p : m.mounting.parameters()) all.add(p);
   std::vector<std::string> also{"amplification"};
-  for (ExternalForm form : {ExternalForm::AxisAligned, ExternalForm::CameraFrame})
+  for (ExternalForm form :
+       {ExternalForm::AxisAligned, ExternalForm::CameraFrame, ExternalForm::Full, ExternalForm::CameraOnEffector})
     for (const std::string& n : ExternalParameterization(form).parameters().names()) also.push_back(n);
   // The full mounting may come from the covariance side file instead (has_mounting below).
   applyParameterFile(file, all, also, m.mounting.names());
@@ -418,8 +442,8 @@ PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& join
   if (!fkm.converged) return out;
   out.pose = fkm.pose;
   out.bTe = fkm.bTe;
-  const Eigen::Isometry3d cTb = m.cTb(), eTm = m.eTm();
-  out.cTm = toPoseVector(cTb * fkm.bTe * eTm);
+  const ExternalParameterization mounting_form(m.mounting_form);
+  out.cTm = toPoseVector(mounting_form.targetInCamera(m.mounting.values(), fkm.bTe));
   const auto P = static_cast<Eigen::Index>(fkm.pose.size());
   out.pose_covariance = Eigen::MatrixXd::Zero(P, P);
   if (m.covariance.size() == 0) return out;
@@ -435,12 +459,9 @@ PosePrediction predictPose(const PredictionModel& m, const Eigen::VectorXd& join
   out.pose_covariance = dXdg * Cgg * dXdg.transpose();
 
   // cTm(X, mounting): central differences over X and the 12 mounting values.
-  const ExternalParameterization full = fullForm();
   const Eigen::VectorXd mount = m.mounting.values();
   const auto cTmOf = [&](const Eigen::VectorXd& X, const Eigen::VectorXd& mt) {
-    // cTm = cTb · bTe · eTm; targetFromEffector() is mTe, hence the inverse.
-    return nearestRotationVector(toPoseVector(full.baseFromCamera(mt).inverse() * m.mechanism->poseToTransform(X) *
-                                              full.targetFromEffector(mt).inverse()),
+    return nearestRotationVector(toPoseVector(mounting_form.targetInCamera(mt, m.mechanism->poseToTransform(X))),
                                  out.cTm);
   };
   Eigen::MatrixXd dX(6, P), dM(6, 12);

@@ -25,6 +25,7 @@ char variantLetter(const std::string& variant) {
 mech::RegisteredModel ModelChoice::registered() const {
   mech::RegisteredModel registered = mech::makeRegisteredModel(model, h4);
   if (nominal) registered.nominal = *nominal;
+  if (camera_on_effector) registered.external_form = mech::ExternalForm::CameraOnEffector;
   return registered;
 }
 
@@ -54,6 +55,15 @@ ModelChoice chooseModel(const std::string& model, const std::string& variant, co
                                 " (" + mech::variantOwnerList() + ")");
   choice.variant = letter ? letter : info->default_variant;
   return choice;
+}
+
+void applyMounting(ModelChoice& choice, const std::string& mounting) {
+  if (mounting != "camera-fixed" && mounting != "camera-on-effector")
+    throw std::invalid_argument("--mounting '" + mounting + "': expected camera-fixed or camera-on-effector");
+  choice.camera_on_effector = mounting == "camera-on-effector";
+  if (choice.camera_on_effector && choice.variant)
+    throw std::invalid_argument("--mounting camera-on-effector: variant " + std::string(1, choice.variant) + " of " +
+                                choice.model + " assumes the camera fixed (paper §4)");
 }
 
 InitialModel initialModel(const ModelChoice& choice, const std::vector<mech::PoseObservation>& poses,

@@ -15,7 +15,8 @@ namespace {
 // Keys a parameter file may carry besides the model's geometry (an identified file's mounting).
 std::vector<std::string> mountingKeys() {
   std::vector<std::string> keys{"amplification"};
-  for (auto form : {mech::ExternalForm::AxisAligned, mech::ExternalForm::Full, mech::ExternalForm::CameraFrame})
+  for (auto form : {mech::ExternalForm::AxisAligned, mech::ExternalForm::Full, mech::ExternalForm::CameraFrame,
+                    mech::ExternalForm::CameraOnEffector})
     for (const auto& n : mech::ExternalParameterization(form).parameters().names()) keys.push_back(n);
   return keys;
 }

@@ -93,7 +93,8 @@ void bindExternal(py::module_& m) {
   py::enum_<mech::ExternalForm>(m, "ExternalForm")
       .value("AxisAligned", mech::ExternalForm::AxisAligned)
       .value("Full", mech::ExternalForm::Full)
-      .value("CameraFrame", mech::ExternalForm::CameraFrame);
+      .value("CameraFrame", mech::ExternalForm::CameraFrame)
+      .value("CameraOnEffector", mech::ExternalForm::CameraOnEffector);
   m.def("externalFormName", &mech::externalFormName);
   py::class_<mech::AxisAlignment>(m, "AxisAlignment")
       .def(py::init<>())

@@ -4,7 +4,9 @@
 // Levenberg–Marquardt from the initial model mire itself starts from. A ridge of 10⁻⁴ (residual
 // units per parameter unit) toward that start pins the directions the data do not see, which
 // would otherwise drift (a turn of the base frame is a gauge only to first order); it moves a
-// determined parameter by far less than its σ.
+// determined parameter by far less than its σ. With `align_mean_orientation`, a plate that only
+// translates gets the rotation its joints cannot see from the mean measured orientation
+// (mechanism::alignTranslatingTarget), without which no fit predicts a camera that rides on it.
 #include <ceres/ceres.h>
 #include <ceres/normal_prior.h>
 
@@ -12,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "mire/mechanism/gauge.hpp"
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/registry.hpp"
@@ -19,7 +22,8 @@
 namespace mire::test {
 
 inline mechanism::PredictionModel plainLeastSquares(const mechanism::RegisteredModel& registered,
-                                                    const std::vector<mechanism::PoseObservation>& poses) {
+                                                    const std::vector<mechanism::PoseObservation>& poses,
+                                                    bool align_mean_orientation = false) {
   namespace mech = mire::mechanism;
   mech::IdentificationResult result;
   result.model = mech::makeInitialModel(registered.mechanism, registered.nominal, poses, registered.external_form);
@@ -46,6 +50,7 @@ inline mechanism::PredictionModel plainLeastSquares(const mechanism::RegisteredM
   Eigen::VectorXd values(model.parameters.size());
   values << geometric, external;
   model.parameters.setValues(values);
+  if (align_mean_orientation) mech::alignTranslatingTarget(*model.mechanism, model.external, model.parameters, poses);
   return mech::predictionModelFrom(registered.name, result);
 }
 

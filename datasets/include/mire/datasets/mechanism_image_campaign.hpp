@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mire/calibration/camera_model.hpp"
@@ -52,6 +53,9 @@ struct MechanismImageCampaignSpec {
   bool delta_legs_differ = true;
   // The camera's placement in the robot's base; unset: mechanismBaseTCamera(mechanism).
   std::optional<Eigen::Isometry3d> base_T_camera;
+  // The camera on the effector, the target fixed (doc/mechanisms.md, "Camera on the effector"):
+  // placed by eyeInHandMounting().
+  bool camera_on_effector = false;
   PngEncoding png = PngEncoding::Stored;
 
   // The H4 demo's optics (slight defocus, sensor noise) for `mechanism`; throws
@@ -69,6 +73,10 @@ struct MechanismImageCampaign {
   std::array<std::vector<Eigen::VectorXd>, 2> lines;  // commanded straight-line poses (V3)
 
   std::filesystem::path directory;
+  // With the camera on the effector (MechanismImageCampaignSpec::camera_on_effector): the true
+  // eTc and bTm; bTc and mTe are then those the view was derived from (eyeInHandMounting()).
+  bool camera_on_effector = false;
+  Eigen::Isometry3d eTc = Eigen::Isometry3d::Identity(), bTm = Eigen::Isometry3d::Identity();
   std::filesystem::path target_file() const { return directory / "target.yaml"; }
   std::filesystem::path calibration_images() const { return directory / "calibration" / "images"; }
   std::filesystem::path pose_images() const { return directory / "poses"; }
@@ -82,6 +90,16 @@ struct MechanismImageCampaign {
 // H4's), above a hexapod looking down; the target centred on the effector facing the camera.
 Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism);
 Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target);
+
+// The camera on the effector with the camera-fixed campaign's view at the robot's home `bTe_home`:
+// the camera turned by a half turn about the base's x axis (a Delta's looks down at a target
+// below, a hexapod's up at one above) and 30 mm from the effector origin, the target placed where
+// that camera sees it as the fixed camera sees the target on the effector. The protocol's
+// displacements, symmetric about the home, then give the fixed campaign's views mirrored.
+// Returns (eTc, bTm).
+std::pair<Eigen::Isometry3d, Eigen::Isometry3d> eyeInHandMounting(const Eigen::Isometry3d& bTc,
+                                                                  const Eigen::Isometry3d& mTe,
+                                                                  const Eigen::Isometry3d& bTe_home);
 
 // Generates the campaign under `directory`. Throws std::runtime_error naming the pose when a
 // target feature would leave the image (less than 10 px inside) at a protocol pose.

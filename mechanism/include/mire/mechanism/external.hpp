@@ -19,6 +19,12 @@
 //  - CameraFrame (model 31 rewritten in the camera frame, eq. 25–26; 4 parameters, z_ME
 //    fixed -> 3 free): the base frame is the axis-aligned camera frame,
 //      bTc = [Acᵀ, 0],  mTe = [Am · Rz(psi_ME), Am · (x_ME, y_ME, z_ME)].
+//  - CameraOnEffector (the other mounting, doc/mechanisms.md "Mounting"; 12 parameters, none
+//    fixed): the camera rides on the effector and the target is fixed in the workspace,
+//      cTm = cTe · eTb(X) · bTm,  eTc = [exp(rx_EC, ry_EC, rz_EC), (tx_EC, ty_EC, tz_EC)],
+//      bTm = [exp(rx_BM, ry_BM, rz_BM), (tx_BM, ty_BM, tz_BM)],
+//      bTe = bTm · cTm⁻¹ · eTc⁻¹.
+//    Like Full, the identifiability analysis names what the motion cannot see.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -32,9 +38,13 @@ namespace mire::mechanism {
 
 class Mechanism;
 
-enum class ExternalForm { AxisAligned, Full, CameraFrame };
+enum class ExternalForm { AxisAligned, Full, CameraFrame, CameraOnEffector };
 
-std::string externalFormName(ExternalForm form);  // "axis-aligned", "full", "camera-frame"
+// "axis-aligned", "full", "camera-frame", "camera-on-effector"
+std::string externalFormName(ExternalForm form);
+
+// The camera mounting of a form: "camera-on-effector" for CameraOnEffector, else "camera-fixed".
+std::string mountingName(ExternalForm form);
 
 // Fixed pre-alignment rotations: camera = Ac (columns: aligned frame axes in camera
 // coordinates, column 2 = rotation axis), target = Am (same in target coordinates).
@@ -56,20 +66,26 @@ class ExternalParameterization {
 
   ExternalForm form() const { return form_; }
   const AxisAlignment& alignment() const { return alignment_; }
-  static int size(ExternalForm form);  // 8, 12, 4
+  static int size(ExternalForm form);  // 8, 12, 4, 12
   int size() const { return size(form_); }
 
   // Names, units, zero values and default fixed flags (z_ME fixed in AxisAligned and
   // CameraFrame; nothing fixed in Full).
   ParameterSet parameters() const;
 
-  // bTc, mTe and bTe = bTc · cTm · mTe (eq. 3) for the given external values.
+  // bTc, mTe and bTe = bTc · cTm · mTe (eq. 3) for the given external values. With the camera
+  // on the effector, baseFromCamera() is bTm and targetFromEffector() is cTe (the same chain
+  // on the inverted measurement mTc = cTm⁻¹).
   Eigen::Isometry3d baseFromCamera(const Eigen::VectorXd& external) const;
   Eigen::Isometry3d targetFromEffector(const Eigen::VectorXd& external) const;
   Eigen::Isometry3d effectorInBase(const Eigen::VectorXd& external, const PoseVector& cTm) const;
+  // The measurement the chain predicts for an effector pose: cTm = cTb · bTe · eTm, or
+  // cTe · eTb · bTm with the camera on the effector.
+  Eigen::Isometry3d targetInCamera(const Eigen::VectorXd& external, const Eigen::Isometry3d& bTe) const;
 
-  // The values of this form closest to the given transforms (exact for Full; for the
-  // aligned forms the rotations are projected onto rotations about the aligned z axis).
+  // The values of this form closest to the given transforms (exact for Full and
+  // CameraOnEffector, there bTm and cTe; for the aligned forms the rotations are projected onto
+  // rotations about the aligned z axis).
   Eigen::VectorXd valuesFrom(const Eigen::Isometry3d& bTc, const Eigen::Isometry3d& mTe) const;
 
   // Templated chain for autodiff (eq. 3). cTm is a PoseVector-like array of 6 T; R is

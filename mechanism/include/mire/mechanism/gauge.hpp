@@ -38,8 +38,8 @@ GaugeAnalysis analyzeGauge(const IdentificationModel& model, const std::vector<P
 // A plate that only translates: the target's rotation on the effector (eTm, full form) has
 // no influence on the joints, so the identification leaves it where the initialisation put
 // it. Sets it from the measured orientations and the identified camera mounting,
-// eRm = cRbᵀ · mean_j(cRm_j), so that the model predicts cTm's orientation too. No-op for
-// other motions or forms. (Defined in external_mounting.cpp.)
+// eRm = cRbᵀ · mean_j(cRm_j), so that the model predicts cTm's orientation too; with the camera
+// on the effector, eRc = bRm · mean_j(cRm_jᵀ). No-op for other motions or forms. (Defined in external_mounting.cpp.)
 void alignTranslatingTarget(const Mechanism& mechanism, ExternalParameterization const& form, ParameterSet& parameters,
                             const std::vector<PoseObservation>& poses);
 

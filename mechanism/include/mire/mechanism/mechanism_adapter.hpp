@@ -256,6 +256,7 @@ class MechanismAdapter final : public Mechanism {
       case ExternalForm::AxisAligned:
         return make<8>(std::move(functor));
       case ExternalForm::Full:
+      case ExternalForm::CameraOnEffector:
         return make<12>(std::move(functor));
       case ExternalForm::CameraFrame:
         return make<4>(std::move(functor));

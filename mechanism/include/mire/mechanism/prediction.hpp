@@ -21,16 +21,19 @@
 namespace mire::mechanism {
 
 // Geometry and the mounting in the full form (tx_CB..rz_CB, tx_EM..rz_EM, whatever form the
-// identification used), with the covariance over `covariance_names` (free geometric
-// parameters, tie leaders, then mounting names); other parameters have no variance.
+// identification used; tx_EC..rz_EC, tx_BM..rz_BM with the camera on the effector), with the
+// covariance over `covariance_names` (free geometric parameters, tie leaders, then mounting
+// names); other parameters have no variance.
 struct PredictionModel {
   std::string model_name;
   std::shared_ptr<const Mechanism> mechanism;
   ParameterSet geometric;
-  ParameterSet mounting;  // ExternalParameterization(ExternalForm::Full).parameters() values
+  ExternalForm mounting_form = ExternalForm::Full;  // or ExternalForm::CameraOnEffector
+  ParameterSet mounting;                            // ExternalParameterization(mounting_form).parameters() values
   std::vector<std::string> covariance_names;
   Eigen::MatrixXd covariance;  // SI; empty: no σ
 
+  // The camera-fixed mounting; throw std::runtime_error with the camera on the effector.
   Eigen::Isometry3d cTb() const;
   Eigen::Isometry3d eTm() const;
 };
@@ -52,7 +55,8 @@ void readPredictionCovarianceCsv(const std::filesystem::path& path, PredictionMo
 // An identified parameter file (its `model:` key names the registry entry) and, when it
 // exists, its side file (default support::covarianceSidePath()). `has_mounting` tells
 // whether the camera-frame prediction is possible (full-form keys in the YAML or the side
-// file). Errors name the file and line.
+// file; the camera-on-effector keys when the file's `external_form` is camera-on-effector).
+// Errors name the file and line.
 struct LoadedPredictionModel {
   PredictionModel model;
   bool has_mounting = false;

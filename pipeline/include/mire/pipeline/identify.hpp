@@ -27,14 +27,21 @@ struct ModelChoice {
   mechanism::H4Nominal h4;  // the H4 models' nominal geometry
   // The other models' nominal geometry when not the built-in one (`--nominal`, applyNominalFile).
   std::optional<mechanism::ParameterSet> nominal;
+  // `--mounting camera-on-effector` (doc/mechanisms.md, "Camera on the effector"): the camera on
+  // the effector, the target fixed; the model's external form is then CameraOnEffector.
+  bool camera_on_effector = false;
   std::string label() const;                      // `h4-12, variant D`, `h4-31 (base frame)`, `delta`
-  mechanism::RegisteredModel registered() const;  // the mechanism and its nominal geometry
+  mechanism::RegisteredModel registered() const;  // the mechanism, its nominal geometry and external form
 };
 
 // Completes and checks a choice made by name: the variant's model when `model` is empty (the
 // registry's default without either), the model's default variant (ModelInfo::default_variant).
 // Throws std::invalid_argument naming the option at fault ("--model", "--variant").
 ModelChoice chooseModel(const std::string& model, const std::string& variant, const mechanism::H4Nominal& h4 = {});
+
+// `--mounting camera-fixed|camera-on-effector` on a choice; throws std::invalid_argument for
+// another word or a variant of the paper's H4 (its parameterisation assumes the camera fixed).
+void applyMounting(ModelChoice& choice, const std::string& mounting);
 
 // Sets the choice's nominal geometry from a parameter file (`--nominal`, doc/file-formats.md): a
 // file of the model's own parameters sets `nominal`; for the H4 models, a file of model 12's keys

@@ -23,7 +23,7 @@ void ExternalParameterization::effectorInBaseFromMeasured(const T* external, con
 
 template <class T>
 void ExternalParameterization::effectorInBase(const T* external, const PreparedPose& pose, T* R, T* t) const {
-  if (form_ == ExternalForm::Full) {
+  if (form_ == ExternalForm::Full || form_ == ExternalForm::CameraOnEffector) {
     chain(external, pose.cRm.data(), pose.ctm.data(), R, t);
     return;
   }
@@ -60,6 +60,28 @@ void ExternalParameterization::effectorInBase(const T* external, const PreparedP
 template <class T, class S>
 void ExternalParameterization::chain(const T* external, const S* cRm, const S* ctm, T* R, T* t) const {
   // camera_ / target_ hold Ac, Am column-major (see external.cpp).
+  if (form_ == ExternalForm::CameraOnEffector) {
+    // bTe = bTm · cTm⁻¹ · eTc⁻¹ with eTc = (Rec, tec), bTm = (Rbm, tbm):
+    // bRe = Rbm · cRmᵀ · Recᵀ,  bte = Rbm · cRmᵀ · (−Recᵀ·tec − ctm) + tbm.
+    T Rec[9], Rbm[9];
+    ceres::AngleAxisToRotationMatrix(external + 3, ceres::ColumnMajorAdapter3x3(Rec));
+    ceres::AngleAxisToRotationMatrix(external + 9, ceres::ColumnMajorAdapter3x3(Rbm));
+    T Rce[9], Rmc[9];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        Rce[3 * c + r] = Rec[3 * r + c];
+        Rmc[3 * c + r] = T(cRm[3 * r + c]);
+      }
+    T tce[3];
+    detail::apply3(Rce, external, tce);
+    for (int k = 0; k < 3; ++k) tce[k] = -tce[k] - ctm[k];
+    T Rbc[9], tb[3];
+    detail::multiply3(Rbm, Rmc, Rbc);
+    detail::multiply3(Rbc, Rce, R);
+    detail::apply3(Rbc, tce, tb);
+    for (int k = 0; k < 3; ++k) t[k] = tb[k] + external[6 + k];
+    return;
+  }
   if (form_ == ExternalForm::Full) {
     // bTe = cTb⁻¹ · cTm · eTm⁻¹ with cTb = (Rcb, tcb), eTm = (Rem, tem).
     T Rcb[9], Rem[9];
