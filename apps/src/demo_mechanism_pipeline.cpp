@@ -204,10 +204,9 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
     spec.joint_repeatability = campaign->robot.mechanism().jointUnits().front() == mech::Unit::Radian
                                    ? campaign_spec.encoder_noise_rad
                                    : campaign_spec.encoder_noise_m;
-    results.closed_loop =
-        pipeline::closedLoopTest(identified.model, campaign->robot.geometry_model.nominal.values(),
-                                 datasets::reachOf(campaign->robot), campaign->bTc, campaign->mTe, spec,
-                                 pipeline::calibratedCameraReading(campaign->camera, camera, target));
+    results.closed_loop = pipeline::closedLoopTest(
+        identified.model, campaign->robot.geometry_model.nominal.values(), datasets::reachOf(campaign->robot),
+        campaign->bTc, campaign->mTe, spec, pipeline::calibratedCameraReading(campaign->camera, camera, target));
   });
   results.files = writeMechanismDemoReport(options, results);
   return results;

@@ -288,7 +288,10 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
 void writePredictionCovarianceCsv(const std::filesystem::path& path, const PredictionModel& m) {
   const std::vector<std::string>& names = m.covariance_names;
   const auto n = static_cast<Eigen::Index>(names.size());
-  const Eigen::MatrixXd C = m.covariance.size() ? m.covariance : Eigen::MatrixXd::Zero(n, n);
+  // Written symmetric: products such as J·Σ·Jᵀ leave rounding-level asymmetry (3e-9 relative on
+  // a described linear delta), and the reader refuses more than 1e-9.
+  const Eigen::MatrixXd C = m.covariance.size() ? Eigen::MatrixXd(0.5 * (m.covariance + m.covariance.transpose()))
+                                                : Eigen::MatrixXd::Zero(n, n);
   std::ostringstream out;
   out << "name,value";
   for (const std::string& name : names) out << ',' << name;

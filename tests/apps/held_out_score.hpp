@@ -1,6 +1,7 @@
 #pragma once
 // The held-out check of `fkm --frame camera` against a simulated campaign's truth: the RMS
 // position error and its ratio to the RMS predicted σ (doc/mechanisms.md, "Limits").
+#include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/support/csv.hpp"
+#include "test_support.hpp"
 
 namespace mire::test {
 
@@ -36,6 +38,26 @@ inline HeldOutScore scoreHeldOutPositions(const std::filesystem::path& predicted
   score.rms_m = score.rows ? std::sqrt(err2 / static_cast<double>(score.rows)) : 0.0;
   score.ratio = sig2 > 0 ? std::sqrt(err2 / sig2) : 0.0;
   return score;
+}
+
+// `mire fkm` of `held_joints.csv` in `dir` (base frame) with `id.yaml`, then `mire ikm` of those
+// poses: the joints come back to 1e-8 (GoogleTest assertions).
+inline void expectFkmIkmRoundTrip(const TempDir& dir, std::size_t rows) {
+  const std::filesystem::path d = dir.path();
+  ASSERT_EQ(runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
+                               (d / "held_joints.csv").string() + " -o " + (d / "effector.csv").string()),
+            0)
+      << readText(d / "stderr.txt");
+  ASSERT_EQ(runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " + (d / "effector.csv").string() +
+                               " -o " + (d / "commands.csv").string()),
+            0)
+      << readText(d / "stderr.txt");
+  const support::CsvTable commands = support::readCsv(d / "commands.csv");
+  const support::CsvTable held = support::readCsv(d / "held_joints.csv");
+  ASSERT_EQ(commands.rows.size(), rows);
+  for (std::size_t r = 0; r < commands.rows.size(); ++r)
+    for (std::size_t k = 1; k < held.header.size(); ++k)
+      EXPECT_NEAR(commands.number(r, commands.column(held.header[k])), held.number(r, k), 1e-8);
 }
 
 }  // namespace mire::test

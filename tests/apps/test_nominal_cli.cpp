@@ -169,20 +169,7 @@ TEST(NominalCli, DescribedMechanismsGoThroughIdentifyFkmAndIkm) {
     EXPECT_GT(ratio, 0.5);
     EXPECT_LT(ratio, 2.0);
     // ikm of the base-frame FKM poses gives the held-out joints back.
-    ASSERT_EQ(test::runMireIn(dir, "fkm --params " + (d / "id.yaml").string() + " --joints " +
-                                       (d / "held_joints.csv").string() + " -o " + (d / "effector.csv").string()),
-              0)
-        << test::readText(d / "stderr.txt");
-    ASSERT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " +
-                                       (d / "effector.csv").string() + " -o " + (d / "commands.csv").string()),
-              0)
-        << test::readText(d / "stderr.txt");
-    const support::CsvTable commands = support::readCsv(d / "commands.csv");
-    const support::CsvTable held = support::readCsv(d / "held_joints.csv");
-    ASSERT_EQ(commands.rows.size(), 20u);
-    for (std::size_t r = 0; r < commands.rows.size(); ++r)
-      for (std::size_t k = 1; k < held.header.size(); ++k)
-        EXPECT_NEAR(commands.number(r, commands.column(held.header[k])), held.number(r, k), 1e-8);
+    test::expectFkmIkmRoundTrip(dir, 20u);
   }
 }
 
