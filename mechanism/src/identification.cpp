@@ -736,7 +736,7 @@ bool postprocessDirect(IdentificationResult& result, const std::vector<PoseObser
 // have a larger joint residual than at the initial values and the RMS over all poses is larger,
 // the loss has traded the majority for the few poses that happen to agree: the answer describes
 // no robot (joints of another robot or campaign, corrupted poses), however small its σ. Compared
-// in radians (the "before/after" RMS `mire identify` prints): the fit's whitening moves with the
+// in joint units (the "before/after" RMS `mire identify` prints): the fit's whitening moves with the
 // parameters, and the weights of an absurd geometry are as absurd as the geometry.
 double radiansSquared(const IdentificationResult& result, const Eigen::VectorXd& whitened, std::size_t pose) {
   const int J = result.model.mechanism->jointCount();
@@ -762,12 +762,15 @@ void checkRobustFitKeptMostPoses(const IdentificationModel& initial, const Ident
   }
   if (2 * worse <= poses.size() || sum_after <= sum_before) return;
   const double rows = static_cast<double>(before.size());
+  const std::vector<Unit> units = initial.mechanism->jointUnits();
+  const bool one_unit = std::all_of(units.begin(), units.end(), [&](Unit u) { return u == units.front(); });
+  const std::string unit = !one_unit ? "(joint units)" : units.front() == Unit::Radian ? "rad" : "m";
   throw PosesRejectedError(
       "the robust fit gave up most poses: " + std::to_string(worse) + " of " + std::to_string(poses.size()) +
       " fit worse than with the initial parameters (more than half is refused) and the joint residual RMS rose from " +
       support::formatMessageNumber(std::sqrt(sum_before / rows)) + " to " +
-      support::formatMessageNumber(std::sqrt(sum_after / rows)) +
-      " rad: the poses and joints do not describe one robot of this model (joints of another robot or campaign, "
+      support::formatMessageNumber(std::sqrt(sum_after / rows)) + " " + unit +
+      ": the poses and joints do not describe one robot of this model (joints of another robot or campaign, "
       "poses of another target or corrupted?)");
 }
 
