@@ -91,8 +91,14 @@ double trueStraightness(const datasets::DefectiveRobot& robot, const std::vector
   return total / static_cast<double>(lines.size());
 }
 
+// A model's name in labels and file names: a described robot's is its description's stem.
+std::string modelLabel(const std::string& name) {
+  return mech::isDescriptionFile(name) ? fs::path(name).stem().string() : name;
+}
+
 // One model: identified and written as identified_<model>.yaml (+ its covariance side file,
 // for `mire fkm` / `mire ikm`), then scored.
+
 MechanismModelScore identifyModel(const std::string& name, const datasets::MechanismImageCampaign& campaign,
                                   const pipeline::PoseSet& data, const fs::path& output) {
   const Stopwatch watch;
@@ -103,7 +109,7 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
   const auto& orientation_covariance = identification.mean_orientation_covariance;
   const bool described = mech::isDescriptionFile(name);
   MechanismModelScore score;
-  score.model = described ? fs::path(name).stem().string() : name;
+  score.model = modelLabel(name);
   score.seconds = watch.seconds();
   score.file = "identified_" + score.model + ".yaml";
   // A described robot's identified file travels with its description (as `mire identify` writes it).
@@ -189,9 +195,9 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign->robot.mechanism().jointColumnNames());
   results.true_v3_m = trueStraightness(campaign->robot, data.lineJoints());
   for (const auto& name : mechanism::mechanismFamilyOf(options.mechanism).models)
-    stage("identify " + name + " (shared term, V3, positioning test)",
+    stage("identify " + modelLabel(name) + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
-  stage("close the loop (" + results.truth_model + " commands, ISO 9283 before / after)", [&] {
+  stage("close the loop (" + modelLabel(results.truth_model) + " commands, ISO 9283 before / after)", [&] {
     // The file a user hands to `mire compensate`, and the geometry the uncompensated controller runs.
     // The model of the true robot's kind (a described robot: its description).
     const auto truth = std::find_if(results.models.begin(), results.models.end(),

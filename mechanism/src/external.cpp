@@ -50,6 +50,23 @@ Parameter angle(const std::string& name, const std::string& description) {
   return Parameter{name, 0.0, Unit::Radian, false, description};
 }
 
+// A rigid transform as six parameters: its translation ("tx_<suffix>": `origin` in metres), then
+// its rotation vector ("rx_<suffix>"), both named after the transform `name` (e.g. cTb).
+void addTransform(ParameterSet& set, const std::string& suffix, const std::string& origin, const std::string& name) {
+  for (const char axis : {'x', 'y', 'z'})
+    set.add(length(std::string("t") + axis + "_" + suffix, origin + ", " + axis + " (" + name + ")"));
+  for (const char axis : {'x', 'y', 'z'})
+    set.add(angle(std::string("r") + axis + "_" + suffix, name + " rotation vector, " + axis));
+}
+
+// The transform stored as (translation, rotation vector) at e[offset..offset+5].
+Eigen::Isometry3d transformAt(const Eigen::VectorXd& e, int offset) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = fromRotationVector(e.segment<3>(offset + 3));
+  T.translation() = e.segment<3>(offset);
+  return T;
+}
+
 // Maximum-likelihood refinement of the axis alignment: cRm(j) = Ac·Rz(φ_j)·Amᵀ·exp(noise).
 // Unknowns: small tilts of Ac and Am about their x, y axes, and one angle per pose. The
 // residual is the rotation vector of (Ac·Rz(φ)·Amᵀ)ᵀ·cRm.
@@ -168,35 +185,15 @@ ParameterSet ExternalParameterization::parameters() const {
       addTargetPart();
       break;
     case ExternalForm::Full:
-      set.add(length("tx_CB", "base origin in the camera frame, x (cTb)"));
-      set.add(length("ty_CB", "base origin in the camera frame, y (cTb)"));
-      set.add(length("tz_CB", "base origin in the camera frame, z (cTb)"));
-      set.add(angle("rx_CB", "cTb rotation vector, x"));
-      set.add(angle("ry_CB", "cTb rotation vector, y"));
-      set.add(angle("rz_CB", "cTb rotation vector, z"));
-      set.add(length("tx_EM", "target origin in the effector frame, x (eTm)"));
-      set.add(length("ty_EM", "target origin in the effector frame, y (eTm)"));
-      set.add(length("tz_EM", "target origin in the effector frame, z (eTm)"));
-      set.add(angle("rx_EM", "eTm rotation vector, x"));
-      set.add(angle("ry_EM", "eTm rotation vector, y"));
-      set.add(angle("rz_EM", "eTm rotation vector, z"));
+      addTransform(set, "CB", "base origin in the camera frame", "cTb");
+      addTransform(set, "EM", "target origin in the effector frame", "eTm");
       break;
     case ExternalForm::CameraFrame:
       addTargetPart();
       break;
     case ExternalForm::CameraOnEffector:  // doc/mechanisms.md, "Camera on the effector"
-      set.add(length("tx_EC", "camera origin in the effector frame, x (eTc)"));
-      set.add(length("ty_EC", "camera origin in the effector frame, y (eTc)"));
-      set.add(length("tz_EC", "camera origin in the effector frame, z (eTc)"));
-      set.add(angle("rx_EC", "eTc rotation vector, x"));
-      set.add(angle("ry_EC", "eTc rotation vector, y"));
-      set.add(angle("rz_EC", "eTc rotation vector, z"));
-      set.add(length("tx_BM", "target origin in the base frame, x (bTm)"));
-      set.add(length("ty_BM", "target origin in the base frame, y (bTm)"));
-      set.add(length("tz_BM", "target origin in the base frame, z (bTm)"));
-      set.add(angle("rx_BM", "bTm rotation vector, x"));
-      set.add(angle("ry_BM", "bTm rotation vector, y"));
-      set.add(angle("rz_BM", "bTm rotation vector, z"));
+      addTransform(set, "EC", "camera origin in the effector frame", "eTc");
+      addTransform(set, "BM", "target origin in the base frame", "bTm");
       break;
   }
   return set;
@@ -210,19 +207,14 @@ Eigen::Isometry3d ExternalParameterization::baseFromCamera(const Eigen::VectorXd
       bTc.linear() = rotZ(e[3]) * alignment_.camera.transpose();
       bTc.translation() = e.head<3>();
       break;
-    case ExternalForm::Full: {
-      Eigen::Isometry3d cTb = Eigen::Isometry3d::Identity();
-      cTb.linear() = fromRotationVector(e.segment<3>(3));
-      cTb.translation() = e.head<3>();
-      bTc = cTb.inverse();
+    case ExternalForm::Full:
+      bTc = transformAt(e, 0).inverse();  // cTb
       break;
-    }
     case ExternalForm::CameraFrame:
       bTc.linear() = alignment_.camera.transpose();
       break;
-    case ExternalForm::CameraOnEffector:  // bTm
-      bTc.linear() = fromRotationVector(e.segment<3>(9));
-      bTc.translation() = e.segment<3>(6);
+    case ExternalForm::CameraOnEffector:
+      bTc = transformAt(e, 6);  // bTm
       break;
   }
   return bTc;
@@ -231,18 +223,8 @@ Eigen::Isometry3d ExternalParameterization::baseFromCamera(const Eigen::VectorXd
 Eigen::Isometry3d ExternalParameterization::targetFromEffector(const Eigen::VectorXd& e) const {
   if (e.size() != size()) throw std::invalid_argument("external parameter vector has the wrong size");
   Eigen::Isometry3d mTe = Eigen::Isometry3d::Identity();
-  if (form_ == ExternalForm::Full) {
-    Eigen::Isometry3d eTm = Eigen::Isometry3d::Identity();
-    eTm.linear() = fromRotationVector(e.segment<3>(9));
-    eTm.translation() = e.segment<3>(6);
-    return eTm.inverse();
-  }
-  if (form_ == ExternalForm::CameraOnEffector) {  // cTe = eTc⁻¹
-    Eigen::Isometry3d eTc = Eigen::Isometry3d::Identity();
-    eTc.linear() = fromRotationVector(e.segment<3>(3));
-    eTc.translation() = e.head<3>();
-    return eTc.inverse();
-  }
+  if (form_ == ExternalForm::Full) return transformAt(e, 6).inverse();              // eTm⁻¹
+  if (form_ == ExternalForm::CameraOnEffector) return transformAt(e, 0).inverse();  // cTe = eTc⁻¹
   const Eigen::Vector4d me =
       form_ == ExternalForm::AxisAligned ? Eigen::Vector4d(e.segment<4>(4)) : Eigen::Vector4d(e.head<4>());
   mTe.linear() = alignment_.target * rotZ(me[3]);
