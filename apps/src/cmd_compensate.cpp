@@ -125,7 +125,15 @@ int runControllerFit(const CompensateArguments& args, const mech::LoadedPredicti
             << mm(fit.rms_position_error) << ", max " << mm(fit.max_position_error) << " at ("
             << support::formatNumber(fit.worst_pose[0], 5) << ", " << support::formatNumber(fit.worst_pose[1], 5)
             << ", " << support::formatNumber(fit.worst_pose[2], 5) << ") m; joint residual RMS "
-            << support::formatNumber(fit.rms_joint_residual, 4) << "\nwrote " << args.output << "\n";
+            << support::formatNumber(fit.rms_joint_residual, 4) << '\n';
+  if (fit.draws > 0)
+    std::cout << "expected on the robot, with the identification's uncertainty (" << fit.draws
+              << " robots drawn from its covariance, frame-free): RMS "
+              << support::formatNumber(fit.expected_rms_position_error * 1e3, 3) << " ± "
+              << support::formatNumber(fit.sigma_rms_position_error * 1e3, 2) << " mm\n";
+  else
+    std::cout << "no covariance beside " << args.params << ": the error expected on the robot is not stated\n";
+  std::cout << "wrote " << args.output << "\n";
   return kOk;
 }
 

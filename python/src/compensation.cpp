@@ -157,6 +157,9 @@ void bindControllerFit(py::module_& m) {
       .def_readonly("rms_joint_residual", &CF::rms_joint_residual)
       .def_readonly("rms_position_error", &CF::rms_position_error)
       .def_readonly("max_position_error", &CF::max_position_error)
+      .def_readonly("expected_rms_position_error", &CF::expected_rms_position_error)
+      .def_readonly("sigma_rms_position_error", &CF::sigma_rms_position_error)
+      .def_readonly("draws", &CF::draws)
       .def_readonly("worst_pose", &CF::worst_pose)
       .def_readonly("poses", &CF::poses);
   m.def(

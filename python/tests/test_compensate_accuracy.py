@@ -116,6 +116,29 @@ def test_joint_commands_of_an_identified_robot_reach_the_noise_level(delta):
         pipe.compensate(model, np.zeros((2, 4)))
 
 
+def test_controller_fit_states_the_error_expected_on_the_robot(delta):
+    rng = np.random.default_rng(4)
+    grid = np.array([[x, y, z] for x in (-0.15, 0, 0.15) for y in (-0.15, 0, 0.15) for z in (-0.075, 0, 0.075)])
+    poses = np.vstack([delta.reference + grid, delta.box(rng, 54)])
+    identification = pipe.identify(pipe.chooseModel(MODEL, ""), delta.observations(poses, rng))
+    model = mech.predictionModelFrom(MODEL, identification.result)
+    workspace = np.array([delta.reference + [x, y, z] for x in np.linspace(-0.1, 0.1, 5)
+                          for y in np.linspace(-0.1, 0.1, 5) for z in (-0.05, 0, 0.05)])
+    fit = mech.fitControllerModel(model, "delta", workspace)
+    assert fit.converged and fit.draws > 90
+    assert 0 < fit.sigma_rms_position_error < fit.expected_rms_position_error
+    # The delta controller's commands run on the TRUE robot: within 3 of the stated σ.
+    controller = mech.makeRegisteredModel("delta").mechanism
+    commanded = np.array([x for x in workspace])
+    frame = fit.frame
+    targets = np.array([(frame @ np.append(x, 1.0))[:3] for x in commanded])
+    reached = delta.reached(controller.ikm(fit.parameters.values(), targets))
+    true_rms = aligned_rms(reached, commanded)
+    print(f"delta controller: true {true_rms * 1e3:.4f} mm, expected {fit.expected_rms_position_error * 1e3:.4f}"
+          f" ± {fit.sigma_rms_position_error * 1e3:.4f} mm")
+    assert abs(true_rms - fit.expected_rms_position_error) < 3 * fit.sigma_rms_position_error
+
+
 def iso_cycles(delta, rng, cycles=30):
     """5 positions × `cycles`: each position biased (0.5 mm per axis) and scattered (0.05 mm)."""
     positions = delta.reference + 0.06 * np.array([[0, 0, 0], [-1, -1, -1], [1, 1, -1], [1, 1, 1], [-1, -1, 1]])

@@ -214,6 +214,8 @@ void controllerAcceptance(const std::string& truth_model, const std::string& con
             0)
       << test::readText(d / "stderr.txt");
   EXPECT_NE(test::readText(d / "stdout.txt").find("cannot correct"), std::string::npos);
+  EXPECT_NE(test::readText(d / "stdout.txt").find("expected on the robot, with the identification's uncertainty"),
+            std::string::npos);
   mech::ParameterSet fitted = controller.nominal;
   const mech::ParameterFile file = mech::readParameterFile(d / "controller.yaml");
   const std::vector<std::string> frame_keys{"frame_tx", "frame_ty", "frame_tz", "frame_rx", "frame_ry", "frame_rz"};

@@ -10,6 +10,7 @@
 // FKM_identified(IKM_controller(F·X, ξc)) − X, which the controller model cannot correct.
 #include <Eigen/Core>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,15 @@ struct ControllerFit {
   double rms_position_error = 0.0, max_position_error = 0.0;
   Eigen::VectorXd worst_pose;  // where the largest error is
   int poses = 0;
+  // The same error for the robot as the identification knows it (doc/accuracy.md, "Controller
+  // model"): robots drawn from the identified geometry's covariance follow the fitted controller's
+  // commands; the RMS position error of each draw, frame-free (rigidly aligned onto the commanded
+  // positions, as a robot whose base frame is not known exactly is scored), gives a mean and a
+  // spread. The mean is what to expect on the robot (it adds the identification's own error to
+  // what the controller model cannot correct); the spread its 1σ. NaN without a covariance.
+  double expected_rms_position_error = std::numeric_limits<double>::quiet_NaN();
+  double sigma_rms_position_error = std::numeric_limits<double>::quiet_NaN();
+  int draws = 0;
 };
 
 // The pose a controller running `controller` is commanded for X: F·X in its own pose components.
