@@ -31,6 +31,7 @@ namespace mech = mire::mechanism;
 
 struct SelectArguments {
   std::string poses, joints, lines, nominal, models, report, covariances;
+  std::string mounting = "camera-fixed";  // or camera-on-effector (doc/mechanisms.md, "Camera on the effector")
   int folds = 10;
   unsigned seed = 1;
   std::vector<std::string> command_line;  // as parsed, for report.json
@@ -86,6 +87,23 @@ void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech:
                     "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, fit}));
 }
 
+// Every candidate with the camera where the poses were measured from: on the effector, each is
+// identified in the camera-on-effector form (as `mire identify --mounting`); the H4's variants
+// assume the camera fixed (paper §4) and are refused by name.
+std::vector<mech::SelectionCandidate> withMounting(std::vector<mech::SelectionCandidate> candidates,
+                                                   const std::string& mounting) {
+  if (mounting != "camera-fixed" && mounting != "camera-on-effector")
+    throw UsageError("--mounting '" + mounting + "': expected camera-fixed or camera-on-effector");
+  if (mounting == "camera-fixed") return candidates;
+  for (mech::SelectionCandidate& c : candidates) {
+    if (c.variant || c.model.registered.external_form != mech::ExternalForm::Full)
+      throw UsageError("--mounting camera-on-effector: candidate " + c.label + " (" + c.model.registered.name +
+                       ") assumes the camera fixed (paper §4)");
+    c.model.registered.external_form = mech::ExternalForm::CameraOnEffector;
+  }
+  return candidates;
+}
+
 int runSelect(const SelectArguments& args) {
   CommandPaths paths{{{args.poses, "--poses"}, {args.joints, "--joints"}}, {}, {}, {}};
   if (!args.covariances.empty()) paths.input_files.push_back({args.covariances, "--pose-covariances"});
@@ -95,8 +113,10 @@ int runSelect(const SelectArguments& args) {
   checkCommandPaths(paths);
   const auto [joint_count, unit] = jointColumns(args.joints);
   const std::string models = args.models.empty() ? mech::defaultSelectionModels(joint_count, unit) : args.models;
-  const auto candidates = mech::parseSelectionCandidates(
-      models, [&](const std::string& name) { return readDesignModel(name, args.nominal); });
+  const auto candidates =
+      withMounting(mech::parseSelectionCandidates(
+                       models, [&](const std::string& name) { return readDesignModel(name, args.nominal); }),
+                   args.mounting);
   const mech::Mechanism& m = *candidates.front().model.registered.mechanism;
   for (const auto& c : candidates)
     if (c.model.registered.mechanism->jointCount() != m.jointCount())
@@ -156,6 +176,9 @@ Runner addSelectCommand(CLI::App& app) {
   CLI::Option* models = cmd->add_option("--models", args->models,
                                         "candidates, e.g. h4-12:A,B,C,D,h4-31c:E,F,G,H or delta,delta-legs "
                                         "(default: all of the mechanism)");
+  cmd->add_option("--mounting", args->mounting,
+                  "camera-fixed, or camera-on-effector: the camera on the effector, the target fixed (as identify)")
+      ->capture_default_str();
   cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();
   cmd->add_option("--seed", args->seed, "seed of the fold assignment")->capture_default_str();
   cmd->add_option("--report", args->report,

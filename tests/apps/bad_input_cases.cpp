@@ -959,6 +959,9 @@ void newerCommandCases(std::vector<Case>& c) {
   add(c, "SelectModelsEmpty",
       [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models ''"; }, 2,
       {"--models", "empty"});
+  add(c, "SelectMountingUnknown",
+      [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --mounting eye-in-hand"; },
+      2, {"--mounting 'eye-in-hand'", "camera-on-effector"});
 }
 
 // ---- class 4, absurd input accepted: a robust fit on joints of no robot, a negative length, an

@@ -338,5 +338,47 @@ TEST(EyeInHand, RenderedHexapodCampaignByHand) {
   renderedChainByHand("gough-stewart", "gough-stewart", {"rho01", "rho02", "rho03", "rho04", "rho05", "rho06"});
 }
 
+// `mire select --mounting camera-on-effector`: each candidate identified with the camera on the
+// effector. A Delta whose legs differ (3 mm / 1.5° per parameter; at 1 mm / 0.5° the simple model
+// stays within one standard error at 0.2 mm noise), seen from its effector: the
+// per-leg model is recommended, with a cross-validated joint residual at the encoders' level; read
+// as if the camera were fixed, every candidate's residual is far larger. The H4 is refused by name.
+TEST(EyeInHand, SelectWithTheCameraOnTheEffector) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  const mech::RegisteredModel registered = mech::makeRegisteredModel("delta-legs");
+  const datasets::EyeInHandCampaign c = datasets::simulateEyeInHandCampaign(
+      registered, datasets::perturbedBy(registered.nominal, 61, 3e-3, 1.5 * kDeg), 61, 0.2e-3, 0.03 * kDeg, 54);
+  datasets::writeCampaignFiles(c.base, d, 0, c.base.poses.size());
+  const std::string base = "select --models delta,delta-legs --poses " + (d / "poses.csv").string() + " --joints " +
+                           (d / "joints.csv").string() + " --report ";
+  const auto recommendedAndResidual = [&](const std::string& report) {
+    const support::CsvTable scores = support::readCsv(d / report / "select_scores.csv");
+    std::string recommended;
+    double residual = 0.0;
+    for (std::size_t r = 0; r < scores.rows.size(); ++r)
+      if (scores.number(r, scores.column("recommended")) == 1) {
+        recommended = scores.rows[r][scores.column("model")];
+        residual = scores.number(r, scores.column("cv_rms"));
+      }
+    return std::make_pair(recommended, residual);
+  };
+  ASSERT_EQ(test::runMireIn(dir, base + (d / "on_effector").string() + " --mounting camera-on-effector"), 0)
+      << test::readText(d / "stderr.txt");
+  const auto [model, residual] = recommendedAndResidual("on_effector");
+  ASSERT_EQ(test::runMireIn(dir, base + (d / "fixed").string()), 0) << test::readText(d / "stderr.txt");
+  const double fixed_residual = recommendedAndResidual("fixed").second;
+  std::printf("select, camera on the effector: %s recommended, CV residual %.2e rad (as if fixed: %.2e rad)\n",
+              model.c_str(), residual, fixed_residual);
+  EXPECT_EQ(model, "delta-legs");
+  EXPECT_LT(residual, 2e-3);
+  EXPECT_GT(fixed_residual, 5 * residual);
+  EXPECT_EQ(test::runMireIn(dir, "select --models h4-12:A,B --mounting camera-on-effector --poses " +
+                                     (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string()),
+            2);
+  EXPECT_NE(test::readText(d / "stderr.txt").find("assumes the camera fixed"), std::string::npos)
+      << test::readText(d / "stderr.txt");
+}
+
 }  // namespace
 }  // namespace mire::app
