@@ -77,8 +77,10 @@ Runner addSimulateCommand(CLI::App& app) {
       "poses", "Images per pose: DIR/poses/<pose_id>/img_XX.png + DIR/truth.yaml + DIR/truth_poses.csv");
   addSpecOptions(poses, poses_options.get());
   const SimulateSubcommand campaign = addSimulateCampaignSubcommand(*simulate);
-  return [calibration, calibration_options, poses_options, campaign] {
+  const SimulateSubcommand iso9283 = addSimulateIso9283Subcommand(*simulate);
+  return [calibration, calibration_options, poses_options, campaign, iso9283] {
     if (campaign.command->parsed()) return campaign.run();
+    if (iso9283.command->parsed()) return iso9283.run();
     const bool is_calibration = calibration->parsed();
     return runSimulation(is_calibration ? *calibration_options : *poses_options, is_calibration);
   };

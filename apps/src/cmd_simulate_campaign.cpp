@@ -308,6 +308,14 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << "the ISO 9283 figures (in the true base frame the commands are given in):\n"
             << "  mire accuracy --params " << in("truth/iso9283.yaml") << " --commanded " << in("iso9283/commanded.csv")
             << " --poses " << in("iso9283/poses.csv") << " -o accuracy.json\n";
+  if (options.mounting != "camera-fixed") return;  // the test's camera is the fixed one
+  const std::string robot = mechanism::isDescriptionFile(options.mechanism) ? "--model " + shellWord(options.mechanism)
+                                                                            : "--mechanism " + options.mechanism;
+  std::cout << "after compensation, the same test driven by the identified model's commands:\n"
+            << "  mire simulate iso9283 " << robot << " --seed " << options.seed
+            << " --params identified.yaml --camera camera.yaml -o iso9283_after\n"
+            << "  mire accuracy --params identified.yaml --commanded iso9283_after/commanded.csv --poses "
+            << "iso9283_after/poses.csv -o accuracy_after.json\n";
 }
 
 int runCampaign(const CampaignOptions& options) {

@@ -12,5 +12,8 @@ struct SimulateSubcommand {
 };
 
 SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate);
+// `mire simulate iso9283` (cmd_simulate_iso9283.cpp): a campaign's robot runs an identified
+// model's commands through the ISO 9283 test (after compensation).
+SimulateSubcommand addSimulateIso9283Subcommand(CLI::App& simulate);
 
 }  // namespace mire::app

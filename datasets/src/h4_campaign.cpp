@@ -101,6 +101,14 @@ void writeEncoderReadings(const H4CampaignSpec& spec, const H4Campaign& campaign
 
 }  // namespace
 
+H4TrueRobot trueRobotOf(const H4CampaignSpec& spec) {
+  const H4CampaignSpec defaults = H4CampaignSpec::reference();
+  const metrology::Target target =
+      metrology::Target::fromFile(spec.target_file.empty() ? defaults.target_file : spec.target_file);
+  const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.robot_seed.value_or(spec.seed));
+  return H4TrueRobot(geometry, spec.base_T_camera.value_or(defaultBaseTCamera()), markerTEffectorFor(target));
+}
+
 // Stages: the true robot and its protocol, the images, the encoder readings, the truth.
 H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& directory, const ProgressCallback& progress) {
   const H4CampaignSpec defaults = H4CampaignSpec::reference();
@@ -109,13 +117,8 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   const calibration::Camera camera = calibration::readCamera(camera_file);
   const metrology::Target target = metrology::Target::fromFile(target_file);
 
-  const H4TrueGeometry geometry = makeTrueGeometry(H4Model12Values{}, spec.errors, spec.robot_seed.value_or(spec.seed));
   H4Campaign campaign{
-      H4TrueRobot(geometry, spec.base_T_camera.value_or(defaultBaseTCamera()), markerTEffectorFor(target)),
-      camera,
-      protocolPoses(spec.grid),
-      {},
-      straightLineMotions(spec.grid, spec.line_points),
+      trueRobotOf(spec), camera, protocolPoses(spec.grid), {}, straightLineMotions(spec.grid, spec.line_points),
       directory};
   for (std::size_t i = 0; i < campaign.poses.size(); ++i) campaign.pose_ids.push_back(campaignPoseId(i));
 
@@ -126,7 +129,7 @@ H4Campaign generateH4Campaign(const H4CampaignSpec& spec, const fs::path& direct
   support::writeFileAtomically(campaign.target_file(), target.yamlString());
   renderCampaignImages(simulation, campaign.directory, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
-  support::writeFileAtomically(truth_dir / "robot.yaml", geometryYaml(geometry) +
+  support::writeFileAtomically(truth_dir / "robot.yaml", geometryYaml(campaign.robot.geometry()) +
                                                              isometryYaml("bTc", campaign.robot.baseTCamera()) +
                                                              isometryYaml("mTe", campaign.robot.markerTEffector()));
   return campaign;

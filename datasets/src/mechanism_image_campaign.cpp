@@ -106,17 +106,6 @@ void writeEncoderReadings(const MechanismImageCampaignSpec& spec, const Mechanis
   mechanism::writeLinesCsv(campaign.lines_file(), lines, columns);
 }
 
-// The true robot of the spec's draw, with or without its unmodelled defects.
-DefectiveRobot trueRobot(const MechanismImageCampaignSpec& spec) {
-  const auto seed = static_cast<unsigned>(spec.robot_seed.value_or(spec.seed));
-  if (isDescriptionFile(spec.mechanism))
-    return makeDefectiveDescribed(makeRegisteredModel(spec.mechanism), seed, spec.unmodelled_defects);
-  if (stageOf(spec.mechanism).translates)
-    return spec.unmodelled_defects ? makeDefectiveDelta(seed, spec.delta_legs_differ)
-                                   : makeDefectiveDelta(seed, spec.delta_legs_differ, 0.0);
-  return spec.unmodelled_defects ? makeDefectiveHexapod(seed) : makeDefectiveHexapod(seed, 0.0, 0.0);
-}
-
 // The true robot: its geometry in the `delta-legs` / `gough-stewart` parameters, its defects
 // and the mountings.
 std::string truthYaml(const MechanismImageCampaign& campaign) {
@@ -145,6 +134,17 @@ std::string truthYaml(const MechanismImageCampaign& campaign) {
 }
 
 }  // namespace
+
+// The true robot of the spec's draw, with or without its unmodelled defects.
+DefectiveRobot trueRobotOf(const MechanismImageCampaignSpec& spec) {
+  const auto seed = static_cast<unsigned>(spec.robot_seed.value_or(spec.seed));
+  if (isDescriptionFile(spec.mechanism))
+    return makeDefectiveDescribed(makeRegisteredModel(spec.mechanism), seed, spec.unmodelled_defects);
+  if (stageOf(spec.mechanism).translates)
+    return spec.unmodelled_defects ? makeDefectiveDelta(seed, spec.delta_legs_differ)
+                                   : makeDefectiveDelta(seed, spec.delta_legs_differ, 0.0);
+  return spec.unmodelled_defects ? makeDefectiveHexapod(seed) : makeDefectiveHexapod(seed, 0.0, 0.0);
+}
 
 MechanismImageCampaignSpec MechanismImageCampaignSpec::reference(const std::string& mechanism) {
   stageOf(mechanism);
@@ -214,7 +214,7 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
       calibration::readCamera(spec.camera_file.empty() ? defaults.camera_file : spec.camera_file);
   const metrology::Target target =
       metrology::Target::fromFile(spec.target_file.empty() ? defaults.target_file : spec.target_file);
-  MechanismImageCampaign campaign{trueRobot(spec),
+  MechanismImageCampaign campaign{trueRobotOf(spec),
                                   camera,
                                   spec.base_T_camera.value_or(mechanismBaseTCamera(spec.mechanism)),
                                   mechanismMarkerTEffector(spec.mechanism, target),

@@ -959,6 +959,19 @@ void newerCommandCases(std::vector<Case>& c) {
   add(c, "SelectModelsEmpty",
       [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --models ''"; }, 2,
       {"--models", "empty"});
+  // An H4 parameter file handed to the simulated Delta: 4 joints for 3.
+  add(c, "SimulateIso9283ParamsOfAnotherRobot",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return "simulate iso9283 --mechanism delta --params " + params + " -o " + e.p("after");
+      },
+      1, {"nominal.yaml", "joints that are not those of the simulated delta"});
+  add(c, "SimulateIso9283UnknownMechanism",
+      [](Env e) {
+        const std::string params = e.copy(test::sourceDir() / "datasets/specs/h4_nominal.yaml", "nominal.yaml");
+        return "simulate iso9283 --mechanism deltaa --params " + params + " -o " + e.p("after");
+      },
+      2, {"--mechanism 'deltaa'", "unknown mechanism"});
   add(c, "SelectMountingUnknown",
       [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --mounting eye-in-hand"; },
       2, {"--mounting 'eye-in-hand'", "camera-on-effector"});

@@ -57,6 +57,22 @@ void expectIsoTest(const fs::path& accuracy_json) {
   }
 }
 
+double meanAp(const fs::path& accuracy_json) {
+  const auto json = nlohmann::json::parse(mire::test::readText(accuracy_json));
+  double sum = 0.0;
+  for (const auto& p : json["positions"]) sum += p["AP_p_m"].get<double>();
+  return sum / static_cast<double>(json["positions"].size());
+}
+
+// `mire simulate iso9283` then `mire accuracy`, as printed: the same robot driven by the identified
+// model's commands, read through the identified file; the mean AP_p falls below `ratio` × before.
+void expectCompensated(const fs::path& before_json, const fs::path& after_json, double ratio) {
+  const double before = meanAp(before_json), after = meanAp(after_json);
+  std::printf("ISO 9283 mean AP_p: nominal controller %.3f mm, identified model's commands %.3f mm\n", before * 1e3,
+              after * 1e3);
+  EXPECT_LT(after, ratio * before);
+}
+
 }  // namespace
 
 // The fastest mechanism (27 poses), one image per pose, 6 calibration views: about 3 s in all.
@@ -74,13 +90,15 @@ TEST(SimulateCampaign, DeltaByHandIdentifiesTheTrueLengths) {
 
   // The printed chain, exactly as printed, from the folder the campaign was made in.
   const std::vector<std::string> commands = printedCommands(output);
-  ASSERT_EQ(commands.size(), 4u) << output;
+  ASSERT_EQ(commands.size(), 6u) << output;
   EXPECT_EQ(commands[0].rfind("calibrate ", 0), 0u);
   EXPECT_EQ(commands[1].rfind("measure ", 0), 0u);
   EXPECT_NE(commands[2].find("--model delta-legs"), std::string::npos) << commands[2];
   EXPECT_EQ(commands[3].rfind("accuracy ", 0), 0u);
+  EXPECT_EQ(commands[4].rfind("simulate iso9283 --mechanism delta --seed 2004 ", 0), 0u) << commands[4];
   for (const std::string& command : commands) ASSERT_EQ(mireIn(dir.path(), command, &output), 0) << command << output;
   expectIsoTest(dir.path() / "accuracy.json");
+  expectCompensated(dir.path() / "accuracy.json", dir.path() / "accuracy_after.json", 0.1);
 
   // The lengths do not depend on the frame the gauge defines: compared with the truth directly.
   // Measured (seed 2004): |error| <= 0.48 mm, |error/σ| <= 2.4 (RMS 1.3); the other parameters
@@ -127,10 +145,12 @@ TEST(SimulateCampaign, DescribedRobotByHandIdentifiesItsRodsAndGains) {
   EXPECT_NE(mire::test::readText(dir.path() / "campaign/joints.csv").find("q1_m"), std::string::npos);
   EXPECT_NE(mire::test::readText(dir.path() / "campaign/truth/robot.yaml").find("encoder_curvature"), std::string::npos);
   const std::vector<std::string> commands = printedCommands(output);
-  ASSERT_EQ(commands.size(), 4u) << output;
+  ASSERT_EQ(commands.size(), 6u) << output;
   EXPECT_NE(commands[2].find("--model " + description.string()), std::string::npos) << commands[2];
+  EXPECT_NE(commands[4].find("--model " + description.string()), std::string::npos) << commands[4];
   for (const std::string& command : commands) ASSERT_EQ(mireIn(dir.path(), command, &output), 0) << command << output;
   expectIsoTest(dir.path() / "accuracy.json");
+  expectCompensated(dir.path() / "accuracy.json", dir.path() / "accuracy_after.json", 0.5);
 
   const auto identified = mire::mechanism::readParameterFile(dir.path() / "identified.yaml");
   const auto truth = mire::mechanism::readParameterFile(dir.path() / "campaign/truth/robot_geometry.yaml");

@@ -65,6 +65,11 @@ struct H4Campaign {
   Eigen::Isometry3d trueCameraTMarker(const std::string& pose_id) const;
 };
 
+// The spec's true robot with its mountings (the camera's, the target's for the spec's target
+// file), as generateH4Campaign draws it, without rendering: a campaign's robot run again, e.g.
+// by `mire simulate iso9283` with compensated commands.
+H4TrueRobot trueRobotOf(const H4CampaignSpec& spec);
+
 // Generates the campaign under `directory` (created; existing files are replaced atomically).
 // Throws std::runtime_error naming the pose, before writing anything, when a target feature
 // would come within 10 px of the image border at a protocol pose (campaign_images.hpp).

@@ -101,6 +101,10 @@ std::pair<Eigen::Isometry3d, Eigen::Isometry3d> eyeInHandMounting(const Eigen::I
                                                                   const Eigen::Isometry3d& mTe,
                                                                   const Eigen::Isometry3d& bTe_home);
 
+// The spec's true robot (geometry and defects) as generateMechanismImageCampaign draws it, without
+// rendering; its mountings are mechanismBaseTCamera() (or the spec's) and mechanismMarkerTEffector().
+DefectiveRobot trueRobotOf(const MechanismImageCampaignSpec& spec);
+
 // Generates the campaign under `directory`. Throws std::runtime_error naming the pose when a
 // target feature would leave the image (less than 10 px inside) at a protocol pose.
 MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampaignSpec& spec,
