@@ -22,6 +22,8 @@ constexpr support::YamlRange kLength{1e-6, 100.0};        // m
 constexpr support::YamlRange kGain{1e-6, 1e6};
 constexpr double kTwoPi = 2.0 * support::kPi;
 
+std::string number(double value) { return support::formatYamlNumber(value); }
+
 std::string legLabel(std::size_t i) { return "leg " + std::to_string(i + 1); }
 
 Eigen::Vector3d vector3(const YamlNode& node, const std::string& what) {
@@ -43,11 +45,11 @@ int readBranch(const YamlNode& node) {
 std::vector<std::string> legKeys(LegActuator kind) {
   switch (kind) {
     case LegActuator::Prismatic:
-      return {"actuator", "base", "axis", "rod", "platform", "branch", "offset", "gain"};
+      return {"actuator", "base", "axis", "rod", "platform", "branch", "offset", "gain", "stroke"};
     case LegActuator::Revolute:
-      return {"actuator", "base", "axis", "arm", "rod", "platform", "branch", "offset", "gain"};
+      return {"actuator", "base", "axis", "arm", "rod", "platform", "branch", "offset", "gain", "stroke"};
     case LegActuator::Extensible:
-      return {"actuator", "base", "platform", "offset", "gain"};
+      return {"actuator", "base", "platform", "offset", "gain", "stroke"};
   }
   return {};
 }
@@ -72,6 +74,19 @@ void rejectForeignKeys(const YamlNode& leg, LegActuator kind, std::size_t index)
                      (kind == LegActuator::Extensible ? " (its length is the joint: q = |w| - offset)" : ""));
   }
   leg.checkKeys(allowed);
+}
+
+// `stroke: [min, max]`, the reading's range in joints.csv's unit (m; rad for a revolute leg).
+Eigen::Vector2d readStroke(const YamlNode& node, LegActuator kind, const std::string& label) {
+  const bool angle = kind == LegActuator::Revolute;
+  const std::string what =
+      angle ? "[min, max] (" + label + "'s reading range, rad)" : "[min, max] (" + label + "'s reading range, m)";
+  if (!node.isSequence()) node.fail("expected 2 numbers " + what);
+  const std::vector<double> values = node.asDoubles(angle ? support::YamlRange{-kTwoPi, kTwoPi} : kCoordinate);
+  if (values.size() != 2) node.fail("expected 2 numbers " + what + ", not " + std::to_string(values.size()));
+  if (!(values[0] < values[1]))
+    node.fail(label + ": the stroke's minimum " + number(values[0]) + " is not below its maximum " + number(values[1]));
+  return Eigen::Vector2d(values[0], values[1]);
 }
 
 LegDescription readLeg(const YamlNode& leg, std::size_t index, bool gains) {
@@ -104,6 +119,7 @@ LegDescription readLeg(const YamlNode& leg, std::size_t index, bool gains) {
     if (!gains) gain->fail(label + ": a gain needs 'gains: true' at the top level");
     out.gain = gain->asDouble(kGain);
   }
+  if (const auto stroke = leg.find("stroke")) out.stroke = readStroke(*stroke, out.actuator, label);
   return out;
 }
 
@@ -155,8 +171,6 @@ MechanismDescription readDescription(const support::YamlFile& file) {
 }
 
 // ----- writing -----
-
-std::string number(double value) { return support::formatYamlNumber(value); }
 
 std::string vectorText(const Eigen::Vector3d& v) {
   return "[" + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + "]";
@@ -214,6 +228,8 @@ void validateMechanismDescription(const MechanismDescription& d) {
     if (!leg.base.allFinite() || !leg.platform.allFinite() || !std::isfinite(leg.offset) || !std::isfinite(leg.gain))
       fail(label + "a non-finite value");
     if (!(leg.gain > 0.0)) fail(label + "the gain must be positive");
+    if (leg.stroke && (!leg.stroke->allFinite() || !((*leg.stroke)[0] < (*leg.stroke)[1])))
+      fail(label + "the stroke must be two finite readings [min, max] with min < max");
     if (leg.actuator == LegActuator::Extensible) continue;
     if (!leg.axis.allFinite() || std::abs(leg.axis.norm() - 1.0) > 1e-9) fail(label + "the axis must be a unit vector");
     if (!(leg.rod > 0.0) || !std::isfinite(leg.rod)) fail(label + "the rod length must be positive");
@@ -252,6 +268,7 @@ std::string MechanismDescription::yamlString() const {
     if (leg.actuator != LegActuator::Extensible) out << "    branch: " << (leg.branch > 0 ? "+1" : "-1") << "\n";
     out << "    offset: " << number(leg.offset) << "\n";
     if (gains) out << "    gain: " << number(leg.gain) << "\n";
+    if (leg.stroke) out << "    stroke: [" << number((*leg.stroke)[0]) << ", " << number((*leg.stroke)[1]) << "]\n";
   }
   return out.str();
 }

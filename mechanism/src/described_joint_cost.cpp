@@ -45,7 +45,8 @@ DescribedJointCost::DescribedJointCost(const DescribedKinematics& kinematics, in
     : external_(std::move(external)),
       pose_(external_.prepare(cTm)),
       joints_(std::move(measured_joints)),
-      whitening_(std::move(whitening)) {
+      whitening_(std::move(whitening)),
+      translation_(!kinematics.full) {
   for (const DescribedLeg& leg : kinematics.legs) legs_.push_back(localLeg(leg));
   set_num_residuals(static_cast<int>(joints_.size()));
   mutable_parameter_block_sizes()->push_back(geometric_count);
@@ -90,14 +91,20 @@ bool DescribedJointCost::Evaluate(double const* const* parameters, double* resid
   const int geometric = parameter_block_sizes()[0], external = parameter_block_sizes()[1];
   const bool derivatives = jacobians != nullptr && (jacobians[0] != nullptr || jacobians[1] != nullptr);
   double Rt[kPoseEntries];
-  Eigen::Matrix<double, kPoseEntries, Eigen::Dynamic, Eigen::RowMajor> d_external(kPoseEntries, external);
+  // Derivative buffers sized only when asked for: Ceres evaluates each trial step for its cost alone.
+  Eigen::Matrix<double, kPoseEntries, Eigen::Dynamic, Eigen::RowMajor> d_external(kPoseEntries,
+                                                                                  derivatives ? external : 0);
   if (derivatives)
     effectorDerivatives(parameters[1], Rt, d_external.data());
   else
     external_.effectorInBase(parameters[1], pose_, Rt, Rt + 9);
+  if (translation_) {  // the plate never turns: X's rotation does not move the joints (R = I)
+    for (int k = 0; k < 9; ++k) Rt[k] = k % 4 == 0 ? 1.0 : 0.0;
+    if (derivatives) d_external.topRows(9).setZero();
+  }
 
   Eigen::VectorXd q(n);
-  Eigen::Matrix<double, Eigen::Dynamic, kPoseEntries, Eigen::RowMajor> d_pose(n, kPoseEntries);
+  Eigen::Matrix<double, Eigen::Dynamic, kPoseEntries, Eigen::RowMajor> d_pose(derivatives ? n : 0, kPoseEntries);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> d_geometric =
       Eigen::MatrixXd::Zero(derivatives ? n : 0, geometric);
   for (int i = 0; i < n; ++i) {

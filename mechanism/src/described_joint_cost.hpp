@@ -40,6 +40,7 @@ class DescribedJointCost final : public ceres::CostFunction {
   ExternalParameterization::PreparedPose pose_;
   Eigen::VectorXd joints_;
   Eigen::MatrixXd whitening_;
+  bool translation_ = false;  // a translation platform: R = I whatever X's rotation (described_kinematics.hpp)
 };
 
 }  // namespace mire::mechanism::detail

@@ -118,9 +118,16 @@ struct DescribedKinematics {
   }
 
   // IKM at bTe = (R column-major, t). Returns the bit mask of the legs that cannot assemble
-  // (their q̄_i set to 0).
+  // (their q̄_i set to 0). A translation platform never turns (R = I, as the built-in Delta): a
+  // rotation in bTe, such as X = bTc·cTm·mTe's with the target's rotation on the plate where the
+  // initialisation put it, is not part of its pose and must not move its joints.
   template <class T>
   int inverseKinematics(const T* g, const T* R, const T* t, T* joints) const {
+    T identity[9];
+    if (!full) {
+      for (int k = 0; k < 9; ++k) identity[k] = T(k % 4 == 0 ? 1 : 0);
+      R = identity;
+    }
     int mask = 0;
     for (std::size_t i = 0; i < legs.size(); ++i) {
       if (legJoint(legs[i], g, R, t, &joints[i])) continue;

@@ -5,6 +5,7 @@
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/ceres.h>
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -13,6 +14,7 @@
 #include "described_kinematics.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/external.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -24,6 +26,23 @@ std::vector<int> unreachableList(int mask, std::size_t joints) {
   std::vector<int> list;
   for (std::size_t i = 0; i < joints; ++i)
     if (mask & (1 << i)) list.push_back(static_cast<int>(i));
+  return list;
+}
+
+// The legs whose reading lies outside their declared stroke (a revolute reading taken in the turn
+// nearest the stroke's middle: the IKM's atan2 gives it only modulo 2π).
+std::vector<int> outOfStrokeList(const MechanismDescription& description, const Eigen::VectorXd& joints) {
+  std::vector<int> list;
+  for (std::size_t i = 0; i < description.legs.size(); ++i) {
+    const LegDescription& leg = description.legs[i];
+    const double q = joints[static_cast<Eigen::Index>(i)];
+    if (!leg.stroke || !std::isfinite(q)) continue;
+    const Eigen::Vector2d& stroke = *leg.stroke;
+    const double turn = 2.0 * support::kPi;
+    const double reading =
+        leg.actuator == LegActuator::Revolute ? q - turn * std::round((q - 0.5 * (stroke[0] + stroke[1])) / turn) : q;
+    if (reading < stroke[0] || reading > stroke[1]) list.push_back(static_cast<int>(i));
+  }
   return list;
 }
 
@@ -125,6 +144,7 @@ class DescribedMechanism final : public Mechanism {
     const int mask = kinematics_.inverseKinematics(geometric.data(), R.data(), t.data(), result.joints.data());
     result.unreachable_joints = unreachableList(mask, description_.legs.size());
     for (int i : result.unreachable_joints) result.joints[i] = std::numeric_limits<double>::quiet_NaN();
+    result.out_of_stroke_joints = outOfStrokeList(description_, result.joints);
     return result;
   }
 

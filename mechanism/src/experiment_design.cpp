@@ -120,7 +120,13 @@ void validateWorkspace(const Workspace& w, const Mechanism& mechanism) {
 
 bool candidateAcceptable(const Mechanism& mechanism, const Eigen::VectorXd& geometric, const Workspace& w,
                          const Eigen::VectorXd& pose) {
-  if (!mechanism.inverseKinematics(geometric, mechanism.poseToTransform(pose)).reachable()) return false;
+  // A pose the robot cannot assemble, or that drives a joint past its declared stroke (the
+  // hexapod's legs, a description's `stroke`), is never proposed.
+  const auto inReach = [&](const Eigen::VectorXd& at) {
+    const IkmResult ikm = mechanism.inverseKinematics(geometric, mechanism.poseToTransform(at));
+    return ikm.reachable() && ikm.withinStroke();
+  };
+  if (!inReach(pose)) return false;
   const Eigen::MatrixXd J = ikmPoseJacobian(mechanism, geometric, pose);
   if (J.size() == 0 || !J.allFinite()) return false;
   // Serial-singularity / reach margin: one margin of joint motion away in every direction.
@@ -132,7 +138,7 @@ bool candidateAcceptable(const Mechanism& mechanism, const Eigen::VectorXd& geom
       for (const double s : {-step, step}) {
         Eigen::VectorXd moved = pose;
         moved[k] += s;
-        if (!mechanism.inverseKinematics(geometric, mechanism.poseToTransform(moved)).reachable()) return false;
+        if (!inReach(moved)) return false;
       }
     }
   }

@@ -162,7 +162,9 @@ void bindMechanism(py::module_& m) {
   py::class_<mech::IkmResult>(m, "IkmResult")
       .def_readonly("joints", &mech::IkmResult::joints)
       .def_readonly("unreachable_joints", &mech::IkmResult::unreachable_joints)
-      .def("reachable", &mech::IkmResult::reachable);
+      .def_readonly("out_of_stroke_joints", &mech::IkmResult::out_of_stroke_joints)
+      .def("reachable", &mech::IkmResult::reachable)
+      .def("withinStroke", &mech::IkmResult::withinStroke);
   py::class_<mech::FkmOptions>(m, "FkmOptions")
       .def(py::init<>())
       .def_readwrite("max_iterations", &mech::FkmOptions::max_iterations)

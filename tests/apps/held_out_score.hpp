@@ -6,9 +6,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "mire/datasets/mechanism_campaign.hpp"
+#include "mire/mechanism/prediction.hpp"
 #include "mire/support/csv.hpp"
 #include "test_support.hpp"
 
@@ -19,6 +22,27 @@ struct HeldOutScore {
   double rms_m = 0.0;  // RMS position error against the truth
   double ratio = 0.0;  // RMS error / RMS predicted σ
 };
+
+struct HeldOutPrediction {
+  double rms_m = 0.0;  // RMS camera-frame position error against the truth
+  double ratio = 0.0;  // RMS error / RMS predicted σ
+};
+
+// predictPose() of `model` at the joints of poses [first, end) against the true cTm of pose j,
+// `true_cTm(j)` (a fixed camera's or one on the effector: the campaigns differ only there).
+inline HeldOutPrediction heldOutPrediction(const mechanism::PredictionModel& model,
+                                           const std::vector<mechanism::PoseObservation>& poses, std::size_t first,
+                                           const std::function<Eigen::Isometry3d(std::size_t)>& true_cTm) {
+  double err2 = 0, sig2 = 0;
+  std::size_t n = 0;
+  for (std::size_t j = first; j < poses.size(); ++j, ++n) {
+    const mechanism::PosePrediction p = mechanism::predictPose(model, poses[j].joints);
+    EXPECT_TRUE(p.converged) << "pose " << j << ": " << p.message;
+    err2 += (p.cTm.head<3>() - true_cTm(j).translation()).squaredNorm();
+    sig2 += p.cTm_covariance.topLeftCorner<3, 3>().trace();
+  }
+  return {n ? std::sqrt(err2 / static_cast<double>(n)) : 0.0, sig2 > 0 ? std::sqrt(err2 / sig2) : 0.0};
+}
 
 // `predicted_csv`: fkm --frame camera output whose pose ids are the campaign's (1-based).
 inline HeldOutScore scoreHeldOutPositions(const std::filesystem::path& predicted_csv, const datasets::Campaign& c) {

@@ -33,21 +33,10 @@ namespace mech = mire::mechanism;
 const double kDeg = datasets::kCampaignDeg;
 constexpr int kHeld = 20;
 
-struct Prediction {
-  double rms_m = 0.0, ratio = 0.0;
-};
-
-// RMS position error of the camera-frame predictions at the held-out poses [first, end).
-Prediction heldOut(const mech::PredictionModel& model, const datasets::EyeInHandCampaign& c, std::size_t first) {
-  double err2 = 0, sig2 = 0;
-  std::size_t n = 0;
-  for (std::size_t j = first; j < c.base.poses.size(); ++j, ++n) {
-    const mech::PosePrediction p = mech::predictPose(model, c.base.poses[j].joints);
-    EXPECT_TRUE(p.converged) << "pose " << j << ": " << p.message;
-    err2 += (p.cTm.head<3>() - c.cTm(j).translation()).squaredNorm();
-    sig2 += p.cTm_covariance.topLeftCorner<3, 3>().trace();
-  }
-  return {std::sqrt(err2 / static_cast<double>(n)), sig2 > 0 ? std::sqrt(err2 / sig2) : 0.0};
+// The camera-frame predictions at the held-out poses [first, end) against the campaign's truth.
+test::HeldOutPrediction heldOut(const mech::PredictionModel& model, const datasets::EyeInHandCampaign& c,
+                                std::size_t first) {
+  return test::heldOutPrediction(model, c.base.poses, first, [&c](std::size_t j) { return c.cTm(j); });
 }
 
 struct Case {
@@ -78,9 +67,9 @@ void expectAsGoodAsTheReference(const Case& test) {
   pipeline::ModelChoice choice;
   const pipeline::Identification id = identifyOnEffector(test, poses, &choice);
   ASSERT_EQ(id.result.model.external.form(), mech::ExternalForm::CameraOnEffector);
-  const Prediction mire =
+  const test::HeldOutPrediction mire =
       heldOut(mech::predictionModelFrom(test.model.name, id.result, id.mean_orientation_covariance), c, train);
-  const Prediction reference =
+  const test::HeldOutPrediction reference =
       heldOut(test::plainLeastSquares(choice.registered(), poses, /*align_mean_orientation=*/true), c, train);
   std::printf(
       "%s, camera on the effector, %zu poses: held-out RMS %.3f mm (plain least squares %.3f mm, ratio "

@@ -85,6 +85,40 @@ TEST(FkmIkmCli, GoughStewartIdentifyPredictCommand) { identifyThenPredict("gough
 TEST(FkmIkmCli, GoughStewartGainsIdentifyPredictCommand) { identifyThenPredict("gough-stewart-gains"); }
 TEST(FkmIkmCli, H4IdentifyPredictCommand) { identifyThenPredict("h4-12"); }
 
+// A described robot's declared strokes (doc/mechanisms.md, "Described mechanisms") go through
+// `identify` into the identified description, and `ikm` names a pose outside them (exit 3), writing
+// the others: the linear delta's carriages limited to [0.25, 0.34] m, a pose 0.10 m below home
+// needing about 0.19 m.
+TEST(FkmIkmCli, DescribedStrokesAreHonouredByIkm) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  std::string description = test::readText(test::sourceDir() / "examples" / "mechanisms" / "linear-delta.yaml");
+  const std::string stroke = "    stroke: [0.25, 0.34]\n", branch = "    branch: +1";
+  for (std::size_t at = description.find(branch); at != std::string::npos;
+       at = description.find(branch, at + stroke.size() + branch.size()))
+    description.insert(at, stroke);
+  test::writeText(d / "printer.yaml", description);
+  const datasets::Campaign c =
+      datasets::simulateCampaign(mechanism::makeRegisteredModel((d / "printer.yaml").string()), 13);
+  datasets::writeCampaignFiles(c, d, 0, c.poses.size());
+  ASSERT_EQ(test::runMireIn(dir, "identify --model " + (d / "printer.yaml").string() + " --poses " +
+                                     (d / "poses.csv").string() + " --joints " + (d / "joints.csv").string() + " -o " +
+                                     (d / "id.yaml").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  const std::string identified = test::readText(d / "id_mechanism.yaml");
+  EXPECT_NE(identified.find("stroke: [0.25, 0.34]"), std::string::npos) << identified;
+  test::writeText(d / "effector.csv", "pose_id,x_m,y_m,z_m\nhome,0,0,0.10\nlow,0,0,0.0\n");
+  EXPECT_EQ(test::runMireIn(dir, "ikm --params " + (d / "id.yaml").string() + " --poses " +
+                                     (d / "effector.csv").string() + " -o " + (d / "commands.csv").string()),
+            3);
+  const std::string err = test::readText(d / "stderr.txt");
+  EXPECT_NE(err.find("effector.csv:3: pose 'low' is outside the stroke of joint(s) 1 ("), std::string::npos) << err;
+  const support::CsvTable commands = support::readCsv(d / "commands.csv");
+  ASSERT_EQ(commands.rows.size(), 1u);
+  EXPECT_EQ(commands.rows[0][0], "home");
+}
+
 TEST(FkmIkmCli, UnknownModelIsNamed) {
   test::TempDir dir;
   const datasets::Campaign c = datasets::simulateCampaign("delta", 12);

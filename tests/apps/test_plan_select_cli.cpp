@@ -3,6 +3,7 @@
 // nothing written).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -63,6 +64,38 @@ TEST(PlanCli, BadWorkspaceIsNamedAndNothingIsWritten) {
             1);
   EXPECT_NE(test::readText(d / "stderr.txt").find("poses are needed"), std::string::npos);
   EXPECT_FALSE(fs::exists(d / "plan.csv"));
+}
+
+// A described robot (doc/mechanisms.md, "Described mechanisms"): the linear delta of
+// examples/mechanisms/ with a declared stroke on every carriage. Its home readings are 0.292 m
+// (z 0.10 + √(0.25² − 0.16²)); the workspace's corners need 0.17–0.38 m, so the stroke cuts it and
+// every planned pose's nominal readings lie inside [0.25, 0.34].
+TEST(PlanCli, DescribedRobotPlansInsideItsStrokes) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  std::string description = test::readText(test::sourceDir() / "examples" / "mechanisms" / "linear-delta.yaml");
+  const std::string stroke = "    stroke: [0.25, 0.34]\n", branch = "    branch: +1";
+  for (std::size_t at = description.find(branch); at != std::string::npos;
+       at = description.find(branch, at + stroke.size() + branch.size()))
+    description.insert(at, stroke);
+  test::writeText(d / "printer.yaml", description);
+  test::writeText(d / "workspace.yaml", "x_m: [-0.04, 0.04]\ny_m: [-0.04, 0.04]\nz_m: [0.05, 0.15]\n");
+  ASSERT_EQ(test::runMireIn(dir, "plan --model " + (d / "printer.yaml").string() + " --workspace " +
+                                     (d / "workspace.yaml").string() + " --count 30 --candidates 600 -o " +
+                                     (d / "plan.csv").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  const support::CsvTable plan = support::readCsv(d / "plan.csv");
+  ASSERT_EQ(plan.rows.size(), 30u);
+  double lo = 1.0, hi = 0.0;
+  for (std::size_t r = 0; r < plan.rows.size(); ++r)
+    for (const char* q : {"q1_m", "q2_m", "q3_m"}) {
+      lo = std::min(lo, plan.number(r, plan.column(q)));
+      hi = std::max(hi, plan.number(r, plan.column(q)));
+    }
+  EXPECT_GE(lo, 0.25);
+  EXPECT_LE(hi, 0.34);
+  EXPECT_GT(hi - lo, 0.04);  // the plan spreads over the stroke, not a point
 }
 
 TEST(SelectCli, LastLineIsTheRecommendation) {

@@ -413,6 +413,10 @@ void expectSame(const MechanismDescription& a, const MechanismDescription& b) {
     EXPECT_EQ(x.branch, y.branch) << i;
     EXPECT_EQ(x.offset, y.offset) << i;
     EXPECT_EQ(x.gain, y.gain) << i;
+    EXPECT_EQ(x.stroke.has_value(), y.stroke.has_value()) << i;
+    if (x.stroke && y.stroke) {
+      EXPECT_EQ(*x.stroke, *y.stroke) << i;
+    }
   }
 }
 
@@ -574,6 +578,10 @@ TEST(DescribedFile, BadInputNamesTheFileTheLineAndTheKey) {
       {{{3, "home: {t: [0, 0, 0.1], r: [0, 0, 0.1]}\nlegs:"}}, 3, "home.r", "no rotation"},
       {{{3, "home: [0, 0]\nlegs:"}}, 3, "home", "expected 3 numbers"},
       {{{3, "gains: maybe\nlegs:"}}, 3, "gains", ""},
+      {{{8, "    platform: [0, 0.04, 0]\n    stroke: [0.3, 0.1]"}}, 9, "legs[0].stroke", "is not below its maximum"},
+      {{{8, "    platform: [0, 0.04, 0]\n    stroke: [0.1]"}}, 9, "legs[0].stroke", "expected 2 numbers"},
+      {{{8, "    platform: [0, 0.04, 0]\n    stroke: 0.3"}}, 9, "legs[0].stroke", "expected 2 numbers"},
+      {{{8, "    platform: [0, 0.04, 0]\n    stroke: [0.1, .inf]"}}, 9, "legs[0].stroke[1]", "finite"},
   };
   const test::TempDir dir;
   for (const BadFile& bad : cases) {
@@ -589,6 +597,42 @@ TEST(DescribedFile, BadInputNamesTheFileTheLineAndTheKey) {
     }
   }
   EXPECT_THROW(readMechanismDescription(dir.path() / "absent.yaml"), std::invalid_argument);
+}
+
+// A leg's declared stroke (doc/mechanisms.md, "Described mechanisms"): read, written back, and
+// the IKM names the legs whose reading falls outside it (the pose is still reachable); a
+// revolute reading counts in the turn nearest the stroke.
+TEST(DescribedFile, StrokesAreReadWrittenAndNamedByTheIkm) {
+  const MechanismDescription d =
+      parseMechanismDescription(smallWith({{8, "    platform: [0, 0.04, 0]\n    stroke: [0.2, 0.35]"}}), "s.yaml");
+  ASSERT_TRUE(d.legs[0].stroke.has_value());
+  EXPECT_EQ(*d.legs[0].stroke, Eigen::Vector2d(0.2, 0.35));
+  EXPECT_FALSE(d.legs[1].stroke.has_value());
+  expectSame(parseMechanismDescription(d.yamlString(), "again.yaml"), d);
+  expectSame(describedWithParameters(d, describedParameters(d)), d);  // an identified file keeps it
+
+  const std::unique_ptr<Mechanism> m = makeDescribedMechanism(d);
+  const Eigen::VectorXd g = m->nominal().values();
+  // Leg 1 (rail at y = 0.20, joint at y = 0.04): its carriage sits z + √(0.25² − 0.16²) = z + 0.1921 m up.
+  const auto at = [&](double z) { return m->inverseKinematics(g, transform(Eigen::Vector3d::Zero(), {0, 0, z})); };
+  const IkmResult inside = at(0.10), below = at(0.0), above = at(0.17);
+  EXPECT_NEAR(inside.joints[0], 0.10 + std::sqrt(0.25 * 0.25 - 0.16 * 0.16), 1e-12);
+  EXPECT_TRUE(inside.reachable() && inside.withinStroke());
+  EXPECT_TRUE(below.reachable());
+  EXPECT_EQ(below.out_of_stroke_joints, std::vector<int>{0});
+  EXPECT_EQ(above.out_of_stroke_joints, std::vector<int>{0});
+
+  MechanismDescription rus = readMechanismDescription(examplesDir() / "6-rus.yaml");
+  const std::unique_ptr<Mechanism> plain = makeDescribedMechanism(rus);
+  const Eigen::Isometry3d home = homeOf(*plain);
+  const double q = plain->inverseKinematics(plain->nominal().values(), home).joints[3];
+  rus.legs[3].stroke = Eigen::Vector2d(q + 2 * 3.14159265358979323846 - 0.1, q + 2 * 3.14159265358979323846 + 0.1);
+  EXPECT_TRUE(makeDescribedMechanism(rus)->inverseKinematics(plain->nominal().values(), home).withinStroke());
+  rus.legs[3].stroke = Eigen::Vector2d(q + 0.05, q + 0.5);
+  EXPECT_EQ(makeDescribedMechanism(rus)->inverseKinematics(plain->nominal().values(), home).out_of_stroke_joints,
+            std::vector<int>{3});
+  rus.legs[3].stroke = Eigen::Vector2d(0.5, 0.5);
+  EXPECT_THROW(makeDescribedModel(rus), std::invalid_argument);
 }
 
 TEST(DescribedFile, DescriptionsBuiltInCodeAreChecked) {

@@ -1,12 +1,16 @@
-// Gough–Stewart leg strokes (doc/mechanisms.md): the IKM reports legs outside
-// [leg_min, leg_max] without calling the pose unreachable; the simulated protocol and the
-// true-robot simulator stay inside; mechanisms without strokes never report one.
+// Gough–Stewart leg strokes and a description's `stroke` (doc/mechanisms.md): the IKM reports legs
+// outside [leg_min, leg_max] without calling the pose unreachable; the simulated protocol, the
+// true-robot simulator and `mire plan`'s candidates stay inside; mechanisms without strokes never
+// report one.
 #include <gtest/gtest.h>
 
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/datasets/mechanism_true_robots.hpp"
+#include "mire/mechanism/described.hpp"
+#include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/gough_stewart.hpp"
 #include "mire/mechanism/registry.hpp"
+#include "test_support.hpp"
 
 namespace mire::mechanism {
 namespace {
@@ -44,6 +48,48 @@ TEST(Strokes, SimulatorsStayInsideTheStrokes) {
   EXPECT_EQ(robot.joints(X).size(), 6);
   X[2] += 0.2;  // past the strokes: the true robot does not go there
   EXPECT_EQ(robot.joints(X).size(), 0);
+}
+
+// The readings' range over a campaign's poses, leg by leg.
+std::pair<Eigen::VectorXd, Eigen::VectorXd> readingRange(const datasets::Campaign& c) {
+  Eigen::VectorXd lo = c.poses.front().joints, hi = lo;
+  for (const PoseObservation& p : c.poses) {
+    lo = lo.cwiseMin(p.joints);
+    hi = hi.cwiseMax(p.joints);
+  }
+  return {lo, hi};
+}
+
+// A described 6-RUS whose legs declare the middle half of the readings its protocol uses: the
+// protocol shrinks until it fits; with the middle 80 %, every plan candidate is inside the strokes.
+TEST(Strokes, DescribedStrokesKeepTheProtocolAndThePlanInside) {
+  const MechanismDescription d = readMechanismDescription(test::sourceDir() / "examples" / "mechanisms" / "6-rus.yaml");
+  const datasets::Campaign free = datasets::simulateCampaign(makeDescribedModel(d), 3, 0.0, 0.0);
+  const auto [lo, hi] = readingRange(free);
+  const auto withStrokes = [&, lo = lo, hi = hi](double middle) {
+    MechanismDescription out = d;
+    for (std::size_t i = 0; i < out.legs.size(); ++i) {
+      const auto k = static_cast<Eigen::Index>(i);
+      const double centre = 0.5 * (lo[k] + hi[k]), half = 0.5 * middle * (hi[k] - lo[k]);
+      out.legs[i].stroke = Eigen::Vector2d(centre - half, centre + half);
+    }
+    return makeDescribedModel(out);
+  };
+  const RegisteredModel model = withStrokes(0.5);
+  const datasets::Campaign c = datasets::simulateCampaign(model, 3, 0.0, 0.0);  // throws if a pose is outside
+  ASSERT_EQ(c.bTe.size(), free.bTe.size());
+  for (const Eigen::Isometry3d& bTe : c.bTe)
+    EXPECT_TRUE(model.mechanism->inverseKinematics(c.truth.values(), bTe).withinStroke());
+  const Eigen::Vector3d centre = free.bTe[40].translation();  // home: the grid's middle, untilted
+  EXPECT_LT((c.bTe.front().translation() - centre).norm(), 0.6 * (free.bTe.front().translation() - centre).norm());
+
+  const RegisteredModel planned = withStrokes(0.8);
+  const Eigen::VectorXd g = planned.nominal.values();
+  const std::vector<Eigen::VectorXd> candidates =
+      generateCandidatePoses(*planned.mechanism, g, protocolWorkspace(*planned.mechanism, g), 40, 7);
+  ASSERT_EQ(candidates.size(), 40u);
+  for (const Eigen::VectorXd& X : candidates)
+    EXPECT_TRUE(planned.mechanism->inverseKinematics(g, planned.mechanism->poseToTransform(X)).withinStroke());
 }
 
 TEST(Strokes, MechanismsWithoutStrokesNeverReportOne) {

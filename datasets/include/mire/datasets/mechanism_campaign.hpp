@@ -65,33 +65,11 @@ inline double translationReach(const Mechanism& mechanism, const Eigen::VectorXd
   return reach;
 }
 
-// The protocol's size relative to the built-in robots': a 6-DoF platform's with its home height up
-// to the built-in hexapod's 0.40 m; a translating platform's with the depth of its home below the
-// base (0.65 m for the built-in Delta), but at least 0.4 of what it reaches (translationReach, at
-// most 2: the built-in Delta keeps its depth; a linear delta's base frame sits on its bed, so its
-// home's depth says nothing of its size); 1 for the H4.
-inline double protocolScale(const Mechanism& mechanism, const Eigen::VectorXd& g, const Eigen::VectorXd& reference_pose) {
-  switch (mechanism.motionType()) {
-    case MotionType::Translation: {
-      const double depth = std::abs(reference_pose[2]) / 0.65;
-      const double reach = translationReach(mechanism, g, reference_pose);
-      return std::max(depth, 0.4 * reach);
-    }
-    case MotionType::Spatial:
-      return std::min(1.0, std::abs(reference_pose[2]) / 0.40);
-    default:
-      return 1.0;
-  }
-}
-
-// Protocol poses bTe: H4 27 positions × 3 angles; Delta 27 positions on a 300×300×150 mm grid
-// around its reference pose (z = −0.65 m for the built-in one); Gough–Stewart 27 positions
-// (±40 mm, ±30 mm in z) × 3 orientations; robots of other sizes scaled by protocolScale().
-inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, const Eigen::VectorXd& g) {
+// Protocol poses bTe at `size` (protocolScale()): H4 27 positions × 3 angles; Delta 27 positions on
+// a 300×300×150 mm grid around its reference pose (z = −0.65 m for the built-in one); Gough–Stewart
+// 27 positions (±40 mm, ±30 mm in z) × 3 orientations.
+inline std::vector<Eigen::Isometry3d> protocolPosesAt(MotionType motion, const Eigen::VectorXd& ref, double size) {
   std::vector<Eigen::Isometry3d> out;
-  const Eigen::VectorXd ref = mechanism.referencePose(g);
-  const MotionType motion = mechanism.motionType();
-  const double size = protocolScale(mechanism, g, ref);
   for (int ix = -1; ix <= 1; ++ix)
     for (int iy = -1; iy <= 1; ++iy)
       for (int iz = -1; iz <= 1; ++iz) {
@@ -116,6 +94,48 @@ inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, 
         }
       }
   return out;
+}
+
+// The largest of `size`, size − 0.05, … at which every protocol pose is reachable and within the
+// joints' strokes (a description's `stroke`); `size` itself when none is.
+inline double fittingProtocolSize(const Mechanism& mechanism, const Eigen::VectorXd& g,
+                                  const Eigen::VectorXd& reference_pose, double size) {
+  const auto within = [&](double at) {
+    for (const Eigen::Isometry3d& bTe : protocolPosesAt(mechanism.motionType(), reference_pose, at)) {
+      const IkmResult ikm = mechanism.inverseKinematics(g, bTe);
+      if (!ikm.reachable() || !ikm.withinStroke()) return false;
+    }
+    return true;
+  };
+  for (double at = size; at > 0.025; at -= 0.05)
+    if (within(at)) return at;
+  return size;  // not even a small protocol fits: the campaign names the pose at fault
+}
+
+// The protocol's size relative to the built-in robots', made smaller (fittingProtocolSize) until
+// every pose is within the joints' strokes: a 6-DoF platform's with its home height up to the
+// built-in hexapod's 0.40 m; a translating platform's with the depth of its home below the base
+// (0.65 m for the built-in Delta), but at least 0.4 of what it reaches (translationReach, at most
+// 2: the built-in Delta keeps its depth; a linear delta's base frame sits on its bed, so its
+// home's depth says nothing of its size); 1 for the H4.
+inline double protocolScale(const Mechanism& mechanism, const Eigen::VectorXd& g, const Eigen::VectorXd& reference_pose) {
+  switch (mechanism.motionType()) {
+    case MotionType::Translation: {
+      const double depth = std::abs(reference_pose[2]) / 0.65;
+      const double reach = translationReach(mechanism, g, reference_pose);
+      return fittingProtocolSize(mechanism, g, reference_pose, std::max(depth, 0.4 * reach));
+    }
+    case MotionType::Spatial:
+      return fittingProtocolSize(mechanism, g, reference_pose, std::min(1.0, std::abs(reference_pose[2]) / 0.40));
+    default:
+      return 1.0;
+  }
+}
+
+// Protocol poses bTe (protocolPosesAt()), robots of other sizes scaled by protocolScale().
+inline std::vector<Eigen::Isometry3d> protocolPoses(const Mechanism& mechanism, const Eigen::VectorXd& g) {
+  const Eigen::VectorXd ref = mechanism.referencePose(g);
+  return protocolPosesAt(mechanism.motionType(), ref, protocolScale(mechanism, g, ref));
 }
 
 // `metre` / `radian` × U(−1, 1) on every free parameter (reproducible for a seed).

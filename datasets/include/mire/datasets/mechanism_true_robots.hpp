@@ -52,7 +52,7 @@ struct DefectiveRobot {
     const Eigen::Isometry3d T = mechanism().poseToTransform(X);
     if (mechanism().motionType() == MotionType::Translation) {
       const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);
-      return ikm.reachable() ? bentReadings(ikm.joints) : Eigen::VectorXd();
+      return ikm.reachable() && ikm.withinStroke() ? bentReadings(ikm.joints) : Eigen::VectorXd();
     }
     if (encoder_gain.empty()) {  // a described full platform
       const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);

@@ -51,6 +51,9 @@ struct LegDescription {
   int branch = 1;                                      // +1 or −1 (prismatic, revolute)
   double offset = 0.0;                                 // q0_i [m or rad] or ρ0_i [m]
   double gain = 1.0;                                   // g_i, with `gains` only
+  // The reading's stroke [min, max] (joints.csv's unit: m, rad for a revolute leg), optional: the
+  // IKM names a pose outside it (IkmResult::out_of_stroke_joints) as for the built-in hexapod.
+  std::optional<Eigen::Vector2d> stroke;
 };
 
 struct MechanismDescription {
