@@ -1,4 +1,4 @@
-// Kalibr's aprilgrid target file (ethz-asl/kalibr, "Calibration targets"):
+// Kalibr's aprilgrid target file (doc/targets.md, "Kalibr aprilgrid"), as Kalibr spells it:
 //   target_type: 'aprilgrid', tagCols, tagRows, tagSize (the tag's black edge, m),
 //   tagSpacing (the gap between tags as a fraction of tagSize).
 // kalibr_create_target_pdf draws tag id cols·y + x at (x, y)·tagSize·(1 + tagSpacing) with y
