@@ -152,16 +152,24 @@ void warnCameraMisfit(const calibration::Camera& camera, PoseMeasurement* result
 }
 
 // One image of few features: the pixel noise, hence the σ, comes from 2N − 6 residuals; with
-// ν degrees of freedom the σ itself is uncertain by ≈ 1/√(2ν) (doc/measurement.md).
-void warnFewResidualDof(PoseMeasurement* result) {
+// ν degrees of freedom that estimate is itself uncertain by ≈ 1/√(2ν). When the camera file gives
+// the calibration's RMS, estimatePose pooled it in as kMinResidualDof more (doc/measurement.md).
+void warnFewResidualDof(const calibration::Camera& camera, PoseMeasurement* result) {
   const int dof = 2 * result->estimate.feature_count - 6;
   if (!result->estimate.scatter_from_residuals || dof >= kMinResidualDof) return;
   const double relative = dof > 0 ? 1.0 / std::sqrt(2.0 * dof) : 1.0;
+  const double pooled = 1.0 / std::sqrt(2.0 * (std::max(dof, 0) + kMinResidualDof));
+  const std::string what = camera.rms_px > 0.0
+                               ? "; pooled with the camera file's calibration RMS (" + fixedText(camera.rms_px, 3) +
+                                     " px) as " + std::to_string(kMinResidualDof) + " more, it is uncertain by about " +
+                                     fixedText(100.0 * pooled, 0) + " % if that RMS is this detector's noise"
+                               : "; the camera file gives no calibration RMS to pool it with";
   result->warnings.push_back("sigma from " + std::to_string(dof) + " residual degree(s) of freedom (one image, " +
                              std::to_string(result->estimate.feature_count) +
-                             " features): the sigma itself is uncertain by about " + fixedText(100.0 * relative, 0) +
-                             " % (1/sqrt(2 dof)); take several images of the pose (their scatter gives the "
-                             "noise) or a target with more features");
+                             " features): on its own uncertain by about " + fixedText(100.0 * relative, 0) +
+                             " % (1/sqrt(2 dof))" + what +
+                             "; take several images of the pose (their scatter gives the noise) or a target with "
+                             "more features");
 }
 
 // What the reader must know about a valid pose: an ambiguous planar flip, a σ from residuals.
@@ -208,7 +216,7 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
   }
   notePoseCaveats(&result);
   warnCameraMisfit(camera, &result);
-  warnFewResidualDof(&result);
+  warnFewResidualDof(camera, &result);
   result.ok = true;
   return result;
 }
