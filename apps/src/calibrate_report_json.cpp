@@ -44,6 +44,30 @@ Json cameraJson(const cal::CalibrationResult& result) {
   return out;
 }
 
+// --refine-target against the rigid-target calibration (doc/calibration.md, "Weakly determined
+// target refinement").
+Json targetRefinementJson(const cal::TargetRefinementCheck& check, const char* outside) {
+  Json out;
+  out["added_unknowns"] = check.added_unknowns;
+  out["rigid_target_parameters"] = check.rigid_params;
+  out["rigid_target_sigmas"] = check.rigid_sigmas;
+  out["shift_in_combined_sigma"] = check.shift_sigmas;
+  out["sigma_growth_at_equal_pixel_noise"] = check.information_loss;
+  Json rigid, refined;
+  setNumber(rigid, "centre_px", check.rigid_uncertainty.centre_px, outside);
+  setNumber(rigid, "edge_px", check.rigid_uncertainty.edge_px, outside);
+  setNumber(rigid, "corner_px", check.rigid_uncertainty.corner_px, outside);
+  setNumber(refined, "centre_px", check.refined_uncertainty.centre_px, outside);
+  setNumber(refined, "edge_px", check.refined_uncertainty.edge_px, outside);
+  setNumber(refined, "corner_px", check.refined_uncertainty.corner_px, outside);
+  out["rigid_target_projection_uncertainty"] = rigid;
+  out["refined_projection_uncertainty"] = refined;
+  out["largest_intrinsic_shift_sigma"] = check.largest_intrinsic_shift_sigma;
+  out["largest_uncertainty_ratio"] = check.largest_uncertainty_ratio;
+  out["weakly_determined"] = check.weakly_determined;
+  return out;
+}
+
 Json qualityJson(const cal::CalibrationResult& result, const cal::ProjectionUncertaintySummary& uncertainty) {
   Json out;
   setNumber(out, "rms_px", result.camera.rms_px, "not computed");
@@ -62,6 +86,7 @@ Json qualityJson(const cal::CalibrationResult& result, const cal::ProjectionUnce
   setNumber(projection, "corner_px", uncertainty.corner_px, outside);
   out["projection_uncertainty"] = projection;
   out["warnings"] = result.warnings;
+  if (result.target_refinement) out["target_refinement"] = targetRefinementJson(*result.target_refinement, outside);
   return out;
 }
 

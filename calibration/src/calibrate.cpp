@@ -838,6 +838,14 @@ CalibrationResult calibrateCamera(const std::vector<Eigen::Vector3d>& target_poi
       options.uncertainty_distance_m > 0.0 ? options.uncertainty_distance_m : support::upperMedian(summary.distances);
   requireFinite(result);
   addGeometryWarnings(views, state, width, height, &result);
+  if (options.refine_target) {
+    // The same views with the nominal target rigid: the yardstick of the refinement's warnings.
+    CalibrationOptions rigid_options = options;
+    rigid_options.refine_target = false;
+    rigid_options.uncertainty_distance_m = result.uncertainty_distance_m;
+    const CalibrationResult rigid = calibrateCamera(target_points, views, width, height, rigid_options);
+    result.target_refinement = checkTargetRefinement(rigid, &result);
+  }
   return result;
 }
 

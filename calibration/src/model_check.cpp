@@ -360,7 +360,9 @@ void concludeVerdict(const CalibrationResult& result, ModelCheck* check) {
         if (structure.bins[b].significant && static_cast<int>(b) / structure.sectors != structure.rings - 1)
           outer_only = false;
       check->suggestions.push_back("more views at the edges");
-      if (!outer_only) check->suggestions.push_back("--refine-target (a board that is not flat)");
+      // Already refined: suggesting it again would send the user in a circle.
+      if (!outer_only && !result.target_refined)
+        check->suggestions.push_back("--refine-target (a board that is not flat)");
     }
   }
   if (check->holdout && check->holdout->significant) {
@@ -368,7 +370,7 @@ void concludeVerdict(const CalibrationResult& result, ModelCheck* check) {
                              number(check->holdout->t_statistic, 1) + ", " + pText(check->holdout->p_value) + ")");
     if (significant.empty() && !structure.significant) {
       check->suggestions.push_back("more views");
-      check->suggestions.push_back("--refine-target (a board that is not flat)");
+      if (!result.target_refined) check->suggestions.push_back("--refine-target (a board that is not flat)");
     }
   }
   check->adequate = check->reasons.empty();

@@ -13,6 +13,20 @@
 namespace mire::metrology::detail {
 namespace {
 
+// Kalibr's aprilgrid (kalibr_create_target_pdf) prints tag36h11 codes inside a black border
+// two bits wide: the same codes, each data bit one cell further in, the black square two cells
+// wider (doc/targets.md, "Kalibr aprilgrid").
+apriltag_family_t* tag36h11Border2Create() {
+  apriltag_family_t* family = tag36h11_create();
+  for (uint32_t i = 0; i < family->nbits; ++i) {
+    ++family->bit_x[i];
+    ++family->bit_y[i];
+  }
+  family->width_at_border += 2;
+  family->total_width += 2;
+  return family;
+}
+
 struct FamilyEntry {
   const char* name;
   apriltag_family_t* (*create)();
@@ -21,6 +35,7 @@ struct FamilyEntry {
 
 constexpr FamilyEntry kFamilies[] = {
     {"tag36h11", tag36h11_create, tag36h11_destroy},
+    {"tag36h11_border2", tag36h11Border2Create, tag36h11_destroy},
     {"tag36h10", tag36h10_create, tag36h10_destroy},
     {"tag25h9", tag25h9_create, tag25h9_destroy},
     {"tag16h5", tag16h5_create, tag16h5_destroy},

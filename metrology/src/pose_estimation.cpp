@@ -224,6 +224,10 @@ double rmsResidualPx(const calibration::Camera& camera, const std::vector<Eigen:
   return std::sqrt(squared_px / static_cast<int>(features.size()));
 }
 
+// Below this many residual degrees of freedom a one-image σ is pooled with the calibration's
+// noise (the same threshold as measurePose's warning).
+constexpr int kPriorDof = 10;
+
 // Precision. Fisher information of the whitened residuals; the intrinsics part through the
 // implicit function theorem at the optimum: A = −(J_pᵀ J_p)⁻¹ J_pᵀ J_k. False (with the
 // reason set) when the information matrix is singular.
@@ -246,7 +250,14 @@ bool estimatePrecision(const calibration::Camera& camera, const std::vector<Eige
     // one actually used, as for many images: 1 by construction unless floored.
     estimate->scatter_from_residuals = true;
     const double floor = options.covariance_floor_px * options.covariance_floor_px;
-    const double variance = dof > 0 ? std::max(2.0 * best.cost / dof, floor) : floor;
+    double variance = dof > 0 ? std::max(2.0 * best.cost / dof, floor) : floor;
+    // Fewer than kPriorDof residual degrees of freedom (one image of one or two tags): that
+    // estimate is itself uncertain by 1/√(2·dof), so it is pooled with the calibration's
+    // per-coordinate noise rms_px²/2 weighted as kPriorDof degrees of freedom (doc/measurement.md,
+    // "Warnings with numbers").
+    const double prior = 0.5 * camera.rms_px * camera.rms_px;
+    if (dof < kPriorDof && prior > 0.0)
+      variance = std::max((2.0 * best.cost + kPriorDof * prior) / (std::max(dof, 0) + kPriorDof), floor);
     noise *= variance;
     estimate->reduced_chi2 = dof > 0 ? 2.0 * best.cost / (dof * variance) : 0.0;
   }

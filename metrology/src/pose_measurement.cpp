@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <sstream>
 
@@ -125,6 +126,52 @@ bool detectAll(const Target& target, const std::vector<cv::Mat>& images, const s
   return true;
 }
 
+// Rules of doc/measurement.md, "Warnings with numbers".
+constexpr double kMisfitRatio = 3.0;    // residual RMS beyond 3× the calibration's RMS ...
+constexpr double kMisfitFloorPx = 1.0;  // ... and beyond 1 px: the camera does not fit the images
+constexpr int kMinResidualDof = 10;     // a σ estimated from fewer residual degrees of freedom
+
+std::string fixedText(double value, int digits) {
+  std::ostringstream text;
+  text.setf(std::ios::fixed);
+  text.precision(digits);
+  text << value;
+  return text.str();
+}
+
+// A wrong camera file (another camera, resolution or zoom) leaves pixel-sized residuals that no
+// pose can remove: the pose is then biased, whatever its σ says.
+void warnCameraMisfit(const calibration::Camera& camera, PoseMeasurement* result) {
+  const double rms = result->estimate.rms_px, expected = camera.rms_px;
+  if (rms <= std::max(kMisfitRatio * expected, kMisfitFloorPx)) return;
+  result->warnings.push_back(
+      "the camera does not fit the images: reprojection RMS " + fixedText(rms, 3) + " px against " +
+      (expected > 0.0 ? fixedText(expected, 3) + " px expected (the calibration's RMS in the camera file)"
+                      : std::string("at most 1 px expected (the camera file gives no calibration RMS)")) +
+      "; the pose is biased: check that the camera file is this camera's (same resolution, focus and zoom)");
+}
+
+// One image of few features: the pixel noise, hence the σ, comes from 2N − 6 residuals; with
+// ν degrees of freedom that estimate is itself uncertain by ≈ 1/√(2ν). When the camera file gives
+// the calibration's RMS, estimatePose pooled it in as kMinResidualDof more (doc/measurement.md).
+void warnFewResidualDof(const calibration::Camera& camera, PoseMeasurement* result) {
+  const int dof = 2 * result->estimate.feature_count - 6;
+  if (!result->estimate.scatter_from_residuals || dof >= kMinResidualDof) return;
+  const double relative = dof > 0 ? 1.0 / std::sqrt(2.0 * dof) : 1.0;
+  const double pooled = 1.0 / std::sqrt(2.0 * (std::max(dof, 0) + kMinResidualDof));
+  const std::string what = camera.rms_px > 0.0
+                               ? "; pooled with the camera file's calibration RMS (" + fixedText(camera.rms_px, 3) +
+                                     " px) as " + std::to_string(kMinResidualDof) + " more, it is uncertain by about " +
+                                     fixedText(100.0 * pooled, 0) + " % if that RMS is this detector's noise"
+                               : "; the camera file gives no calibration RMS to pool it with";
+  result->warnings.push_back("sigma from " + std::to_string(dof) + " residual degree(s) of freedom (one image, " +
+                             std::to_string(result->estimate.feature_count) +
+                             " features): on its own uncertain by about " + fixedText(100.0 * relative, 0) +
+                             " % (1/sqrt(2 dof))" + what +
+                             "; take several images of the pose (their scatter gives the noise) or a target with "
+                             "more features");
+}
+
 // What the reader must know about a valid pose: an ambiguous planar flip, a σ from residuals.
 void notePoseCaveats(PoseMeasurement* result) {
   if (result->estimate.ambiguous) {
@@ -168,6 +215,8 @@ PoseMeasurement measurePose(const calibration::Camera& camera, const Target& tar
     return result;
   }
   notePoseCaveats(&result);
+  warnCameraMisfit(camera, &result);
+  warnFewResidualDof(camera, &result);
   result.ok = true;
   return result;
 }

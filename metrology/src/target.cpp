@@ -4,6 +4,7 @@
 #include "mire/metrology/apriltag_family.hpp"
 #include "mire/metrology/aruco_boards.hpp"
 #include "mire/support/yaml.hpp"
+#include "target_kalibr.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -342,7 +343,7 @@ Target::Target(TargetSpec spec) : spec_(std::move(spec)) {
 Target Target::fromFile(const std::filesystem::path& path) {
   const support::YamlFile file = support::YamlFile::load(path);
   const support::YamlNode& root = file.rootMap();
-  const TargetSpec spec = parseSpec(root);
+  const TargetSpec spec = detail::isKalibrTarget(root) ? detail::kalibrTargetSpec(root) : parseSpec(root);
   try {
     return Target(spec);
   } catch (const std::invalid_argument& error) {

@@ -82,3 +82,38 @@ TEST(CameraModelsCli, FixKeepsTheValueAndSaysSo) {
   EXPECT_NE(bad.find("k3"), std::string::npos) << bad;
   EXPECT_FALSE(fs::exists(dir.path() / "other.yaml"));
 }
+
+// --refine-target on OpenCV's 13 left*.jpg views: the refinement is weakly determined and moves
+// cy beyond 3σ; both warnings are printed with their numbers and kept in report.json
+// (doc/calibration.md, "Weakly determined target refinement").
+TEST(CameraModelsCli, RefineTargetOnLeftJpgWarnsWithNumbers) {
+  const fs::path samples = "/usr/share/doc/opencv-doc/examples/data";
+  if (!fs::exists(samples / "left01.jpg"))
+    GTEST_SKIP() << "needs OpenCV's left*.jpg (Debian opencv-doc, " << samples << "): absent, skipped";
+  mire::test::TempDir dir;
+  fs::create_directories(dir.path() / "left");
+  for (const auto& entry : fs::directory_iterator(samples)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() == 10 && name.rfind("left", 0) == 0 && entry.path().extension() == ".jpg")
+      fs::copy_file(entry.path(), dir.path() / "left" / name);
+  }
+  mire::metrology::TargetSpec spec;
+  spec.cols = 9;
+  spec.rows = 6;
+  spec.square_size_m = 0.025;
+  mire::support::writeFileAtomically(dir.path() / "target.yaml", mire::metrology::Target(spec).yamlString());
+  int code = 0;
+  const std::string out = calibrate(dir.path() / "target.yaml", dir.path() / "left", dir.path() / "camera.yaml",
+                                    "--refine-target --threads 1 --report " + (dir.path() / "report").string(), &code);
+  ASSERT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("warning: --refine-target is weakly determined by these views: its 155 extra unknowns"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("at the corner from 19.67 to 761.19 px"), std::string::npos) << out;
+  EXPECT_NE(out.find("warning: --refine-target moved cy 233.923 -> 238.950 px (5.0 sigma)"), std::string::npos) << out;
+  // The model check does not send the user back to --refine-target.
+  EXPECT_EQ(out.find("--refine-target (a board that is not flat)"), std::string::npos) << out;
+  const std::string report = mire::test::readText(dir.path() / "report" / "report.json");
+  EXPECT_NE(report.find("\"target_refinement\""), std::string::npos);
+  EXPECT_NE(report.find("\"weakly_determined\": true"), std::string::npos) << report.substr(0, 2000);
+}

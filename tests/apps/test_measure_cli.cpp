@@ -118,3 +118,35 @@ TEST(MeasureCli, NoPoseMeasuredExitsOneAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir.path() / "poses.csv"));
   EXPECT_NE(out.find("pose blank: FAILED"), std::string::npos) << out;
 }
+
+// A camera file that does not fit the images (another lens and pixel aspect): a warning with
+// the residual RMS against the calibration's, not a note (doc/measurement.md, "Warnings with
+// numbers"); the poses are still written.
+TEST(MeasureCli, CameraThatDoesNotFitTheImagesIsAWarningWithTheRms) {
+  mire::test::TempDir dir;
+  Campaign campaign(dir.path());
+  auto wrong = mire::datasets::referenceCamera();
+  wrong.params[1] *= 1.03;  // fy: another pixel aspect ratio
+  wrong.params[4] = 0.3;    // k1 of another lens (the images' is -0.30)
+  wrong.rms_px = 0.15;
+  mire::support::writeFileAtomically(dir.path() / "wrong.yaml", mire::calibration::cameraYamlString(wrong));
+  int code = -1;
+  const std::string out = mire::test::captureCommand(
+      mire::test::mireBinary().string() + " measure --camera " + (dir.path() / "wrong.yaml").string() + " --target " +
+          (dir.path() / "target.yaml").string() + " --poses " + (dir.path() / "poses").string() + " -o " +
+          (dir.path() / "poses.csv").string() + " --threads 1 2>&1",
+      &code);
+  EXPECT_EQ(code, 0) << out;
+  EXPECT_NE(out.find("pose good1: warning: the camera does not fit the images: reprojection RMS"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("px against 0.150 px expected"), std::string::npos) << out;
+  std::printf("%s", out.substr(0, out.find("measured ")).c_str());
+  // The right camera file: no such warning.
+  const std::string right = mire::test::captureCommand(
+      mire::test::mireBinary().string() + " measure --camera " + (dir.path() / "camera.yaml").string() + " --target " +
+          (dir.path() / "target.yaml").string() + " --poses " + (dir.path() / "poses").string() + " -o " +
+          (dir.path() / "poses_right.csv").string() + " --threads 1 2>&1",
+      &code);
+  EXPECT_EQ(code, 0) << right;
+  EXPECT_EQ(right.find("does not fit"), std::string::npos) << right;
+}

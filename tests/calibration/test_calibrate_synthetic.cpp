@@ -187,6 +187,49 @@ TEST(CalibrateSynthetic, RefineTargetRecoversABowedBoard) {
   EXPECT_LT(z_error_max, 0.08e-3);
   EXPECT_NEAR(std::abs(refined.target_points[(kRows / 2) * kCols + kCols / 2].z()), sag, 0.05e-3);
   EXPECT_GT(flat.camera.rms_px, 1.3 * refined.camera.rms_px);
+
+  // 25 well-spread views determine the refinement: no "weakly determined" warning; the
+  // comparison with the rigid board is kept, and the bias it removes shows as a shift.
+  ASSERT_TRUE(refined.target_refinement.has_value());
+  const auto& check = *refined.target_refinement;
+  std::printf(
+      "bow: refinement adds %d unknowns; largest fx..cy shift %.1f combined sigma; projection uncertainty "
+      "x%.2f at most; weakly determined %d\n",
+      check.added_unknowns, check.largest_intrinsic_shift_sigma, check.largest_uncertainty_ratio,
+      check.weakly_determined ? 1 : 0);
+  EXPECT_EQ(check.added_unknowns, 3 * kCols * kRows - 7);
+  EXPECT_FALSE(check.weakly_determined);
+  EXPECT_LT(check.largest_uncertainty_ratio, 3.0);
+  for (const auto& warning : refined.warnings)
+    EXPECT_EQ(warning.find("weakly determined"), std::string::npos) << warning;
+  EXPECT_NEAR(check.rigid_params[2], flat.camera.params[2], 1e-9);
+  EXPECT_FALSE(flat.target_refinement.has_value());
+}
+
+// A flat board, refined anyway from well-spread views: nothing to warn about (the refinement
+// neither loses the intrinsics nor moves them beyond the rigid calibration's σ).
+TEST(CalibrateSynthetic, RefiningAFlatBoardFromGoodViewsDoesNotWarn) {
+  const auto truth = mire::test::referenceCamera();
+  const auto target = mire::test::gridTarget(kCols, kRows, kSpacing);
+  CalibrationOptions refine;
+  refine.refine_target = true;
+  int shift_warnings = 0;
+  for (unsigned seed = 0; seed < 4; ++seed) {
+    const auto views = mire::test::makeViews(truth, target, 25, 23 + seed);
+    const auto refined = solve(target, toViews(views, mire::test::noisyPixels(views, 0.1, 29 + seed)), refine);
+    ASSERT_TRUE(refined.target_refinement.has_value());
+    const auto& check = *refined.target_refinement;
+    std::printf(
+        "flat board refined (seed %u): largest fx..cy shift %.2f combined sigma, projection uncertainty "
+        "x%.2f at most\n",
+        seed, check.largest_intrinsic_shift_sigma, check.largest_uncertainty_ratio);
+    EXPECT_FALSE(check.weakly_determined);
+    for (const auto& warning : refined.warnings) {
+      EXPECT_EQ(warning.find("weakly determined"), std::string::npos) << warning;
+      shift_warnings += warning.find("--refine-target moved") != std::string::npos;
+    }
+  }
+  EXPECT_LE(shift_warnings, 1);  // 3 sigma over 4 parameters x 4 sets: a rare false alarm allowed
 }
 
 TEST(CalibrateSynthetic, WarnsWhenViewsAreFrontoParallelAndMissCorners) {

@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace mire::calibration {
@@ -161,6 +162,50 @@ TEST(CameraFormats, KalibrRoundTripAndRefusals) {
   EXPECT_THROW(cameraKalibrYamlString(openCvCamera(5)), std::invalid_argument);
   EXPECT_THROW(cameraMrcalString(fisheyeCamera()), std::invalid_argument);
   EXPECT_THROW(cameraVispXmlString(fisheyeCamera(), "cam"), std::invalid_argument);
+}
+
+// Every kind of camera through every format: where conversionLoss says the format holds the
+// model, the file reads back bit for bit (parameters, lens, size); where it does not, the
+// conversion is refused (no model for it at all) or named lossy with the terms it would drop.
+TEST(CameraFormats, EveryFormatRoundTripIsExactOrRefused) {
+  const test::TempDir dir;
+  const CameraFormat formats[] = {CameraFormat::OpenCV, CameraFormat::Ros, CameraFormat::Visp, CameraFormat::Kalibr,
+                                  CameraFormat::Mrcal};
+  int exact = 0, lossy = 0, refused = 0;
+  for (const Camera& camera : everyKindOfCamera()) {
+    for (const CameraFormat format : formats) {
+      const std::string what = camera.modelName() + " as " + cameraFormatName(format);
+      std::optional<ConversionLoss> loss;
+      try {
+        loss = conversionLoss(camera, format);
+      } catch (const std::invalid_argument&) {
+        ++refused;
+        EXPECT_THROW(cameraString(camera, format, "cam"), std::invalid_argument) << what;
+        continue;
+      }
+      if (!loss->exact()) {
+        ++lossy;
+        EXPECT_GT(loss->max_px, 0.0) << what;
+        continue;
+      }
+      ++exact;
+      const auto path = dir.path() / (format == CameraFormat::Visp    ? "c.xml"
+                                      : format == CameraFormat::Mrcal ? "c.cameramodel"
+                                                                      : "c.yaml");
+      writeText(path, cameraString(camera, format, "cam"));
+      EXPECT_EQ(detectCameraFormat(path), format) << what;
+      const Camera back = readCamera(path);
+      EXPECT_EQ(back.lens, camera.lens) << what;
+      EXPECT_EQ(back.params, camera.params) << what;
+      EXPECT_EQ(back.width, camera.width) << what;
+      EXPECT_EQ(back.height, camera.height) << what;
+    }
+  }
+  std::printf("round trips: %d exact, %d lossy (refused without --lossy), %d refused (no such model)\n", exact, lossy,
+              refused);
+  EXPECT_GE(exact, 18);
+  EXPECT_GT(lossy, 0);
+  EXPECT_GT(refused, 0);
 }
 
 // ---- other tools read what mire writes -------------------------------------------------------

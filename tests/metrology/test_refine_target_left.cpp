@@ -48,6 +48,25 @@ TEST(RefineTargetLeft, FiniteAndTheCyShiftIsTheBoardsDeformation) {
   for (const double value : refined.camera.params) EXPECT_TRUE(std::isfinite(value));
   EXPECT_TRUE(refined.camera.covariance.allFinite());
 
+  // 13 views cannot pin down 155 more unknowns: the refinement is flagged weakly determined
+  // (the corner's projection uncertainty grows ≈ 40×) and cy's move beyond 3 rigid σ is named.
+  ASSERT_TRUE(refined.target_refinement.has_value());
+  const auto& check = *refined.target_refinement;
+  std::printf(
+      "left*.jpg refine check: %d unknowns added; projection uncertainty corner %.2f -> %.2f px (x%.1f); cy "
+      "shift %.2f combined sigma\n",
+      check.added_unknowns, check.rigid_uncertainty.corner_px, check.refined_uncertainty.corner_px,
+      check.largest_uncertainty_ratio, check.shift_sigmas[3]);
+  for (const auto& warning : refined.warnings) std::printf("  warning: %s\n", warning.c_str());
+  EXPECT_TRUE(check.weakly_determined);
+  EXPECT_GT(check.largest_uncertainty_ratio, 10.0);
+  EXPECT_GT(check.shift_sigmas[3], 3.0);
+  int named = 0;
+  for (const auto& warning : refined.warnings)
+    named +=
+        warning.find("weakly determined") != std::string::npos || warning.find("moved cy 233.9") != std::string::npos;
+  EXPECT_EQ(named, 2);
+
   // The refined world seen through a flat-board calibration.
   std::vector<mire::calibration::CalibrationView> synthetic;
   for (const auto& view : refined.views) {
@@ -81,5 +100,23 @@ TEST(RefineTargetLeft, FiniteAndTheCyShiftIsTheBoardsDeformation) {
   std::printf("left*.jpg flat: sigma inflation fx %.2f fy %.2f cx %.2f cy %.2f k1 %.2f\n", flat.sigma_inflation[0],
               flat.sigma_inflation[1], flat.sigma_inflation[2], flat.sigma_inflation[3], flat.sigma_inflation[4]);
   EXPECT_GT(flat.sigma_inflation[3], 1.5);
+
+  // The projection uncertainty without that inflation is mrcal's definition (σ²(JᵀJ)⁻¹ from the
+  // residuals; doc/calibration.md, "mire's projection uncertainty and mrcal's"): the inflation
+  // is the factor 2-3.4 between the two tools on these corners.
+  mire::calibration::CalibrationOptions pixel_noise_only;
+  pixel_noise_only.view_cluster_covariance = false;
+  const auto plain = mire::calibration::calibrateCamera(target.points(), views, width, height, pixel_noise_only);
+  const auto inflated_u = mire::calibration::summarizeProjectionUncertainty(flat);
+  const auto plain_u = mire::calibration::summarizeProjectionUncertainty(plain);
+  std::printf(
+      "left*.jpg projection uncertainty (px, centre edge corner): with the view-cluster inflation %.4f %.4f "
+      "%.4f, pixel noise only %.4f %.4f %.4f (ratios %.2f %.2f %.2f)\n",
+      inflated_u.centre_px, inflated_u.edge_px, inflated_u.corner_px, plain_u.centre_px, plain_u.edge_px,
+      plain_u.corner_px, inflated_u.centre_px / plain_u.centre_px, inflated_u.edge_px / plain_u.edge_px,
+      inflated_u.corner_px / plain_u.corner_px);
+  EXPECT_EQ(plain.camera.params, flat.camera.params);  // same solution, other σ
+  EXPECT_GT(inflated_u.centre_px / plain_u.centre_px, 2.5);
+  EXPECT_GT(inflated_u.edge_px / plain_u.edge_px, 1.5);
   EXPECT_NEAR(flat.camera.sigmas()[3], flat.sigma_inflation[3] * std::sqrt(flat.covariance_pixel_noise(3, 3)), 1e-9);
 }

@@ -97,6 +97,32 @@ struct CalibrationViewResult {
   std::vector<bool> inlier;
 };
 
+// Projection uncertainty at the image centre, the middle of the right edge and the corner.
+struct ProjectionUncertaintySummary {
+  double centre_px = 0.0;
+  double edge_px = 0.0;
+  double corner_px = 0.0;
+};
+
+// `refine_target` against the same views with the nominal target held rigid
+// (doc/calibration.md, "Weakly determined target refinement"): the refinement's extra unknowns
+// can trade against the intrinsics when the views do not pin them down.
+struct TargetRefinementCheck {
+  int added_unknowns = 0;            // free target coordinates
+  std::vector<double> rigid_params;  // the rigid-target calibration's intrinsics
+  std::vector<double> rigid_sigmas;  // and their σ
+  // (refined − rigid) / √(σ_rigid² + σ_refined²), per parameter (0 where both σ are 0)
+  std::vector<double> shift_sigmas;
+  // Growth of each parameter's pixel-noise σ at equal pixel noise: √diag of the refined
+  // (JᵀJ)⁻¹ over the rigid one (1 = the target points cost the parameter nothing).
+  std::vector<double> information_loss;
+  ProjectionUncertaintySummary rigid_uncertainty;
+  ProjectionUncertaintySummary refined_uncertainty;
+  double largest_intrinsic_shift_sigma = 0.0;  // |shift_sigmas| over fx fy cx cy
+  double largest_uncertainty_ratio = 0.0;      // refined / rigid over centre, edge, corner
+  bool weakly_determined = false;              // the rule of doc/calibration.md
+};
+
 struct CalibrationResult {
   Camera camera;  // params, rms_px (over inliers), covariance (fixed parameters: 0 rows/cols)
   DistortionModel model = DistortionModel::OpenCV5;
@@ -139,8 +165,10 @@ struct CalibrationResult {
   std::vector<int> state_view_index;  // views[] index of each pose block in state_covariance
   double uncertainty_distance_m = 0.0;
 
-  // Data that do not constrain the model well (coverage, tilt, rank).
+  // Data that do not constrain the model well (coverage, tilt, rank, a weak target refinement).
   std::vector<std::string> warnings;
+  // With refine_target: the comparison with the rigid-target calibration behind its warnings.
+  std::optional<TargetRefinementCheck> target_refinement;
 };
 
 // Calibrates from a target's points (target frame; z = 0 for the initialisation) and the
@@ -178,12 +206,11 @@ Eigen::Vector2d reprojectThroughEstimate(const std::vector<double>& estimate_par
                                          const Eigen::Vector2d& pixel, double distance_m,
                                          LensModel lens = LensModel::OpenCV);
 
-// Projection uncertainty at the image centre, the middle of the right edge and the corner.
-struct ProjectionUncertaintySummary {
-  double centre_px = 0.0;
-  double edge_px = 0.0;
-  double corner_px = 0.0;
-};
 ProjectionUncertaintySummary summarizeProjectionUncertainty(const CalibrationResult& result);
+
+// The comparison of a target-refined calibration with the rigid-target one of the same views,
+// and the warnings it implies (appended to `refined->warnings`; doc/calibration.md). Called by
+// calibrateCamera when refine_target is set.
+TargetRefinementCheck checkTargetRefinement(const CalibrationResult& rigid, CalibrationResult* refined);
 
 }  // namespace mire::calibration
