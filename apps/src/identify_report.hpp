@@ -28,8 +28,10 @@ struct IdentifyReportData {
 };
 
 // Writes DIR/report.md, DIR/residuals.png, DIR/singular_values.png and, with a study,
-// DIR/monte_carlo_spread.png and DIR/report.json (each atomically). Creates DIR.
+// DIR/monte_carlo_spread.png, DIR/report.html and DIR/report.json (each atomically). Creates DIR.
 void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportData& data);
+// DIR/report.html alone (identify_report_html.cpp).
+void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyReportData& data);
 // DIR/report.json alone (identify_report_json.cpp).
 void writeIdentifyReportJson(const std::filesystem::path& path, const IdentifyReportData& data);
 

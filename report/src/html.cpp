@@ -95,9 +95,13 @@ void HtmlReport::table(const std::vector<std::string>& header, const std::vector
 }
 
 void HtmlReport::results(const std::vector<ResultRow>& rows) {
-  body_ += "<table class=\"results\">\n<tr><th>quantity</th><th>unit</th><th>value ± σ</th><th></th></tr>\n";
+  bool notes = false;  // the note column only when a row has one
+  for (const auto& r : rows) notes = notes || !r.note.empty();
+  body_ += std::string("<table class=\"results\">\n<tr><th>quantity</th><th>unit</th><th>value ± σ</th>") +
+           (notes ? "<th></th>" : "") + "</tr>\n";
   for (const auto& r : rows)
-    body_ += "<tr>" + cell(r.name) + cell(r.unit) + cell(withSigma(r.value, r.sigma), "num") + cell(r.note) + "</tr>\n";
+    body_ += "<tr>" + cell(r.name) + cell(r.unit) + cell(withSigma(r.value, r.sigma), "num") +
+             (notes ? cell(r.note) : std::string()) + "</tr>\n";
   body_ += "</table>\n";
 }
 
@@ -117,8 +121,14 @@ void HtmlReport::provenance(const std::string& command_line, const std::vector<I
   for (const auto& input : inputs) {
     std::string size = "-", digest;
     try {
-      size = byteCount(std::filesystem::file_size(input.path));
-      digest = sha256File(input.path);
+      if (std::filesystem::is_directory(input.path)) {  // a folder of images: its manifest's digest
+        const FolderDigest folder = sha256Folder(input.path);
+        size = std::to_string(folder.files) + " files";
+        digest = folder.sha256 + " (sha256sum manifest)";
+      } else {
+        size = byteCount(std::filesystem::file_size(input.path));
+        digest = sha256File(input.path);
+      }
     } catch (const std::exception& error) {
       digest = std::string("unreadable: ") + error.what();
     }

@@ -1,11 +1,13 @@
 // SHA-256 as specified in FIPS 180-4 §6.2 (see sha256.hpp).
 #include "mire/report/sha256.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace mire::report {
@@ -105,6 +107,16 @@ std::string sha256File(const std::filesystem::path& path) {
   }
   if (in.bad()) throw std::runtime_error(path.string() + ": read error while computing its SHA-256");
   return hash.hex();
+}
+
+FolderDigest sha256Folder(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder))
+    if (entry.is_regular_file()) files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  std::string manifest;
+  for (const auto& file : files) manifest += sha256File(file) + "  " + file.filename().string() + "\n";
+  return {sha256Hex(manifest), files.size()};
 }
 
 }  // namespace mire::report

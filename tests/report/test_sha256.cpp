@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -34,6 +35,17 @@ TEST(Sha256, FileEqualsItsBytesAndNamesAMissingFile) {
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find(path.string()), std::string::npos) << error.what();
   }
+}
+
+TEST(Sha256, FolderDigestIsTheSha256sumManifest) {
+  const auto folder = std::filesystem::temp_directory_path() / ("mire-sha256-dir-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder / "sub");
+  std::ofstream(folder / "b.png") << "bb";
+  std::ofstream(folder / "a.png") << "a";
+  const auto digest = mire::report::sha256Folder(folder);
+  EXPECT_EQ(digest.files, 2u);  // the sub-folder is not a file
+  EXPECT_EQ(digest.sha256, sha256Hex(sha256Hex("a") + "  a.png\n" + sha256Hex("bb") + "  b.png\n"));
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace
