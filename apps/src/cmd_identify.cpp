@@ -235,6 +235,24 @@ bool chi2BelowItsSpread(const mech::IdentificationResult& result) {
   return result.chi2 / dof < 1.0 - 3.0 * std::sqrt(2.0 / dof);
 }
 
+// The gauge summary without its "unidentifiable direction" lines (each ~20 coefficients long),
+// replaced by their count: the report lists them.
+std::string withoutDirections(const std::string& text) {
+  std::istringstream lines(text);
+  std::string kept;
+  int directions = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("unidentifiable direction:") != std::string::npos) {
+      ++directions;
+      continue;
+    }
+    kept += line + "\n";
+  }
+  if (directions > 0)
+    kept += "  " + std::to_string(directions) + " unidentifiable directions: listed in the report (Identifiability)\n";
+  return kept;
+}
+
 // The fit's quality: poses, residual RMS before and after, conditioning, χ², σ method,
 // outliers and gauge.
 void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel& initial, double rms_before,
@@ -283,7 +301,7 @@ void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel&
     for (const auto& id : result.outliers) out << ' ' << id;
     out << "\n";
   }
-  if (initial.gauge) out << initial.gauge->text();
+  if (initial.gauge) out << (list_combinations ? initial.gauge->text() : withoutDirections(initial.gauge->text()));
 }
 
 // One row per parameter: initial, identified, σ and change, in display units.
@@ -400,6 +418,7 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
     data.v3_after_m = run.criteria.v3_after;
     data.study = run.criteria.study ? &*run.criteria.study : nullptr;
     data.summary_text = summary;
+    data.gauge_text = initial.gauge ? initial.gauge->text() : std::string();
     data.provenance = {args.command_line, run.paths.input_files, run.paths.output_files};
     data.provenance.outputs.push_back({args.report, "--report"});
     data.model_name = run.choice.model;

@@ -6,6 +6,7 @@
 #include "report_html.hpp"
 
 #include "mire/report/figure.hpp"
+#include "mire/report/ticks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,20 +27,23 @@ std::string format(const char* pattern, double value) {
   return buffer;
 }
 
-// Per pose and leg, the σ of q̄ − f that the fit's weights imply: Cov = (WᵀW)⁻¹ for a weighted
-// fit (the pose covariances propagated to the joints), σ̂ for an unweighted one. Empty when the
-// weights are not available.
-std::vector<Eigen::VectorXd> residualSigmas(const mech::IdentificationResult& result, int legs) {
-  std::vector<Eigen::VectorXd> out;
-  if (!result.weighted) {
-    for (std::size_t k = 0; k < result.poses.size(); ++k)
-      out.push_back(Eigen::VectorXd::Constant(legs, result.residual_scale));
-    return out;
-  }
-  if (result.whitening.size() != result.poses.size()) return {};
-  for (const auto& w : result.whitening) {
-    if (w.rows() != legs || w.cols() != legs) return {};
-    out.push_back((w.transpose() * w).inverse().diagonal().cwiseSqrt());
+// One symmetric y range for every leg of the same unit (display units, widened to a nice tick) so
+// the legs compare at a glance.
+std::vector<double> sharedLimits(const std::vector<mech::PoseResidual>& residuals,
+                                 const std::vector<Eigen::VectorXd>& sigmas, const std::vector<mech::Unit>& units) {
+  std::map<mech::Unit, double> largest;
+  for (std::size_t k = 0; k < residuals.size(); ++k)
+    for (Eigen::Index leg = 0; leg < residuals[k].residual.size() && leg < static_cast<Eigen::Index>(units.size());
+         ++leg) {
+      const mech::Unit unit = units[static_cast<std::size_t>(leg)];
+      double v = std::abs(residuals[k].residual[leg]);
+      if (k < sigmas.size()) v = std::max(v, sigmas[k][leg]);
+      largest[unit] = std::max(largest[unit], mech::toDisplay(unit, v));
+    }
+  std::vector<double> out;
+  for (const mech::Unit unit : units) {
+    const double m = std::max(largest[unit], 1e-12);
+    out.push_back(rp::linearTicks(-m, m, 7).high);
   }
   return out;
 }
@@ -55,6 +59,7 @@ rp::Figure residualFigure(const std::vector<mech::PoseResidual>& residuals, cons
   if (legs == 3) figure.columns = 3;
   figure.panel_width = 780.0 / figure.columns;
   figure.panel_height = legs <= 3 ? 280.0 : 250.0;
+  const std::vector<double> limit_display = sharedLimits(residuals, sigmas, units);
   for (int leg = 0; leg < legs; ++leg) {
     const mech::Unit unit = units[static_cast<std::size_t>(leg)];
     rp::Panel panel;
@@ -69,7 +74,7 @@ rp::Figure residualFigure(const std::vector<mech::PoseResidual>& residuals, cons
     rp::Band band;
     band.label =
         "\xC2\xB1"
-        "1\xCF\x83 of the pose measurements";
+        "1\xCF\x83 (pose covariances)";
     for (std::size_t k = 0; k < residuals.size(); ++k) {
       if (residuals[k].residual.size() <= leg) continue;
       points.x.push_back(static_cast<double>(k + 1));
@@ -83,6 +88,8 @@ rp::Figure residualFigure(const std::vector<mech::PoseResidual>& residuals, cons
     }
     panel.series = {points};
     if (!band.x.empty()) panel.bands = {band};
+    panel.y.min = -limit_display[static_cast<std::size_t>(leg)],
+    panel.y.max = limit_display[static_cast<std::size_t>(leg)];
     panel.references = {{0.0, "", "#555", false}};
     figure.panels.push_back(panel);
   }
@@ -237,6 +244,22 @@ std::string leadText(const IdentifyReportData& data, const std::vector<mech::Uni
 
 }  // namespace
 
+std::vector<Eigen::VectorXd> jointResidualSigmas(const mechanism::IdentificationResult& result) {
+  const auto legs = static_cast<Eigen::Index>(result.model.mechanism->jointCount());
+  std::vector<Eigen::VectorXd> out;
+  if (!result.weighted) {
+    for (std::size_t k = 0; k < result.poses.size(); ++k)
+      out.push_back(Eigen::VectorXd::Constant(legs, result.residual_scale));
+    return out;
+  }
+  if (result.whitening.size() != result.poses.size()) return {};
+  for (const auto& w : result.whitening) {
+    if (w.rows() != legs || w.cols() != legs) return {};
+    out.push_back((w.transpose() * w).inverse().diagonal().cwiseSqrt());
+  }
+  return out;
+}
+
 void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyReportData& data) {
   const mech::IdentificationResult& result = data.result;
   const std::vector<mech::Unit> units = result.model.mechanism->jointUnits();
@@ -246,7 +269,7 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
   addParameters(page, data);
   page.section("Fit");
   addFit(page, data);
-  const auto sigmas = residualSigmas(result, static_cast<int>(units.size()));
+  const auto sigmas = jointResidualSigmas(result);
   page.figure(residualFigure(data.residuals_after, sigmas, units, "after identification", "#1f77b4"),
               "Joint residuals q\xCC\x84 \xE2\x88\x92 f(X) per pose and leg after identification (" + data.model_label +
                   "), with the \xC2\xB1"
@@ -256,6 +279,10 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
               "The same residuals before identification (nominal geometry), on their own scale.");
   page.section("Identifiability");
   addIdentifiability(page, result.identifiability);
+  if (!data.gauge_text.empty()) {
+    page.subsection("Gauge (model-consistent poses)");
+    page.preformatted(data.gauge_text);
+  }
   if (data.study) {
     page.section("Monte-Carlo study");
     page.figure(spreadFigure(*data.study, result, result.poses.size()),

@@ -260,7 +260,13 @@ class PanelRenderer {
     layout_.left = left;
     layout_.width = std::max(40.0, right - left);
     categoryLabels();
-    const double legend_height = legendRows(legend_, layout_.width) * kLegendRow;
+    std::vector<LegendEntry> entries = legend_;
+    if (panel_.vectors)
+      entries.push_back({LegendEntry::Kind::arrow,
+                         "0.05 px (arrows \xC3\x97"
+                         "1000)",
+                         "", false, 80.0});
+    const double legend_height = legendRows(entries, l.box_w - 16.0) * kLegendRow;
     const double below = 6.0 + (categorical() ? layout_.category_depth : kTickFont + 4.0) + 8.0 + kLabelFont + 4.0 +
                          (legend_height > 0.0 ? legend_height + 6.0 : 0.0);
     layout_.top = top;
@@ -598,13 +604,16 @@ class PanelRenderer {
     const double bottom = layout_.top + layout_.height;
     const double first_row = bottom + 6.0 + (categorical() ? layout_.category_depth : kTickFont + 4.0) + 8.0 +
                              kLabelFont + 4.0 + kLegendRow - 4.0;
-    double x = layout_.left, y = first_row;
+    // The legend spans the panel's box, not only the plot area (narrow panels of many legs).
+    const double start = layout_.box_x + 8.0, end = layout_.box_x + layout_.box_w - 8.0;
+    double x = start, y = first_row;
     for (const auto& e : entries) {
       const double w = entryWidth(e);
-      if (x > layout_.left && x + w > layout_.left + layout_.width) x = layout_.left, y += kLegendRow;
+      if (x > start && x + w > end) x = start, y += kLegendRow;
       swatch(e, x, y - 4.0);
       const double swatch_w = e.kind == LegendEntry::Kind::arrow ? e.arrow_length : 18.0;
-      svg_.text(x + swatch_w + 5.0, y, e.label, kTickFont, Anchor::start, "legend");
+      svg_.text(x + swatch_w + 5.0, y, fitted(e.label, end - (x + swatch_w + 5.0), kTickFont), kTickFont, Anchor::start,
+                "legend");
       x += w;
     }
   }
