@@ -86,6 +86,7 @@ rp::Figure residualFigure(const std::vector<mech::PoseResidual>& residuals, cons
         band.high.push_back(s);
       }
     }
+    if (leg > 0) points.label.clear(), band.label.clear();  // one legend, under the first leg
     panel.series = {points};
     if (!band.x.empty()) panel.bands = {band};
     panel.y.min = -limit_display[static_cast<std::size_t>(leg)],
@@ -224,6 +225,17 @@ void addIdentifiability(rp::HtmlReport& page, const mech::IdentifiabilityReport&
   page.table({"dependent", "what the data identify"}, combinations);
 }
 
+// The paper's criteria over the Monte-Carlo runs per subset size (mean ± σ over the runs).
+void addStudyTable(rp::HtmlReport& page, const mech::MonteCarloStudy& study, bool lines) {
+  const double deg = mech::toDisplay(mech::Unit::Radian, 1.0);
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& s : study.summaries)
+    rows.push_back({std::to_string(s.subset_size), std::to_string(s.runs_ok) + " / " + std::to_string(s.runs_failed),
+                    rp::withSigma(s.v1_mean * deg, s.v1_sigma * deg), rp::withSigma(s.v2_mean * deg, s.v2_sigma * deg),
+                    lines ? rp::withSigma(s.v3_mean * 1e3, s.v3_sigma * 1e3) : "n/a (no --lines)"});
+  page.table({"poses per subset", "runs ok / failed", "V1 (deg)", "V2 (deg)", "V3 (mm)"}, rows);
+}
+
 std::string leadText(const IdentifyReportData& data, const std::vector<mech::Unit>& units) {
   const mech::IdentificationResult& result = data.result;
   double before = 0.0;
@@ -289,9 +301,8 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
                 "Spread (\xCF\x83 over the runs) of every free parameter per subset size, one panel per unit, beside "
                 "the analytic \xCF\x83 of the fit on all poses (the Monte-Carlo \xCF\x83 of n poses is expected near "
                 "the analytic \xCF\x83 \xC3\x97 \xE2\x88\x9A(all / n)).");
+    addStudyTable(page, *data.study, data.v3_after_m >= 0.0);
   }
-  page.section("Console summary");
-  page.preformatted(data.summary_text);
   addProvenance(page, data.provenance);
   writeHtml(path, page);
 }

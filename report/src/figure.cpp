@@ -181,14 +181,19 @@ struct Layout {
 
 class PanelRenderer {
  public:
-  PanelRenderer(SvgWriter& svg, const Panel& panel, const std::string& clip_id, double x, double y, double w, double h)
-      : svg_(svg), panel_(panel), clip_id_(clip_id) {
+  // `legend_rows`: at least that many legend rows are reserved (panels of one figure align their
+  // plot areas even when only one of them carries the legend).
+  PanelRenderer(SvgWriter& svg, const Panel& panel, const std::string& clip_id, double x, double y, double w, double h,
+                int legend_rows = 0)
+      : svg_(svg), panel_(panel), clip_id_(clip_id), legend_rows_(legend_rows) {
     checkLengths(panel);
     layout_.box_x = x, layout_.box_y = y, layout_.box_w = w, layout_.box_h = h;
     colourSeries();
     legend_ = legendEntries();
     place();
   }
+
+  int legendRowCount() const { return legend_rows_; }
 
   void render() {
     grid();
@@ -266,7 +271,8 @@ class PanelRenderer {
                          "0.05 px (arrows \xC3\x97"
                          "1000)",
                          "", false, 80.0});
-    const double legend_height = legendRows(entries, l.box_w - 16.0) * kLegendRow;
+    legend_rows_ = std::max(legend_rows_, legendRows(entries, l.box_w - 16.0));
+    const double legend_height = legend_rows_ * kLegendRow;
     const double below = 6.0 + (categorical() ? layout_.category_depth : kTickFont + 4.0) + 8.0 + kLabelFont + 4.0 +
                          (legend_height > 0.0 ? legend_height + 6.0 : 0.0);
     layout_.top = top;
@@ -651,6 +657,7 @@ class PanelRenderer {
   TickSet x_ticks_, y_ticks_, colour_ticks_;
   std::vector<std::string> colours_, vector_colours_;
   std::vector<LegendEntry> legend_;
+  int legend_rows_ = 0;
 };
 
 }  // namespace
@@ -663,10 +670,17 @@ std::string renderSvg(const Figure& figure, const std::string& id) {
   if (!figure.title.empty())
     svg.text(8.0, 18.0, fitted(figure.title, columns * figure.panel_width - 16.0, 14.0), 14.0, Anchor::start,
              "figure-title");
+  int legend_rows = 0;  // the most any panel needs, reserved in all
+  for (const Panel& panel : figure.panels) {
+    SvgWriter scratch(figure.panel_width, figure.panel_height);
+    const PanelRenderer sizing(scratch, panel, "", 0.0, 0.0, figure.panel_width, figure.panel_height);
+    legend_rows = std::max(legend_rows, sizing.legendRowCount());
+  }
   for (std::size_t k = 0; k < figure.panels.size(); ++k) {
     const double x = static_cast<double>(k % columns) * figure.panel_width;
     const double y = title_height + static_cast<double>(k / columns) * figure.panel_height;
-    PanelRenderer(svg, figure.panels[k], id + "-clip" + std::to_string(k), x, y, figure.panel_width, figure.panel_height)
+    PanelRenderer(svg, figure.panels[k], id + "-clip" + std::to_string(k), x, y, figure.panel_width,
+                  figure.panel_height, legend_rows)
         .render();
   }
   return svg.str();

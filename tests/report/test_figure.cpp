@@ -255,6 +255,19 @@ TEST(Figure, ManyPanelsNoTextOverlaps) {
   EXPECT_EQ(doc.named("clipPath")[2]->attributes.at("id"), "many-clip2");
 }
 
+TEST(Figure, PanelsAlignWhenOnlyOneHasALegend) {
+  Figure figure;
+  figure.columns = 2;
+  figure.panels = {linePanel(), linePanel()};
+  figure.panels[1].series[0].label.clear();
+  figure.panels[1].bands[0].label.clear();
+  const XmlDocument doc(renderSvg(figure));
+  const auto frames = doc.withClass("rect", "frame");
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0]->attributes.at("height"), frames[1]->attributes.at("height"));
+  EXPECT_EQ(doc.withClass("text", "legend").size(), 2u);
+}
+
 TEST(Figure, EscapesTextAndRejectsMismatchedSeries) {
   Panel p = linePanel();
   p.title = "a < b & \"c\"";
