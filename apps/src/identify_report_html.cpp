@@ -299,8 +299,11 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
     page.section("Monte-Carlo study");
     page.figure(spreadFigure(*data.study, result, result.poses.size()),
                 "Spread (\xCF\x83 over the runs) of every free parameter per subset size, one panel per unit, beside "
-                "the analytic \xCF\x83 of the fit on all poses (the Monte-Carlo \xCF\x83 of n poses is expected near "
-                "the analytic \xCF\x83 \xC3\x97 \xE2\x88\x9A(all / n)).");
+                "the analytic \xCF\x83 of the fit on all " +
+                    std::to_string(result.poses.size()) +
+                    " poses. Subsets of n drawn from the same N poses share most of them: their spread is expected "
+                    "near the analytic \xCF\x83 \xC3\x97 \xE2\x88\x9A(N/n \xE2\x88\x92 1) (delete-d jackknife), "
+                    "not \xE2\x88\x9A(N/n).");
     addStudyTable(page, *data.study, data.v3_after_m >= 0.0);
   }
   addProvenance(page, data.provenance);

@@ -21,7 +21,8 @@ p.lead { font-size: 17px; background: #f3f6fa; border-left: 4px solid #1f77b4; p
 table { border-collapse: collapse; margin: 8px 0 14px; font-size: 13px; }
 th, td { border: 1px solid #ccc; padding: 3px 8px; vertical-align: top; }
 th { background: #f0f0f0; text-align: left; } td.num { text-align: right; font-variant-numeric: tabular-nums; }
-td.hash { font-family: "DejaVu Sans Mono", monospace; font-size: 11px; word-break: break-all; }
+td.hash { font-family: "DejaVu Sans Mono", monospace; font-size: 10px; word-break: break-all; }
+td.num, table.inputs td:first-child { white-space: nowrap; }
 figure { margin: 12px 0 18px; } figure svg { max-width: 100%; height: auto; display: block; }
 figcaption { font-size: 13px; color: #444; margin-top: 4px; }
 pre { background: #f7f7f7; padding: 8px; font-size: 12px; overflow-x: auto; white-space: pre-wrap; }
