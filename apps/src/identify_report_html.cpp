@@ -42,7 +42,7 @@ std::vector<double> sharedLimits(const std::vector<mech::PoseResidual>& residual
     }
   std::vector<double> out;
   for (const mech::Unit unit : units) {
-    const double m = std::max(largest[unit], 1e-12);
+    const double m = std::max(1.05 * largest[unit], 1e-12);  // a point on the limit stays whole
     out.push_back(rp::linearTicks(-m, m, 7).high);
   }
   return out;

@@ -178,6 +178,7 @@ void identifyReport(const std::string& mechanism, unsigned seed, int legs) {
   checkInBrowser(dir, d / "report" / "report.html", "identify-" + mechanism, 4);
 }
 
+TEST(ReportBrowser, IdentifyH4) { identifyReport("h4-12", 21, 4); }
 TEST(ReportBrowser, IdentifyDelta) { identifyReport("delta", 22, 3); }
 TEST(ReportBrowser, IdentifyGoughStewart) { identifyReport("gough-stewart", 23, 6); }
 
