@@ -145,6 +145,17 @@ rp::Figure spreadFigure(const mech::MonteCarloStudy& study, const mech::Identifi
             mech::toDisplay(parameters[indices[c]].unit, summary.sigma[static_cast<Eigen::Index>(indices[c])]));
       }
       panel.series.push_back(bars);
+      // What that spread should be from the analytic σ: subsets of n of the same N poses share
+      // most of them (delete-d jackknife), σ·√(N/n − 1).
+      const double factor = std::sqrt(std::max(0.0, static_cast<double>(poses) / summary.subset_size - 1.0));
+      rp::Series expected = bars;
+      expected.label =
+          "analytic \xCF\x83\xC2\xB7\xE2\x88\x9A(N/n \xE2\x88\x92 1), n = " + std::to_string(summary.subset_size);
+      expected.colour = "#9a9a9a";
+      for (std::size_t c = 0; c < indices.size(); ++c)
+        expected.y[c] =
+            factor * mech::toDisplay(parameters[indices[c]].unit, result.sigma[static_cast<Eigen::Index>(indices[c])]);
+      panel.series.push_back(expected);
     }
     rp::Series analytic;
     analytic.mark = rp::Mark::bars;
@@ -301,9 +312,9 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
                 "Spread (\xCF\x83 over the runs) of every free parameter per subset size, one panel per unit, beside "
                 "the analytic \xCF\x83 of the fit on all " +
                     std::to_string(result.poses.size()) +
-                    " poses. Subsets of n drawn from the same N poses share most of them: their spread is expected "
-                    "near the analytic \xCF\x83 \xC3\x97 \xE2\x88\x9A(N/n \xE2\x88\x92 1) (delete-d jackknife), "
-                    "not \xE2\x88\x9A(N/n).");
+                    " poses and, for each subset size, what that spread should be from it: subsets of n drawn from the "
+                    "same N poses share most of them, so their spread is near the analytic \xCF\x83 \xC3\x97 "
+                    "\xE2\x88\x9A(N/n \xE2\x88\x92 1) (delete-d jackknife), not \xE2\x88\x9A(N/n).");
     addStudyTable(page, *data.study, data.v3_after_m >= 0.0);
   }
   addProvenance(page, data.provenance);
