@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 
 namespace mire::report {
 namespace {
@@ -108,8 +109,18 @@ void HtmlReport::results(const std::vector<ResultRow>& rows) {
 
 void HtmlReport::figure(const Figure& figure, const std::string& caption) {
   ++figures_;
-  body_ += "<figure>\n" + renderSvg(figure, "f" + std::to_string(figures_)) + "<figcaption>Figure " +
-           std::to_string(figures_) + ". " + escapeXml(caption) + "</figcaption>\n</figure>\n";
+  std::string svg;
+  try {
+    svg = renderSvg(figure, "f" + std::to_string(figures_));
+  } catch (const std::invalid_argument& error) {
+    // Data a figure cannot show (e.g. nothing positive for a log axis) must not cost the command its
+    // results: the page says which figure is missing and why.
+    body_ += "<p class=\"missing-figure\">Figure " + std::to_string(figures_) + " not drawn (" +
+             escapeXml(error.what()) + "): " + escapeXml(caption) + "</p>\n";
+    return;
+  }
+  body_ += "<figure>\n" + svg + "<figcaption>Figure " + std::to_string(figures_) + ". " + escapeXml(caption) +
+           "</figcaption>\n</figure>\n";
 }
 
 void HtmlReport::preformatted(const std::string& text) { body_ += "<pre>" + escapeXml(text) + "</pre>\n"; }

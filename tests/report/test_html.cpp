@@ -62,4 +62,23 @@ TEST(HtmlReport, SelfContainedAndWellFormed) {
   std::filesystem::remove(input);
 }
 
+TEST(HtmlReport, AFigureThatCannotBeDrawnIsNamedNotFatal) {
+  HtmlReport report("r");
+  Figure figure;
+  Panel panel;
+  panel.y = makeAxis("sigma", "mm", Scale::log10);
+  panel.series.push_back({"zero", Mark::points, {0, 1}, {0.0, 0.0}, {}, ""});  // nothing positive
+  figure.panels = {panel};
+  report.figure(figure, "spreads");
+  report.paragraph("after");
+  const std::string html = report.html();
+  const XmlDocument doc(html);
+  EXPECT_TRUE(doc.named("svg").empty());
+  const auto missing = doc.withClass("p", "missing-figure");
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_EQ(missing[0]->text,
+            "Figure 1 not drawn (figure axis 'sigma (mm)': no positive value on a log axis): spreads");
+  EXPECT_NE(html.find("<p>after</p>"), std::string::npos);
+}
+
 }  // namespace

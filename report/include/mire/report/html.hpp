@@ -40,6 +40,8 @@ class HtmlReport {
   // Columns after the first are right-aligned (numbers).
   void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
   void results(const std::vector<ResultRow>& rows);
+  // A figure that cannot be drawn (renderSvg throws std::invalid_argument) becomes a paragraph
+  // naming it and the reason; the rest of the page is written.
   void figure(const Figure& figure, const std::string& caption);
   void preformatted(const std::string& text);
   // The command line and every input file's size and SHA-256 (unreadable files say so).
