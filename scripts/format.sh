@@ -8,7 +8,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
-modules=(support calibration metrology mechanism datasets pipeline apps python tests benchmarks examples fuzz)
+modules=(support calibration metrology mechanism datasets pipeline report apps python tests benchmarks examples fuzz)
 mode="${1:-}"
 
 case "$mode" in

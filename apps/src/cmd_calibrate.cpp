@@ -7,6 +7,7 @@
 #include "mire/pipeline/image_folders.hpp"
 #include "output_paths.hpp"
 #include "plot.hpp"
+#include "report_html.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
 
@@ -198,6 +199,7 @@ void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& p
     provenance.inputs.insert(provenance.inputs.end(), paths.input_folders.begin(), paths.input_folders.end());
     provenance.outputs.push_back({args.report_dir, "--report"});
     writeCalibrateReportJson(dir / "report.json", provenance, result, uncertainty, check);
+    writeCalibrateReportHtml(dir / "report.html", provenance, result, uncertainty, check);
   }
   if (!args.save_detections.empty())
     support::writeFileAtomically(
@@ -366,8 +368,8 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
   command->add_option(
       "--report", args->report_dir,
-      "folder for residuals.png, residuals_per_view.png, projection_uncertainty.png, model_check.png, views.csv, "
-      "report.json");
+      "folder for report.html, residuals.png, residuals_per_view.png, projection_uncertainty.png, model_check.png, "
+      "views.csv, report.json");
   command
       ->add_option("--holdout", args->holdout_folds,
                    "K: k-fold held-out check over views (each fold calibrated without its views, which are then "

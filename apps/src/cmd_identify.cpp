@@ -228,10 +228,35 @@ Criteria evaluateCriteria(const IdentifyArguments& args, const IdentifyInputs& i
   return criteria;
 }
 
+// χ²/dof below 1 − 3√(2/dof), its spread for dof degrees of freedom: the weights (the pose
+// covariances) are larger than the residuals show, not "consistent" with them.
+bool chi2BelowItsSpread(const mech::IdentificationResult& result) {
+  const double dof = std::max(1, result.dof);
+  return result.chi2 / dof < 1.0 - 3.0 * std::sqrt(2.0 / dof);
+}
+
+// The gauge summary without its "unidentifiable direction" lines (each ~20 coefficients long),
+// replaced by their count: the report lists them.
+std::string withoutDirections(const std::string& text) {
+  std::istringstream lines(text);
+  std::string kept;
+  int directions = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("unidentifiable direction:") != std::string::npos) {
+      ++directions;
+      continue;
+    }
+    kept += line + "\n";
+  }
+  if (directions > 0)
+    kept += "  " + std::to_string(directions) + " unidentifiable directions: listed in the report (Identifiability)\n";
+  return kept;
+}
+
 // The fit's quality: poses, residual RMS before and after, conditioning, χ², σ method,
 // outliers and gauge.
 void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel& initial, double rms_before,
-                     const mech::IdentificationResult& result, std::ostream& out) {
+                     const mech::IdentificationResult& result, bool list_combinations, std::ostream& out) {
   const bool weighted = result.weighted;
   out << "poses: " << inputs.observations.poses.size()
       << (weighted ? " (weighted by their measured covariances)" : " (unweighted)") << "; model " << initial.label
@@ -252,15 +277,20 @@ void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel&
                 result.identifiability.condition_number, result.identifiability.scaling.c_str(),
                 result.identifiability.rank, result.free_names.size());
   out << line;
-  for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
+  // Long diagnostics go to the report when there is one (doc/plots.md).
+  if (list_combinations)
+    for (const auto& combination : result.identifiability.combinations) out << "  " << combination.text() << "\n";
+  else if (!result.identifiability.combinations.empty())
+    out << "  " << result.identifiability.combinations.size()
+        << " unidentifiable directions: listed in the report (Identifiability)\n";
   const bool from_residuals = result.covariance_method.rfind("residual sandwich", 0) == 0;
-  std::snprintf(line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
-                !weighted        ? ""
-                : from_residuals ? ": the fit's sigma term is taken from the residuals pose by pose"
-                : result.covariance_scale2 > 1.0
-                    ? ": misfit (the model does not explain the measured poses to their covariances)"
-                : result.covariance_scale2 < 1.0 ? ": the pose covariances overstate the scatter"
-                                                 : ", consistent");
+  std::snprintf(
+      line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
+      !weighted                        ? ""
+      : from_residuals                 ? ": the fit's sigma term is taken from the residuals pose by pose"
+      : result.covariance_scale2 > 1.0 ? ": misfit (the model does not explain the measured poses to their covariances)"
+      : result.covariance_scale2 < 1.0 || chi2BelowItsSpread(result) ? ": the pose covariances overstate the scatter"
+                                                                     : ", consistent");
   out << line;
   std::snprintf(
       line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(), result.covariance_scale2,
@@ -271,7 +301,7 @@ void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel&
     for (const auto& id : result.outliers) out << ' ' << id;
     out << "\n";
   }
-  if (initial.gauge) out << initial.gauge->text();
+  if (initial.gauge) out << (list_combinations ? initial.gauge->text() : withoutDirections(initial.gauge->text()));
 }
 
 // One row per parameter: initial, identified, σ and change, in display units.
@@ -342,8 +372,10 @@ struct IdentifyRun {
 std::string summaryText(const IdentifyArguments& args, const IdentifyRun& run) {
   const Criteria& criteria = run.criteria;
   std::ostringstream out;
-  writeFitSummary(run.inputs, run.identification.initial, rmsOf(run.before), run.identification.result, out);
+  // The result and its uncertainty first, then how well the fit went.
   writeParameterTable(run.identification.initial, run.identification.result, out);
+  writeFitSummary(run.inputs, run.identification.initial, rmsOf(run.before), run.identification.result,
+                  args.report.empty(), out);
   if (criteria.v3_after >= 0.0) {
     char line[256];
     std::snprintf(line, sizeof line, "straightness V3 (%zu lines): before %.4f mm, after %.4f mm\n",
@@ -386,6 +418,7 @@ void writeIdentifyOutputs(const IdentifyArguments& args, const std::string& comm
     data.v3_after_m = run.criteria.v3_after;
     data.study = run.criteria.study ? &*run.criteria.study : nullptr;
     data.summary_text = summary;
+    data.gauge_text = initial.gauge ? initial.gauge->text() : std::string();
     data.provenance = {args.command_line, run.paths.input_files, run.paths.output_files};
     data.provenance.outputs.push_back({args.report, "--report"});
     data.model_name = run.choice.model;
@@ -487,7 +520,7 @@ Runner addIdentifyCommand(CLI::App& app) {
       ->check(CLI::Range(1, kMaxThreads));
   cmd->add_option("--lines", args->lines, "straight-line joint records for V3 (lines.csv: line_id,q1_rad..q4_rad)");
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
-  cmd->add_option("--report", args->report, "folder for report.md, its PNG charts and report.json");
+  cmd->add_option("--report", args->report, "folder for report.html, report.md, its PNG charts and report.json");
   return [args, cmd] {
     if (!args->robot_poses.empty()) {
       for (const char* other : {"--joints", "--model", "--variant", "--nominal", "--fix", "--prior", "--lines", "--mc",

@@ -1,6 +1,7 @@
 // Report of `mire identify` (see identify_report.hpp).
 #include "identify_report.hpp"
 #include "plot.hpp"
+#include "report_html.hpp"
 
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/constants.hpp"
@@ -168,21 +169,32 @@ void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportD
 
   std::ostringstream md;
   md << "# mire identify report\n\n";
-  md << "Command: `" << data.command_line << "`\n\n";
+  md << "Command: `"
+     << (data.provenance.command_line.empty() ? data.command_line : commandLineText(data.provenance.command_line))
+     << "`\n\n";
   md << "Model: " << data.model_label << "\n\n";
   md << "```\n" << data.summary_text << "```\n\n";
   md << "## Residuals per pose and leg\n\n![residuals](residuals.png)\n\n";
   md << "## Identifiability\n\n![singular values](singular_values.png)\n\n```\n"
      << data.result.identifiability.text() << "\n```\n\n";
   if (data.study) md << "## Monte-Carlo study\n\n![spreads](monte_carlo_spread.png)\n\n";
-  md << "## Poses\n\n| pose | q1 (deg) | q2 (deg) | q3 (deg) | q4 (deg) | outlier |\n|---|---|---|---|---|---|\n";
+  // The mechanism's own joints and units (a Delta has 3 legs in deg, a hexapod 6 in mm).
+  const std::vector<mechanism::Unit> units = data.result.model.mechanism->jointUnits();
+  md << "## Poses\n\n| pose |";
+  for (std::size_t k = 0; k < units.size(); ++k)
+    md << " q" << k + 1 << " - f (" << mechanism::displayUnitName(units[k]) << ") |";
+  md << " outlier |\n|---|";
+  for (std::size_t k = 0; k < units.size(); ++k) md << "---|";
+  md << "---|\n";
   for (const auto& p : data.result.poses) {
     md << "| " << p.id;
-    for (int k = 0; k < p.residual.size(); ++k) md << " | " << format("%+.4f", p.residual[k] * kDegreesPerRadian);
+    for (int k = 0; k < p.residual.size() && k < static_cast<int>(units.size()); ++k)
+      md << " | " << format("%+.4f", mechanism::toDisplay(units[static_cast<std::size_t>(k)], p.residual[k]));
     md << " | " << (p.outlier ? "yes" : "") << " |\n";
   }
   support::writeFileAtomically(dir / "report.md", md.str());
   writeIdentifyReportJson(dir / "report.json", data);
+  writeIdentifyReportHtml(dir / "report.html", data);
 }
 
 }  // namespace mire::app

@@ -20,6 +20,7 @@ struct IdentifyReportData {
   double v3_before_m = -1.0, v3_after_m = -1.0;  // < 0: no lines given
   const mechanism::MonteCarloStudy* study = nullptr;
   std::string summary_text;  // the console summary, repeated in the report
+  std::string gauge_text;    // the gauge analysis in full, with every unidentifiable direction
   // report.json (doc/report-json.md): provenance, the model's name and variant, and the pose
   // covariance file the fit was weighted by (empty: none).
   ReportProvenance provenance;
@@ -28,8 +29,14 @@ struct IdentifyReportData {
 };
 
 // Writes DIR/report.md, DIR/residuals.png, DIR/singular_values.png and, with a study,
-// DIR/monte_carlo_spread.png and DIR/report.json (each atomically). Creates DIR.
+// DIR/monte_carlo_spread.png, DIR/report.html and DIR/report.json (each atomically). Creates DIR.
 void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportData& data);
+// Per pose (result.poses order) and joint, the σ of q̄ − f the fit's weights imply: √diag((WᵀW)⁻¹)
+// of the pose's whitening for a weighted fit (its covariance propagated to the joints), σ̂ for an
+// unweighted one; empty when the whitening does not match. The band of the residual figures.
+std::vector<Eigen::VectorXd> jointResidualSigmas(const mechanism::IdentificationResult& result);
+// DIR/report.html alone (identify_report_html.cpp).
+void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyReportData& data);
 // DIR/report.json alone (identify_report_json.cpp).
 void writeIdentifyReportJson(const std::filesystem::path& path, const IdentifyReportData& data);
 

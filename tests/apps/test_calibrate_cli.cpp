@@ -192,6 +192,7 @@ TEST(CalibrateCli, CalibratesRenderedChessboards) {
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "residuals.png"));
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "projection_uncertainty.png"));
   EXPECT_TRUE(fs::exists(dir.path() / "report" / "views.csv"));
+  EXPECT_TRUE(fs::exists(dir.path() / "report" / "report.html"));
   checkReportImages(dir.path() / "report");
 }
 
