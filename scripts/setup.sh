@@ -9,7 +9,8 @@ packages=(build-essential cmake ninja-build pkg-config
   libpng-dev nlohmann-json3-dev)
 if [ "${1:-}" = "--tests" ]; then
   packages+=(python3-yaml python3-mrcal clang clang-format
-    pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib libexpat1-dev chromium)
+    pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib libexpat1-dev chromium
+    opencv-doc)  # opencv-doc: OpenCV's left*.jpg photos, real data for the calibration tests
 fi
 missing=()
 for package in "${packages[@]}"; do
