@@ -109,8 +109,9 @@ int runIsoAfter(const IsoAfterOptions& options) {
   const std::unique_ptr<CampaignRig> rig = campaignRig(options);
   if (controller.jointUnits() != rig->joint_units)
     throw std::invalid_argument(options.params + ": model " + identified.model.model_name + " drives " +
-                                std::to_string(controller.jointCount()) + " joints that are not those of the simulated " +
-                                options.mechanism + " (" + std::to_string(rig->joint_units.size()) + ")");
+                                std::to_string(controller.jointCount()) +
+                                " joints that are not those of the simulated " + options.mechanism + " (" +
+                                std::to_string(rig->joint_units.size()) + ")");
   // Through the user's calibrated camera, when given: the identification absorbed its error, and
   // the test is read through that same camera (pipeline/closed_loop.hpp).
   datasets::CameraReading reading;
@@ -120,8 +121,8 @@ int runIsoAfter(const IsoAfterOptions& options) {
                                                 metrology::Target::fromFile(rig->target_file));
   datasets::Iso9283Spec iso = rig->iso;
   iso.seed = options.seed + 1;  // new cycles: not the scatter and noise of the campaign's test before
-  const datasets::Iso9283Test test = datasets::simulateIso9283Test(
-      controller, identified.model.geometric.values(), rig->reach, rig->bTc, rig->mTe, iso, reading);
+  const datasets::Iso9283Test test = datasets::simulateIso9283Test(controller, identified.model.geometric.values(),
+                                                                   rig->reach, rig->bTc, rig->mTe, iso, reading);
   support::OutputTransaction outputs;
   datasets::writeIso9283Test(outputs.stageFolder(options.output), test, controller, iso);
   outputs.commit();
@@ -129,8 +130,8 @@ int runIsoAfter(const IsoAfterOptions& options) {
   std::cout << "mire simulate iso9283: the simulated " << options.mechanism << " (seed " << options.seed
             << ") driven by the commands of " << options.params << " (" << identified.model.model_name
             << "), 5 positions x " << iso.cycles << " cycles, measured "
-            << (options.camera.empty() ? "by the true camera" : "through " + options.camera) << ", in "
-            << dir.string() << "\n"
+            << (options.camera.empty() ? "by the true camera" : "through " + options.camera) << ", in " << dir.string()
+            << "\n"
             << "the ISO 9283 figures after compensation (in the identified base frame):\n"
             << "  mire accuracy --params " << options.params << " --commanded " << (dir / "commanded.csv").string()
             << " --poses " << (dir / "poses.csv").string() << " -o accuracy_after.json\n";
@@ -150,8 +151,7 @@ SimulateSubcommand addSimulateIso9283Subcommand(CLI::App& simulate) {
   cmd->add_option("--seed", options->seed, "The campaign's seed (its true robot)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--params", options->params, "identified parameter file (mire identify -o): its commands")
-      ->required();
+  cmd->add_option("--params", options->params, "identified parameter file (mire identify -o): its commands")->required();
   cmd->add_option("--camera", options->camera,
                   "the calibrated camera the identification's poses were measured with (default: the true camera)");
   cmd->add_option("-o,--output", options->output, "Output folder (created)")->required();

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import mire
+from frames import rot, transform
 
 mech = mire.mechanism
 SOURCE_DIR = pathlib.Path(os.environ.get("MIRE_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
@@ -43,20 +44,6 @@ def test_a_declared_stroke_is_reported(tmp_path):
     np.testing.assert_allclose(low.joints, np.full(3, np.sqrt(0.25 ** 2 - 0.16 ** 2)), atol=1e-12)
 
 
-def rotation(axis, angle):
-    c, s = np.cos(angle), np.sin(angle)
-    i, j = [(1, 2), (2, 0), (0, 1)][axis]
-    r = np.eye(3)
-    r[i, i], r[i, j], r[j, i], r[j, j] = c, -s, s, c
-    return r
-
-
-def transform(r, t):
-    m = np.eye(4)
-    m[:3, :3], m[:3, 3] = r, t
-    return m
-
-
 def test_described_linear_delta_identified_through_the_pipeline():
     """mire identify's recipe on a linear delta drawn 0.5 mm off, 60 poses with 0.2 mm / 0.03°
     noise: the rank the analysis finds, and the joint residual of the returned (target-aligned)
@@ -67,8 +54,8 @@ def test_described_linear_delta_identified_through_the_pipeline():
     rng = np.random.default_rng(5)
     for name in truth.names():
         truth.setValue(name, truth.value(name) + rng.uniform(-0.5e-3, 0.5e-3))
-    bTc = transform(rotation(2, 0.3) @ rotation(0, 0.05), [0.03, -0.02, -1.9])
-    mTe = transform(rotation(0, 3.1) @ rotation(2, 0.05), [0.012, -0.008, 0.005])
+    bTc = transform(rot(2, 0.3) @ rot(0, 0.05), [0.03, -0.02, -1.9])
+    mTe = transform(rot(0, 3.1) @ rot(2, 0.05), [0.012, -0.008, 0.005])
     poses = np.array([0.0, 0.0, 0.10]) + rng.uniform(-1, 1, (60, 3)) * [0.023, 0.023, 0.0115]
     joints = model.mechanism.ikm(truth.values(), poses)
     t_sigma, r_sigma = 0.2e-3, 0.03 * np.pi / 180

@@ -5,24 +5,11 @@ import numpy as np
 import pytest
 
 import mire
+from frames import rot, transform
 
 mech = mire.mechanism
 DEG = np.pi / 180
 SIGMA_T, SIGMA_R = 0.2e-3, 0.03 * DEG
-
-
-def rot(axis, angle):
-    c, s = np.cos(angle), np.sin(angle)
-    i, j = [(1, 2), (2, 0), (0, 1)][axis]
-    r = np.eye(3)
-    r[i, i], r[i, j], r[j, i], r[j, j] = c, -s, s, c
-    return r
-
-
-def transform(r, t):
-    m = np.eye(4)
-    m[:3, :3], m[:3, 3] = r, t
-    return m
 
 
 class Robot:

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "described_examples.hpp"
 #include "held_out_score.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/support/csv.hpp"
@@ -92,12 +93,7 @@ TEST(FkmIkmCli, H4IdentifyPredictCommand) { identifyThenPredict("h4-12"); }
 TEST(FkmIkmCli, DescribedStrokesAreHonouredByIkm) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  std::string description = test::readText(test::sourceDir() / "examples" / "mechanisms" / "linear-delta.yaml");
-  const std::string stroke = "    stroke: [0.25, 0.34]\n", branch = "    branch: +1";
-  for (std::size_t at = description.find(branch); at != std::string::npos;
-       at = description.find(branch, at + stroke.size() + branch.size()))
-    description.insert(at, stroke);
-  test::writeText(d / "printer.yaml", description);
+  test::writeText(d / "printer.yaml", test::linearDeltaWithStrokes("0.25", "0.34"));
   const datasets::Campaign c =
       datasets::simulateCampaign(mechanism::makeRegisteredModel((d / "printer.yaml").string()), 13);
   datasets::writeCampaignFiles(c, d, 0, c.poses.size());

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "described_examples.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/support/csv.hpp"
 #include "test_support.hpp"
@@ -73,12 +74,7 @@ TEST(PlanCli, BadWorkspaceIsNamedAndNothingIsWritten) {
 TEST(PlanCli, DescribedRobotPlansInsideItsStrokes) {
   test::TempDir dir;
   const fs::path d = dir.path();
-  std::string description = test::readText(test::sourceDir() / "examples" / "mechanisms" / "linear-delta.yaml");
-  const std::string stroke = "    stroke: [0.25, 0.34]\n", branch = "    branch: +1";
-  for (std::size_t at = description.find(branch); at != std::string::npos;
-       at = description.find(branch, at + stroke.size() + branch.size()))
-    description.insert(at, stroke);
-  test::writeText(d / "printer.yaml", description);
+  test::writeText(d / "printer.yaml", test::linearDeltaWithStrokes("0.25", "0.34"));
   test::writeText(d / "workspace.yaml", "x_m: [-0.04, 0.04]\ny_m: [-0.04, 0.04]\nz_m: [0.05, 0.15]\n");
   ASSERT_EQ(test::runMireIn(dir, "plan --model " + (d / "printer.yaml").string() + " --workspace " +
                                      (d / "workspace.yaml").string() + " --count 30 --candidates 600 -o " +
