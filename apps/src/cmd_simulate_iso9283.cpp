@@ -4,6 +4,7 @@
 // commands (what `mire compensate --poses` gives) to the test's 5 positions, 30 cycles; the camera
 // measures each stop. With the campaign's own iso9283/ (the nominal controller), the test before
 // and after. Glue only: datasets::trueRobotOf and datasets::simulateIso9283Test.
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <memory>

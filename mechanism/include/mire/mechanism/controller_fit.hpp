@@ -32,9 +32,11 @@ struct ControllerFit {
   // The same error for the robot as the identification knows it (doc/accuracy.md, "Controller
   // model"): robots drawn from the identified geometry's covariance follow the fitted controller's
   // commands; the RMS position error of each draw, frame-free (rigidly aligned onto the commanded
-  // positions, as a robot whose base frame is not known exactly is scored), gives a mean and a
-  // spread. The mean is what to expect on the robot (it adds the identification's own error to
-  // what the controller model cannot correct); the spread its 1σ. NaN without a covariance.
+  // positions, as a robot whose base frame is not known exactly is scored), less the part of the
+  // identification's noise the draws count twice (measured by refitting the controller to some of
+  // them), gives a mean and a spread. The mean is what to expect on the robot (it adds the
+  // identification's own error to what the controller model cannot correct); the spread its 1σ.
+  // NaN without a covariance.
   double expected_rms_position_error = std::numeric_limits<double>::quiet_NaN();
   double sigma_rms_position_error = std::numeric_limits<double>::quiet_NaN();
   int draws = 0;
