@@ -57,6 +57,13 @@ class Delta:
         covariance = np.tile(np.diag([SIGMA_T ** 2] * 3 + [SIGMA_R ** 2] * 3), (len(poses), 1, 1))
         return mech.observationsFromArrays([f"p{j + 1}" for j in range(len(poses))], cTm, joints, covariance)
 
+    def identified(self, rng, extra):
+        """The prediction model identified from the protocol's 27 positions and `extra` random poses."""
+        grid = np.array([[x, y, z] for x in (-0.15, 0, 0.15) for y in (-0.15, 0, 0.15) for z in (-0.075, 0, 0.075)])
+        poses = np.vstack([self.reference + grid, self.box(rng, extra)])
+        identification = pipe.identify(pipe.chooseModel(MODEL, ""), self.observations(poses, rng))
+        return mech.predictionModelFrom(MODEL, identification.result)
+
     def reached(self, joints):
         """Where the true robot goes for joint commands."""
         return self.mechanism.fkm(self.truth.values(), joints)
@@ -96,11 +103,7 @@ def test_correction_map_makes_the_nominal_controller_reach_the_truth(delta):
 
 
 def test_joint_commands_of_an_identified_robot_reach_the_noise_level(delta):
-    rng = np.random.default_rng(2)
-    grid = np.array([[x, y, z] for x in (-0.15, 0, 0.15) for y in (-0.15, 0, 0.15) for z in (-0.075, 0, 0.075)])
-    poses = np.vstack([delta.reference + grid, delta.box(rng, 27)])
-    identification = pipe.identify(pipe.chooseModel(MODEL, ""), delta.observations(poses, rng))
-    model = mech.predictionModelFrom(MODEL, identification.result)
+    model = delta.identified(np.random.default_rng(2), 27)
     desired = delta.box(np.random.default_rng(3), 20)
     out = pipe.compensate(model, desired)
     assert all(out["reachable"]) and out["joints"].shape == (20, 3) and out["covariance"].shape == (20, 3, 3)
@@ -117,11 +120,7 @@ def test_joint_commands_of_an_identified_robot_reach_the_noise_level(delta):
 
 
 def test_controller_fit_states_the_error_expected_on_the_robot(delta):
-    rng = np.random.default_rng(4)
-    grid = np.array([[x, y, z] for x in (-0.15, 0, 0.15) for y in (-0.15, 0, 0.15) for z in (-0.075, 0, 0.075)])
-    poses = np.vstack([delta.reference + grid, delta.box(rng, 54)])
-    identification = pipe.identify(pipe.chooseModel(MODEL, ""), delta.observations(poses, rng))
-    model = mech.predictionModelFrom(MODEL, identification.result)
+    model = delta.identified(np.random.default_rng(4), 54)
     workspace = np.array([delta.reference + [x, y, z] for x in np.linspace(-0.1, 0.1, 5)
                           for y in np.linspace(-0.1, 0.1, 5) for z in (-0.05, 0, 0.05)])
     fit = mech.fitControllerModel(model, "delta", workspace)
@@ -129,11 +128,9 @@ def test_controller_fit_states_the_error_expected_on_the_robot(delta):
     assert 0 < fit.sigma_rms_position_error < fit.expected_rms_position_error
     # The delta controller's commands run on the TRUE robot: within 3 of the stated σ.
     controller = mech.makeRegisteredModel("delta").mechanism
-    commanded = np.array([x for x in workspace])
-    frame = fit.frame
-    targets = np.array([(frame @ np.append(x, 1.0))[:3] for x in commanded])
+    targets = np.array([(fit.frame @ np.append(x, 1.0))[:3] for x in workspace])
     reached = delta.reached(controller.ikm(fit.parameters.values(), targets))
-    true_rms = aligned_rms(reached, commanded)
+    true_rms = aligned_rms(reached, workspace)
     print(f"delta controller: true {true_rms * 1e3:.4f} mm, expected {fit.expected_rms_position_error * 1e3:.4f}"
           f" ± {fit.sigma_rms_position_error * 1e3:.4f} mm")
     assert abs(true_rms - fit.expected_rms_position_error) < 3 * fit.sigma_rms_position_error
