@@ -92,9 +92,7 @@ void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech:
 // assume the camera fixed (paper §4) and are refused by name.
 std::vector<mech::SelectionCandidate> withMounting(std::vector<mech::SelectionCandidate> candidates,
                                                    const std::string& mounting) {
-  if (mounting != "camera-fixed" && mounting != "camera-on-effector")
-    throw UsageError("--mounting '" + mounting + "': expected camera-fixed or camera-on-effector");
-  if (mounting == "camera-fixed") return candidates;
+  if (!cameraOnEffector(mounting)) return candidates;
   for (mech::SelectionCandidate& c : candidates) {
     if (c.variant || c.model.registered.external_form != mech::ExternalForm::Full)
       throw UsageError("--mounting camera-on-effector: candidate " + c.label + " (" + c.model.registered.name +

@@ -128,19 +128,8 @@ void checkCampaignOptions(const CampaignOptions& options) {
   paths.output_folders = {{options.output, "-o"}};
   if (described) paths.input_files = {{options.mechanism, "--model"}};
   checkCommandPaths(paths);
-  if (described) {
-    mechanism::readMechanismDescription(options.mechanism);  // file:line: key: what is wrong
-  } else {
-    try {
-      mechanism::mechanismFamily(options.mechanism);
-    } catch (const std::invalid_argument&) {
-      throw UsageError("--mechanism '" + options.mechanism + "': unknown mechanism (valid: " +
-                       mechanism::mechanismFamilyList() + "; a robot of your own: --model robot.yaml)");
-    }
-  }
-  if (options.mounting != "camera-fixed" && options.mounting != "camera-on-effector")
-    throw UsageError("--mounting '" + options.mounting + "': expected camera-fixed or camera-on-effector");
-  if (options.mounting == "camera-on-effector" && !described && isH4(mechanism::mechanismFamily(options.mechanism)))
+  checkCampaignMechanism(options.mechanism);
+  if (cameraOnEffector(options.mounting) && !described && isH4(mechanism::mechanismFamily(options.mechanism)))
     throw UsageError("--mounting camera-on-effector: the H4's campaign has the camera fixed only");
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
@@ -340,6 +329,19 @@ int runCampaign(const CampaignOptions& options) {
 }
 
 }  // namespace
+
+void checkCampaignMechanism(const std::string& mechanism) {
+  if (mechanism::isDescriptionFile(mechanism)) {
+    mechanism::readMechanismDescription(mechanism);  // file:line: key: what is wrong
+    return;
+  }
+  try {
+    mechanism::mechanismFamily(mechanism);
+  } catch (const std::invalid_argument&) {
+    throw UsageError("--mechanism '" + mechanism + "': unknown mechanism (valid: " + mechanism::mechanismFamilyList() +
+                     "; a robot of your own: --model robot.yaml)");
+  }
+}
 
 SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
   auto options = std::make_shared<CampaignOptions>();

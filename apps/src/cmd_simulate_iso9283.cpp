@@ -89,14 +89,7 @@ void checkOptions(const IsoAfterOptions& options) {
   if (!options.camera.empty()) paths.input_files.push_back({options.camera, "--camera"});
   if (mech::isDescriptionFile(options.mechanism)) paths.input_files.push_back({options.mechanism, "--model"});
   checkCommandPaths(paths);
-  if (!mech::isDescriptionFile(options.mechanism)) {
-    try {
-      mech::mechanismFamily(options.mechanism);
-    } catch (const std::invalid_argument&) {
-      throw UsageError("--mechanism '" + options.mechanism + "': unknown mechanism (valid: " +
-                       mech::mechanismFamilyList() + "; a robot of your own: --model robot.yaml)");
-    }
-  }
+  checkCampaignMechanism(options.mechanism);
 }
 
 int runIsoAfter(const IsoAfterOptions& options) {

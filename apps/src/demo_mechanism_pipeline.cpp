@@ -98,7 +98,6 @@ std::string modelLabel(const std::string& name) {
 
 // One model: identified and written as identified_<model>.yaml (+ its covariance side file,
 // for `mire fkm` / `mire ikm`), then scored.
-
 MechanismModelScore identifyModel(const std::string& name, const datasets::MechanismImageCampaign& campaign,
                                   const pipeline::PoseSet& data, const fs::path& output) {
   const Stopwatch watch;

@@ -85,6 +85,12 @@ int workerThreads(int requested, const std::string& option) {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
+bool cameraOnEffector(const std::string& mounting) {
+  if (mounting != "camera-fixed" && mounting != "camera-on-effector")
+    throw UsageError("--mounting '" + mounting + "': expected camera-fixed or camera-on-effector");
+  return mounting == "camera-on-effector";
+}
+
 namespace {
 
 void checkIntrinsics(const calibration::Camera& camera, const std::string& where) {

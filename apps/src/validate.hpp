@@ -47,6 +47,10 @@ void checkRowCount(std::size_t count, const std::string& file, const std::string
 // Worker threads from an option value: 0 = all cores, 1..kMaxThreads; else UsageError.
 int workerThreads(int requested, const std::string& option);
 
+// The --mounting word (doc/mechanisms.md, "Camera on the effector"): true for camera-on-effector,
+// false for camera-fixed; else UsageError naming it.
+bool cameraOnEffector(const std::string& mounting);
+
 // Camera sanity (file = where it was read): positive finite focal lengths of comparable size,
 // principal point inside the image, distortion coefficients of a plausible size, and a
 // covariance (when present) that is symmetric positive semi-definite with positive variances
