@@ -18,9 +18,7 @@ Line3d Line3d::transformed(const Eigen::Isometry3d& a_T_b) const {
   return fromPointAndDirection(a_T_b * closestPointToOrigin(), d);
 }
 
-double Line3d::distanceTo(const Eigen::Vector3d& point) const {
-  return (point.cross(direction) - moment).norm();
-}
+double Line3d::distanceTo(const Eigen::Vector3d& point) const { return (point.cross(direction) - moment).norm(); }
 
 std::pair<Eigen::Vector3d, Eigen::Vector3d> lineTangentBasis(const Eigen::Vector3d& direction) {
   const Eigen::Vector3d d = direction.normalized();
@@ -42,9 +40,9 @@ Line3d perturbLine(const Line3d& line, const Eigen::Vector4d& delta) {
 Eigen::Vector4d lineDifference(const Line3d& line, const Line3d& reference) {
   const Line3d aligned = line.direction.dot(reference.direction) < 0 ? line.reversed() : line;
   const auto [e1, e2] = lineTangentBasis(reference.direction);
-  // The direction's change in the tangent plane, and the change of the closest point to the
-  // origin; the closest point of `line` is taken as its point nearest the reference's closest
-  // point projected on the reference's normal plane, which is the closest point to first order.
+  // a: the direction's components in the tangent plane once scaled to unit length along the
+  // reference (exactly perturbLine's a); b: the closest point's move within the normal plane
+  // (perturbLine's b to first order: its re-projection onto the plane ⟂ d' is of second order).
   const Eigen::Vector3d d = aligned.direction / aligned.direction.dot(reference.direction);
   const Eigen::Vector3d c = aligned.closestPointToOrigin();
   return {d.dot(e1), d.dot(e2), c.dot(e1) - reference.closestPointToOrigin().dot(e1),

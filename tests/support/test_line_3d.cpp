@@ -21,8 +21,8 @@ TEST(Line3d, MomentIsOrthogonalAndGivesTheDistanceToTheOrigin) {
 }
 
 TEST(Line3d, TangentBasisIsRightHandedAndUsesTheLeastAlignedAxis) {
-  for (const Eigen::Vector3d d : {Eigen::Vector3d(0.1, 0.2, 0.97), Eigen::Vector3d(-0.9, 0.1, 0.2),
-                                  Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(0.3, -0.95, 0.0)}) {
+  for (const Eigen::Vector3d& d : {Eigen::Vector3d(0.1, 0.2, 0.97), Eigen::Vector3d(-0.9, 0.1, 0.2),
+                                   Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(0.3, -0.95, 0.0)}) {
     const auto [e1, e2] = lineTangentBasis(d);
     const Eigen::Vector3d u = d.normalized();
     EXPECT_NEAR(e1.norm(), 1.0, 1e-15);
@@ -42,7 +42,9 @@ TEST(Line3d, DifferenceInvertsThePerturbationToFirstOrder) {
     const Eigen::Vector4d delta(1e-4 * normal(random), 1e-4 * normal(random), 1e-4 * normal(random),
                                 1e-4 * normal(random));
     const Eigen::Vector4d back = lineDifference(perturbLine(line, delta), line);
-    EXPECT_LT((back - delta).norm(), 1e-7 * delta.norm() + 1e-12) << trial;
+    // Second order in δ: the closest point moves with the direction (|c| ≈ 1 m here).
+    EXPECT_LT((back - delta).norm(), 5.0 * delta.squaredNorm()) << trial;
+    EXPECT_LT((back - delta).norm(), 1e-3 * delta.norm()) << trial;
   }
   EXPECT_LT(lineDifference(line, line).norm(), 1e-15);
 }
@@ -50,7 +52,7 @@ TEST(Line3d, DifferenceInvertsThePerturbationToFirstOrder) {
 TEST(Line3d, HasNoSign) {
   const Line3d line = someLine();
   const Eigen::Vector4d delta(2e-4, -1e-4, 3e-4, 1e-4);
-  EXPECT_LT((lineDifference(perturbLine(line, delta).reversed(), line) - delta).norm(), 1e-7);
+  EXPECT_LT((lineDifference(perturbLine(line, delta).reversed(), line) - delta).norm(), 5.0 * delta.squaredNorm());
 }
 
 TEST(Line3d, TransformMovesTheLineRigidly) {
