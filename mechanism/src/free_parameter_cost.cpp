@@ -78,8 +78,7 @@ bool FreeParameterCost::Evaluate(double const* const* parameters, double* residu
   }
   if (!inner_->Evaluate(blocks.data(), residuals, pointers.data())) return false;
   Eigen::Map<Eigen::VectorXd>(jacobians[0], static_cast<Eigen::Index>(rows) * map_->freeCount()).setZero();
-  for (std::size_t b = 0; b < sizes.size(); ++b)
-    map_->gather(pointers[b], rows, offsets_[b], sizes[b], jacobians[0]);
+  for (std::size_t b = 0; b < sizes.size(); ++b) map_->gather(pointers[b], rows, offsets_[b], sizes[b], jacobians[0]);
   return true;
 }
 
