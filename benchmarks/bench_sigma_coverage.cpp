@@ -6,7 +6,9 @@
 // an identifiable combination (the H4's aligned form: the noise-free poses identified alone, which
 // holds the same conventional gauge for model 12's variants; not for h4-31, whose data-driven
 // gauge then differs between the two runs). Target [0.8, 1.25]. Also
-// times one identification; pooled figures below the per-parameter ones (pooledSummary). Usage:
+// times one identification (wall and CPU) and counts the gauge sets held over the campaigns (one
+// when rounding does not choose among equivalent parameters, doc/mechanisms.md "Identifiability");
+// pooled figures below the per-parameter ones (pooledSummary). Usage:
 // bench_sigma_coverage [campaigns=40] [model|description.yaml[@random poses] ...]
 //   (default: h4-12, examples/mechanisms/linear-delta.yaml, examples/mechanisms/6-rus.yaml,
 //    gough-stewart)
@@ -20,6 +22,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -78,7 +81,8 @@ void study(const Setting& setting, int campaigns) {
   std::map<std::string, std::vector<double>> z;
   std::vector<double> d2;
   std::vector<std::string> names;
-  double seconds = 0.0, cpu_seconds = 0.0;  // wall and this process's CPU (the machine may be shared)
+  std::set<std::vector<std::string>> gauges;  // the sets held: one when rounding does not choose
+  double seconds = 0.0, cpu_seconds = 0.0;    // wall and this process's CPU (the machine may be shared)
   int failed = 0;
   for (int k = 0; k < campaigns; ++k) {
     const auto seed = static_cast<unsigned>(100 + k);
@@ -98,6 +102,7 @@ void study(const Setting& setting, int campaigns) {
                                                    ? pipeline::identify(choice, noiseFree(c), std::nullopt).result
                                                    : pipeline::fit(choice, id.initial, noiseFree(c), std::nullopt);
       names = id.result.free_names;
+      if (id.initial.gauge) gauges.insert(id.initial.gauge->gauge);
       Eigen::VectorXd error(static_cast<Eigen::Index>(names.size()));
       for (std::size_t f = 0; f < names.size(); ++f) {
         const std::string& name = names[f];
@@ -113,8 +118,11 @@ void study(const Setting& setting, int campaigns) {
     }
   }
   const int done = std::max(1, campaigns - failed);
-  std::printf("%s: %d campaigns (%d failed), %zu free parameters, %.1f ms per identification (CPU %.1f ms)\n",
-              setting.model.c_str(), campaigns, failed, names.size(), 1e3 * seconds / done, 1e3 * cpu_seconds / done);
+  std::printf(
+      "%s: %d campaigns (%d failed), %zu free parameters, %.1f ms per identification (CPU %.1f ms); %zu gauge set(s) "
+      "held\n",
+      setting.model.c_str(), campaigns, failed, names.size(), 1e3 * seconds / done, 1e3 * cpu_seconds / done,
+      gauges.size());
   double lo = 1e9, hi = 0.0;
   std::string lo_name, hi_name;
   int outside = 0;
