@@ -339,8 +339,9 @@ void addFreeProblem(ceres::Problem& problem, std::vector<AmbientResidual> residu
     std::vector<int> offsets;
     if (r.geometric) offsets.push_back(0);
     if (r.external) offsets.push_back(G);
-    problem.AddResidualBlock(new detail::FreeParameterCost(std::move(r.cost), map, std::move(offsets)),
-                             r.loss.release(), free);
+    problem.AddResidualBlock(
+        std::make_unique<detail::FreeParameterCost>(std::move(r.cost), map, std::move(offsets)).release(),
+        r.loss.release(), free);
   }
 }
 
