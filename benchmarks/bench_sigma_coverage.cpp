@@ -6,7 +6,9 @@
 // an identifiable combination (the H4's aligned form: the noise-free poses identified alone, which
 // holds the same conventional gauge for model 12's variants; not for h4-31, whose data-driven
 // gauge then differs between the two runs). Target [0.8, 1.25]. Also
-// times one identification; pooled figures below the per-parameter ones (pooledSummary). Usage:
+// times one identification (wall and CPU) and counts the gauge sets held over the campaigns (one
+// when rounding does not choose among equivalent parameters, doc/mechanisms.md "Identifiability");
+// pooled figures below the per-parameter ones (pooledSummary). Usage:
 // bench_sigma_coverage [campaigns=40] [model|description.yaml[@random poses] ...]
 //   (default: h4-12, examples/mechanisms/linear-delta.yaml, examples/mechanisms/6-rus.yaml,
 //    gough-stewart)
@@ -18,7 +20,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -77,7 +81,8 @@ void study(const Setting& setting, int campaigns) {
   std::map<std::string, std::vector<double>> z;
   std::vector<double> d2;
   std::vector<std::string> names;
-  double seconds = 0.0;
+  std::set<std::vector<std::string>> gauges;  // the sets held: one when rounding does not choose
+  double seconds = 0.0, cpu_seconds = 0.0;    // wall and this process's CPU (the machine may be shared)
   int failed = 0;
   for (int k = 0; k < campaigns; ++k) {
     const auto seed = static_cast<unsigned>(100 + k);
@@ -86,7 +91,9 @@ void study(const Setting& setting, int campaigns) {
           datasets::simulateCampaign(model, datasets::perturbedBy(model.nominal, seed, setting.metre, setting.radian),
                                      seed, 0.2e-3, 0.03 * datasets::kCampaignDeg, 0, setting.count);
       const auto start = std::chrono::steady_clock::now();
+      const std::clock_t cpu_start = std::clock();
       const pipeline::Identification id = pipeline::identify(choice, c.poses, std::nullopt);
+      cpu_seconds += static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
       seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       // An aligned form's alignment is estimated from the data and its error is part of the σ:
       // its truth comes from the noise-free data's own alignment (the gauge, z_ME, is a
@@ -95,6 +102,7 @@ void study(const Setting& setting, int campaigns) {
                                                    ? pipeline::identify(choice, noiseFree(c), std::nullopt).result
                                                    : pipeline::fit(choice, id.initial, noiseFree(c), std::nullopt);
       names = id.result.free_names;
+      if (id.initial.gauge) gauges.insert(id.initial.gauge->gauge);
       Eigen::VectorXd error(static_cast<Eigen::Index>(names.size()));
       for (std::size_t f = 0; f < names.size(); ++f) {
         const std::string& name = names[f];
@@ -109,8 +117,12 @@ void study(const Setting& setting, int campaigns) {
       std::printf("  campaign %d: %s\n", k, error.what());
     }
   }
-  std::printf("%s: %d campaigns (%d failed), %zu free parameters, %.1f ms per identification\n", setting.model.c_str(),
-              campaigns, failed, names.size(), 1e3 * seconds / std::max(1, campaigns - failed));
+  const int done = std::max(1, campaigns - failed);
+  std::printf(
+      "%s: %d campaigns (%d failed), %zu free parameters, %.1f ms per identification (CPU %.1f ms); %zu gauge set(s) "
+      "held\n",
+      setting.model.c_str(), campaigns, failed, names.size(), 1e3 * seconds / done, 1e3 * cpu_seconds / done,
+      gauges.size());
   double lo = 1e9, hi = 0.0;
   std::string lo_name, hi_name;
   int outside = 0;

@@ -14,7 +14,11 @@ namespace {
 constexpr int kPoseEntries = 12;     // bTe's R (column-major) and t
 constexpr int kMaxLegValues = 14;    // base 3, tilt 2, arm 3, rod, platform 3, offset, gain
 constexpr int kExternalStride = 12;  // ξe's derivatives per pass (one pass for every form today)
-using LegJet = ceres::Jet<double, kPoseEntries + kMaxLegValues>;
+// The actuation s_i(w, tilt, arm, rod) is differentiated over its own 9 inputs, in fixed slots;
+// base, platform, bTe, offset and gain enter through w = t + R·p − A and q̄ = (s − q0)/g, whose
+// derivatives are plain products (doc/mechanisms.md, "Described mechanisms").
+constexpr int kSlotW = 0, kSlotTilt = 3, kSlotArm = 5, kSlotRod = 8, kActuationInputs = 9;
+using ActuationJet = ceres::Jet<double, kActuationInputs>;
 using ExternalJet = ceres::Jet<double, kExternalStride>;
 
 // Appends `count` values from global index `first` (−1: absent) and returns their local index.
@@ -26,7 +30,8 @@ int gather(int first, int count, std::vector<int>* global) {
 }
 
 DescribedJointCost::LocalLeg localLeg(const DescribedLeg& leg) {
-  DescribedJointCost::LocalLeg out{leg, leg, {}};
+  DescribedJointCost::LocalLeg out;
+  out.leg = leg;
   out.local.base = gather(leg.base, 3, &out.global);
   out.local.tilt = gather(leg.tilt, 2, &out.global);
   out.local.arm = gather(leg.arm, 3, &out.global);
@@ -34,6 +39,10 @@ DescribedJointCost::LocalLeg localLeg(const DescribedLeg& leg) {
   out.local.platform = gather(leg.platform, 3, &out.global);
   out.local.offset = gather(leg.offset, 1, &out.global);
   out.local.gain = gather(leg.gain, 1, &out.global);
+  out.actuation = leg;
+  out.actuation.tilt = leg.tilt >= 0 ? kSlotTilt : -1;
+  out.actuation.arm = leg.arm >= 0 ? kSlotArm : -1;
+  out.actuation.rod = leg.rod >= 0 ? kSlotRod : -1;
   return out;
 }
 
@@ -55,16 +64,41 @@ DescribedJointCost::DescribedJointCost(const DescribedKinematics& kinematics, in
 
 bool DescribedJointCost::legDerivatives(const LocalLeg& leg, const double* g, const double* R, const double* t,
                                         double* q, double* d_pose, double* d_local) const {
-  LegJet values[kMaxLegValues], Rj[9], tj[3];
-  const int count = static_cast<int>(leg.global.size());
-  for (int k = 0; k < count; ++k) values[k] = LegJet(g[leg.global[k]], kPoseEntries + k);
-  for (int k = 0; k < 9; ++k) Rj[k] = LegJet(R[k], k);
-  for (int k = 0; k < 3; ++k) tj[k] = LegJet(t[k], 9 + k);
-  LegJet reading;
-  if (!DescribedKinematics::legJoint(leg.local, values, Rj, tj, &reading)) return false;
-  *q = reading.a;
-  for (int k = 0; k < kPoseEntries; ++k) d_pose[k] = reading.v[k];
-  for (int k = 0; k < count; ++k) d_local[k] = reading.v[kPoseEntries + k];
+  const DescribedLeg& at = leg.leg;
+  const double* A = g + at.base;
+  const double* p = g + at.platform;
+  ActuationJet inputs[kActuationInputs];
+  for (int k = 0; k < 3; ++k)
+    inputs[kSlotW + k] = ActuationJet(t[k] + R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2] - A[k], kSlotW + k);
+  if (at.tilt >= 0)
+    for (int k = 0; k < 2; ++k) inputs[kSlotTilt + k] = ActuationJet(g[at.tilt + k], kSlotTilt + k);
+  if (at.arm >= 0)
+    for (int k = 0; k < 3; ++k) inputs[kSlotArm + k] = ActuationJet(g[at.arm + k], kSlotArm + k);
+  if (at.rod >= 0) inputs[kSlotRod] = ActuationJet(g[at.rod], kSlotRod);
+  ActuationJet s;
+  if (!DescribedKinematics::actuation(leg.actuation, inputs, inputs + kSlotW, &s)) return false;
+  // q̄ = (s − q0)/g: ∂q̄/∂s = 1/g, ∂q̄/∂q0 = −1/g, ∂q̄/∂g = −q̄/g.
+  const double gain = at.gain >= 0 ? g[at.gain] : 1.0;
+  *q = (s.a - g[at.offset]) / gain;
+  const double dq_ds = 1.0 / gain;
+  double dq_dw[3];
+  for (int k = 0; k < 3; ++k) dq_dw[k] = dq_ds * s.v[kSlotW + k];
+  // w = t + R·p − A: ∂w_k/∂t_k = 1, ∂w_k/∂R(k, m) = p_m, ∂w/∂p = R, ∂w/∂A = −I.
+  for (int m = 0; m < 3; ++m)
+    for (int k = 0; k < 3; ++k) d_pose[3 * m + k] = dq_dw[k] * p[m];
+  for (int k = 0; k < 3; ++k) d_pose[9 + k] = dq_dw[k];
+  const LocalLeg::Slots& local = leg.local;
+  for (int k = 0; k < 3; ++k) {
+    d_local[local.base + k] = -dq_dw[k];
+    d_local[local.platform + k] = R[3 * k] * dq_dw[0] + R[3 * k + 1] * dq_dw[1] + R[3 * k + 2] * dq_dw[2];
+  }
+  if (local.tilt >= 0)
+    for (int k = 0; k < 2; ++k) d_local[local.tilt + k] = dq_ds * s.v[kSlotTilt + k];
+  if (local.arm >= 0)
+    for (int k = 0; k < 3; ++k) d_local[local.arm + k] = dq_ds * s.v[kSlotArm + k];
+  if (local.rod >= 0) d_local[local.rod] = dq_ds * s.v[kSlotRod];
+  d_local[local.offset] = -dq_ds;
+  if (local.gain >= 0) d_local[local.gain] = -*q / gain;
   return true;
 }
 

@@ -1,9 +1,10 @@
 #pragma once
 // The identification residual of a described mechanism, W·(q̄ − f(X(ξe, cTm), ξg)) (eq. 4),
 // with its Jacobian built leg by leg: leg i's reading depends on its own ≤ 14 values and on the
-// effector pose only, so each leg is differentiated once with a Jet over those values and bTe's
-// 12 entries, and bTe once over ξe; a dense autodiff over all 54–102 parameters would evaluate
-// every leg once per stride of parameters (doc/mechanisms.md, "Described mechanisms").
+// effector pose only, through w = t + R·p_i − A_i. Each leg's actuation s_i(w, tilt, arm, rod) is
+// differentiated once with a Jet over those ≤ 9 inputs, the rest chained by plain products, and
+// bTe once over ξe; a dense autodiff over all 54–102 parameters would evaluate every leg once per
+// stride of parameters (doc/mechanisms.md, "Described mechanisms").
 #include <ceres/cost_function.h>
 
 #include <Eigen/Core>
@@ -21,10 +22,15 @@ class DescribedJointCost final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
-  // A leg (`leg`: indices into the geometric vector) and the same leg re-indexed onto its own
-  // values (`local` reads values[k] = g[global[k]]).
+  // A leg (`leg`: indices into the geometric vector), where each of its values sits in its own
+  // list (`local`, `global[local.base] = leg.base`...), and the leg re-indexed onto the inputs
+  // of its actuation's Jet (`actuation`: tilt, arm, rod in fixed slots after w).
   struct LocalLeg {
-    DescribedLeg leg, local;
+    struct Slots {
+      int base = -1, tilt = -1, arm = -1, rod = -1, platform = -1, offset = -1, gain = -1;
+    };
+    DescribedLeg leg, actuation;
+    Slots local;
     std::vector<int> global;
   };
 

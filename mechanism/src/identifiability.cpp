@@ -2,9 +2,10 @@
 // rank, QR with column pivoting (Khalil & Besnard) and named null-space combinations.
 #include "mire/mechanism/identifiability.hpp"
 
+#include <Eigen/Householder>
 #include <Eigen/LU>
-#include <Eigen/QR>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -22,6 +23,12 @@ std::string formatCoefficient(double value) {
   std::snprintf(buffer, sizeof buffer, "%.4f", value);
   return buffer;
 }
+
+// Two remaining column norms closer than this (relative) tie in the pivoted QR, and the column
+// first in parameter order wins: equivalent parameters (an arm turned about its axis and the
+// joint offset) have equal norms up to rounding, which otherwise chose which one is held and
+// changed it with the last bits of the Jacobian (doc/mechanisms.md, "Identifiability").
+constexpr double kPivotTieTolerance = 1e-9;
 
 double conditionOf(const Eigen::VectorXd& singular_values) {
   if (singular_values.size() == 0) return 0.0;
@@ -88,6 +95,32 @@ void singularValueStage(IdentifiabilityReport& report, const Eigen::MatrixXd& J,
     if (s[k] > threshold) ++report.rank;
 }
 
+// Column order of a Householder QR with column pivoting: at each step the column of largest
+// remaining norm, ties (kPivotTieTolerance) to the first in parameter order. The remaining norms
+// are recomputed at each step rather than downdated, so that equal ones stay equal.
+std::vector<Eigen::Index> pivotOrder(Eigen::MatrixXd A) {
+  const Eigen::Index m = A.rows(), n = A.cols();
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < n; ++k) order[static_cast<std::size_t>(k)] = k;
+  Eigen::VectorXd workspace(n);
+  for (Eigen::Index k = 0; k < std::min(m, n); ++k) {
+    const Eigen::VectorXd norms = A.bottomRightCorner(m - k, n - k).colwise().norm().transpose();
+    const double floor = (1.0 - kPivotTieTolerance) * norms.maxCoeff();
+    Eigen::Index best = 0;
+    for (Eigen::Index j = 1; j < n - k; ++j)
+      if (norms[j] >= floor &&
+          (norms[best] < floor || order[static_cast<std::size_t>(k + j)] < order[static_cast<std::size_t>(k + best)]))
+        best = j;
+    A.col(k).swap(A.col(k + best));
+    std::swap(order[static_cast<std::size_t>(k)], order[static_cast<std::size_t>(k + best)]);
+    Eigen::VectorXd essential(m - k - 1);
+    double tau = 0.0, beta = 0.0;
+    A.col(k).tail(m - k).makeHouseholder(essential, tau, beta);
+    A.bottomRightCorner(m - k, n - k - 1).applyHouseholderOnTheLeft(essential, tau, workspace.data());
+  }
+  return order;
+}
+
 // Khalil & Besnard: the first `rank` pivoted-QR columns form a minimal identifiable set;
 // returns the other (dependent) columns and sets the identifiable subset's condition number.
 std::vector<Eigen::Index> pivotedQrStage(IdentifiabilityReport& report, const Eigen::MatrixXd& Js,
@@ -95,11 +128,10 @@ std::vector<Eigen::Index> pivotedQrStage(IdentifiabilityReport& report, const Ei
   Eigen::MatrixXd weighted = Js;
   if (priority.size() == static_cast<std::size_t>(Js.cols()))
     for (Eigen::Index k = 0; k < Js.cols(); ++k) weighted.col(k) *= priority[static_cast<std::size_t>(k)];
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(weighted);
-  const auto& permutation = qr.colsPermutation().indices();
+  const std::vector<Eigen::Index> permutation = pivotOrder(weighted);
   std::vector<Eigen::Index> identifiable_columns, dependent_columns;
   for (Eigen::Index k = 0; k < Js.cols(); ++k) {
-    const Eigen::Index column = permutation[k];
+    const Eigen::Index column = permutation[static_cast<std::size_t>(k)];
     (k < report.rank ? identifiable_columns : dependent_columns).push_back(column);
     (k < report.rank ? report.identifiable : report.unidentifiable).push_back(names[static_cast<std::size_t>(column)]);
   }

@@ -16,48 +16,13 @@
 
 #include "mire/support/yaml.hpp"
 
+#include "free_parameter_cost.hpp"
 #include "large_problem.hpp"
 #include "pose_chunk_cost.hpp"
 
 namespace mire::mechanism {
 
 namespace {
-
-// Ambient block of size n whose tangent space is the free tie groups: x ⊞ δ = x + E·δ.
-class TiedSubsetManifold final : public ceres::Manifold {
- public:
-  explicit TiedSubsetManifold(Eigen::MatrixXd expansion) : E_(std::move(expansion)) {}
-  int AmbientSize() const override { return static_cast<int>(E_.rows()); }
-  int TangentSize() const override { return static_cast<int>(E_.cols()); }
-  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
-    Eigen::Map<Eigen::VectorXd>(x_plus_delta, E_.rows()) =
-        Eigen::Map<const Eigen::VectorXd>(x, E_.rows()) + E_ * Eigen::Map<const Eigen::VectorXd>(delta, E_.cols());
-    return true;
-  }
-  bool PlusJacobian(const double*, double* jacobian) const override {
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(jacobian, E_.rows(), E_.cols()) =
-        E_;
-    return true;
-  }
-  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
-    // Least-squares inverse of Plus: mean over each group's members.
-    const Eigen::VectorXd diff =
-        Eigen::Map<const Eigen::VectorXd>(y, E_.rows()) - Eigen::Map<const Eigen::VectorXd>(x, E_.rows());
-    Eigen::Map<Eigen::VectorXd>(y_minus_x, E_.cols()) =
-        (E_.transpose() * diff).cwiseQuotient(E_.colwise().sum().transpose());
-    return true;
-  }
-  bool MinusJacobian(const double*, double* jacobian) const override {
-    Eigen::MatrixXd pinv = E_.transpose();
-    for (Eigen::Index k = 0; k < pinv.rows(); ++k) pinv.row(k) /= E_.col(k).sum();
-    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(jacobian, E_.cols(), E_.rows()) =
-        pinv;
-    return true;
-  }
-
- private:
-  Eigen::MatrixXd E_;
-};
 
 // Gaussian prior on one entry of a parameter block: r = (x_k − μ)/σ.
 class PriorCost final : public ceres::CostFunction {
@@ -299,11 +264,18 @@ std::unique_ptr<ceres::CostFunction> poseCost(const IdentificationModel& model, 
   return model.mechanism->makeJointResidual(model.external, pose.cTm, pose.joints, whitening);
 }
 
+// The residual blocks over the ambient blocks [ξg, ξe], each with its loss (may be null).
+struct AmbientResidual {
+  std::unique_ptr<ceres::CostFunction> cost;
+  std::unique_ptr<ceres::LossFunction> loss;
+  bool geometric = true, external = true;  // the blocks it reads, in that order
+};
+
 // Large problems: chunks of poses, each one compressed block (pose_chunk_cost.hpp). A chunk
 // of 512 H4 poses is a 2048-row QR in the L2 cache.
-void addPoseChunks(ceres::Problem& problem, const IdentificationModel& model, const std::vector<PoseObservation>& poses,
-                   const std::vector<Eigen::MatrixXd>& whitening, const IdentificationOptions& options, double* g,
-                   double* e) {
+void addPoseChunks(std::vector<AmbientResidual>& out, const IdentificationModel& model,
+                   const std::vector<PoseObservation>& poses, const std::vector<Eigen::MatrixXd>& whitening,
+                   const IdentificationOptions& options) {
   const int J = model.mechanism->jointCount();
   const std::size_t chunk = std::max<std::size_t>(1, detail::RowCompressor::kBlock / static_cast<std::size_t>(J));
   const std::shared_ptr<const ceres::LossFunction> loss = makeLoss(options);
@@ -311,38 +283,66 @@ void addPoseChunks(ceres::Problem& problem, const IdentificationModel& model, co
     std::vector<std::unique_ptr<ceres::CostFunction>> costs;
     for (std::size_t j = first; j < std::min(poses.size(), first + chunk); ++j)
       costs.push_back(poseCost(model, poses[j], whitening[j]));
-    problem.AddResidualBlock(
-        new detail::PoseChunkCost(std::move(costs), loss, J, model.geometricCount(), model.external.size()), nullptr, g,
-        e);
+    out.push_back({std::make_unique<detail::PoseChunkCost>(std::move(costs), loss, J, model.geometricCount(),
+                                                           model.external.size()),
+                   nullptr});
   }
 }
 
-void addPoseResiduals(ceres::Problem& problem, const IdentificationModel& model,
-                      const std::vector<PoseObservation>& poses, const std::vector<Eigen::MatrixXd>& whitening,
-                      const IdentificationOptions& options, double* g, double* e) {
+std::vector<AmbientResidual> poseResiduals(const IdentificationModel& model, const std::vector<PoseObservation>& poses,
+                                           const std::vector<Eigen::MatrixXd>& whitening,
+                                           const IdentificationOptions& options) {
+  std::vector<AmbientResidual> out;
   const auto rows = static_cast<Eigen::Index>(poses.size()) * model.mechanism->jointCount();
-  if (rows > detail::kLargeProblemRows) return addPoseChunks(problem, model, poses, whitening, options, g, e);
+  if (rows > detail::kLargeProblemRows) {
+    addPoseChunks(out, model, poses, whitening, options);
+    return out;
+  }
   for (std::size_t j = 0; j < poses.size(); ++j)
-    problem.AddResidualBlock(poseCost(model, poses[j], whitening[j]).release(), makeLoss(options).release(), g, e);
+    out.push_back({poseCost(model, poses[j], whitening[j]), makeLoss(options)});
+  return out;
 }
 
-void addPriorResiduals(ceres::Problem& problem, const ParameterSet& params, int G, int E,
-                       const std::vector<GaussianPrior>& priors, double* g, double* e) {
+void addPriorResiduals(std::vector<AmbientResidual>& out, const ParameterSet& params, int G, int E,
+                       const std::vector<GaussianPrior>& priors) {
   for (const GaussianPrior& prior : priors) {
     const int index = static_cast<int>(params.index(prior.name));
     if (index < G)
-      problem.AddResidualBlock(new PriorCost(G, index, prior.mean, prior.sigma), nullptr, g);
+      out.push_back({std::make_unique<PriorCost>(G, index, prior.mean, prior.sigma), nullptr, true, false});
     else
-      problem.AddResidualBlock(new PriorCost(E, index - G, prior.mean, prior.sigma), nullptr, e);
+      out.push_back({std::make_unique<PriorCost>(E, index - G, prior.mean, prior.sigma), nullptr, false, true});
   }
 }
 
-// Fixed and tied parameters: a constant block, or the tie groups' manifold.
-void setBlockManifold(ceres::Problem& problem, double* block, const Eigen::MatrixXd& expansion) {
-  if (expansion.cols() == 0)
-    problem.SetParameterBlockConstant(block);
-  else if (!expansion.isIdentity())
-    problem.SetManifold(block, new TiedSubsetManifold(expansion));
+// Every parameter free: the ambient blocks as they are; one block entirely fixed: constant.
+bool everyBlockFreeOrFixed(const BlockExpansions& expansions) {
+  const auto plain = [](const Eigen::MatrixXd& e) { return e.cols() == 0 || e.isIdentity(); };
+  return plain(expansions.geometric) && plain(expansions.external);
+}
+
+void addAmbientProblem(ceres::Problem& problem, std::vector<AmbientResidual> residuals,
+                       const BlockExpansions& expansions, double* g, double* e) {
+  for (AmbientResidual& r : residuals) {
+    std::vector<double*> blocks;
+    if (r.geometric) blocks.push_back(g);
+    if (r.external) blocks.push_back(e);
+    problem.AddResidualBlock(r.cost.release(), r.loss.release(), blocks);
+  }
+  if (expansions.geometric.cols() == 0) problem.SetParameterBlockConstant(g);
+  if (expansions.external.cols() == 0) problem.SetParameterBlockConstant(e);
+}
+
+// Fixed or tied parameters otherwise: one block of the free values (free_parameter_cost.hpp).
+void addFreeProblem(ceres::Problem& problem, std::vector<AmbientResidual> residuals,
+                    const std::shared_ptr<const detail::FreeParameterMap>& map, int G, double* free) {
+  for (AmbientResidual& r : residuals) {
+    std::vector<int> offsets;
+    if (r.geometric) offsets.push_back(0);
+    if (r.external) offsets.push_back(G);
+    problem.AddResidualBlock(
+        std::make_unique<detail::FreeParameterCost>(std::move(r.cost), map, std::move(offsets)).release(),
+        r.loss.release(), free);
+  }
 }
 
 // One Ceres solve from the result's current values with the given weights.
@@ -351,12 +351,19 @@ void solveOnce(IdentificationResult& result, const std::vector<PoseObservation>&
                const IdentificationOptions& options) {
   const int G = result.model.geometricCount();
   const int E = result.model.external.size();
-  Eigen::VectorXd g = result.model.geometricValues(), e = result.model.externalValues();
+  Eigen::VectorXd all = result.model.parameters.values();
+  Eigen::VectorXd g = all.head(G), e = all.tail(E), free;
+  std::vector<AmbientResidual> residuals = poseResiduals(result.model, poses, whitening, options);
+  addPriorResiduals(residuals, result.model.parameters, G, E, options.priors);
+  const bool ambient = everyBlockFreeOrFixed(expansions);
+  const auto map = std::make_shared<const detail::FreeParameterMap>(expansions.all, all);
   ceres::Problem problem;
-  addPoseResiduals(problem, result.model, poses, whitening, options, g.data(), e.data());
-  addPriorResiduals(problem, result.model.parameters, G, E, options.priors, g.data(), e.data());
-  setBlockManifold(problem, g.data(), expansions.geometric);
-  setBlockManifold(problem, e.data(), expansions.external);
+  if (ambient) {
+    addAmbientProblem(problem, std::move(residuals), expansions, g.data(), e.data());
+  } else {
+    free = map->freeValues(all);
+    addFreeProblem(problem, std::move(residuals), map, G, free.data());
+  }
 
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -368,8 +375,10 @@ void solveOnce(IdentificationResult& result, const std::vector<PoseObservation>&
   solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
-  Eigen::VectorXd all(G + E);
-  all << g, e;
+  if (ambient)
+    all << g, e;
+  else
+    map->expand(free.data(), all.data());
   result.model.parameters.setValues(all);
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.iterations += static_cast<int>(summary.iterations.size());
