@@ -79,7 +79,7 @@ TEST(DemoMechanisms, DeltaFromImagesPerLegModelBeatsTheSimpleOne) {
   for (const auto& file : r.files) EXPECT_TRUE(std::filesystem::exists(dir.path() / file)) << file;
 }
 
-// The camera on the plate looking down at the board fixed below (BRIEF §15): rendered, calibrated,
+// The camera on the plate looking down at the board fixed below (doc/demo-mechanisms.md): rendered, calibrated,
 // measured and identified in that mounting (eTc, bTm); the per-leg parameters' errors to the truth
 // in the gauge match their σ and the positioning test improves on the nominal geometry. No closing
 // of the loop: its ISO 9283 reading is the fixed camera's.

@@ -137,7 +137,7 @@ TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
             2);
 }
 
-// The camera on the effector (BRIEF §15): on the Delta (its protocol volume, the demo's camera and
+// The camera on the effector (doc/plan-and-select.md): on the Delta (its protocol volume, the demo's camera and
 // board), the externals are eTc and bTm, the visibility check is made in that mounting, and the
 // report says so; on a described robot (the linear delta) too. The same mounting guess turned into
 // the camera-fixed names is refused (unknown keys), and a target placed where the camera on the

@@ -318,7 +318,7 @@ TEST(ExperimentDesign, PredictedSigmaCarriesTheCalibrationErrorSharedByEveryPose
   }
 }
 
-// The camera on the effector (BRIEF §15): the plan's externals are eTc and bTm, the candidates'
+// The camera on the effector (doc/plan-and-select.md): the plan's externals are eTc and bTm, the candidates'
 // cTm = eTc⁻¹ · bTe⁻¹ · bTm, and its σ are again the spread of identify()'s estimates in that
 // mounting (the same campaigns, the camera riding on the effector). Measured on the Delta
 // (27 poses): 0.90–1.07. The hexapod (30 poses, the better calibration) is not asserted: six of

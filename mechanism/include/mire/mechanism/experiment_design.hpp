@@ -75,8 +75,8 @@ std::vector<Eigen::VectorXd> generateCandidatePoses(const Mechanism& mechanism, 
 bool candidateAcceptable(const Mechanism& mechanism, const Eigen::VectorXd& geometric, const Workspace& workspace,
                          const Eigen::VectorXd& pose);
 
-// The mounting guess: where the camera and the target are. Camera fixed (the default, BRIEF §1):
-// bTc and mTe, cTm = bTc⁻¹ · bTe · mTe⁻¹. Camera on the effector (BRIEF §15, doc/mechanisms.md
+// The mounting guess: where the camera and the target are. Camera fixed (the default):
+// bTc and mTe, cTm = bTc⁻¹ · bTe · mTe⁻¹. Camera on the effector (doc/mechanisms.md
 // "Camera on the effector"): eTc and bTm, cTm = eTc⁻¹ · bTe⁻¹ · bTm.
 struct MountingGuess {
   bool camera_on_effector = false;
