@@ -3,6 +3,7 @@
 #include "demo_mechanism.hpp"
 #include "output_paths.hpp"
 #include "report_json.hpp"
+#include "validate.hpp"
 
 #include "mire/mechanism/registry.hpp"
 
@@ -51,8 +52,19 @@ Runner addDemoCommand(CLI::App& app) {
               ", or your own robot's description file (doc/demo-mechanisms.md, doc/mechanisms.md)")
       ->check(family_or_description)
       ->capture_default_str();
+  demo->add_option("--mounting", options->mounting,
+                   "camera-fixed, or camera-on-effector: the camera rides on the effector and looks at the board fixed "
+                   "in the workspace (Delta, hexapod, described robots; not the H4)")
+      ->capture_default_str();
   return [options, demo] {
     options->command_line = commandLineOf(*demo);
+    // The H4 demo runs the paper's variants, whose mounting assumes the camera fixed (paper §4),
+    // as `mire identify` and `mire select` refuse them.
+    if (cameraOnEffector(options->mounting) && options->mechanism == mechanism::mechanismFamilies().front().name)
+      throw UsageError(
+          "--mounting camera-on-effector: the H4 demo identifies the paper's variants, which assume the "
+          "camera fixed (paper §4); the camera on the effector runs with --mechanism delta, gough-stewart "
+          "or a description file");
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
     // A description file is read before the simulation starts too.
     CommandPaths paths{{}, {}, {}, {{options->output, "-o"}}};

@@ -33,6 +33,7 @@ namespace mech = mire::mechanism;
 
 struct PlanArguments {
   std::string model, nominal, workspace, output, externals, camera, target, criterion = "D", report;
+  std::string mounting = "camera-fixed";  // or camera-on-effector (doc/mechanisms.md, "Camera on the effector")
   int count = 15, candidates = 10000;
   unsigned seed = 1;
   pipeline::CameraPlanOptions camera_options;
@@ -83,6 +84,12 @@ std::string sigmaCsv(const mech::DesignReport& r) {
         << (r.sigma_plan_shared.size() > 0 ? support::formatNumber(r.sigma_plan_shared[k], 6) : std::string()) << '\n';
   }
   return out.str();
+}
+
+// The report's line on the mounting: which external transforms the plan treats as nuisance.
+std::string mountingLine(bool on_effector) {
+  return on_effector ? "mounting: camera-on-effector (externals eTc and bTm, cTm = cTe * eTb(X) * bTm)\n"
+                     : "mounting: camera-fixed (externals cTb and eTm, cTm = cTb * bTe(X) * eTm)\n";
 }
 
 // The camera and the target of --camera/--target (both or neither), validated.
@@ -155,13 +162,14 @@ int runPlan(const PlanArguments& args) {
     throw UsageError("--candidates " + std::to_string(args.candidates) + ": at most " +
                      std::to_string(kMaxPlanCandidates) + " (doc/limits.md; the default " +
                      std::to_string(PlanArguments{}.candidates) + " is enough for a plan of up to a few hundred poses)");
+  const bool on_effector = cameraOnEffector(args.mounting);
   const CameraInputs camera = readCameraInputs(args);
 
-  const mech::DesignModel model = readDesignModel(args.model, args.nominal);
+  const mech::DesignModel model = withMounting(readDesignModel(args.model, args.nominal), on_effector, "model");
   const mech::Mechanism& m = *model.registered.mechanism;
   const mech::Workspace workspace = readWorkspaceYaml(args.workspace, m);
-  const mech::MountingGuess mounting =
-      args.externals.empty() ? mech::defaultMountingGuess(workspace) : readMountingYaml(args.externals);
+  const mech::MountingGuess mounting = args.externals.empty() ? mech::defaultMountingGuess(workspace, on_effector)
+                                                              : readMountingYaml(args.externals, on_effector);
   mech::DesignOptions options;
   options.criterion = criterion;
   options.count = args.count;
@@ -184,8 +192,8 @@ int runPlan(const PlanArguments& args) {
   const std::string camera_text = camera.target ? pipeline::cameraPlanText(camera_summary) : std::string();
   const std::string text = "model " + args.model + ": " + std::to_string(poses.size()) + " candidate poses, " +
                            std::to_string(info.free_names.size()) + " free parameters (" +
-                           std::to_string(info.geometric_free) + " geometric)\n" + camera_text +
-                           mech::designReportText(report);
+                           std::to_string(info.geometric_free) + " geometric)\n" + mountingLine(on_effector) +
+                           camera_text + mech::designReportText(report);
   // All or nothing (doc/robustness.md): plan.csv, then the report.
   support::OutputTransaction outputs;
   support::writeFileAtomically(outputs.stageFile(args.output), planCsv(info, report.design, camera.target.has_value()));
@@ -194,7 +202,7 @@ int runPlan(const PlanArguments& args) {
     support::writeFileAtomically(dir / "plan_report.txt", text);
     support::writeFileAtomically(dir / "plan_sigma.csv", sigmaCsv(report));
     PlanReportSettings settings{
-        {args.command_line, paths.input_files, paths.output_files}, args.model, args.candidates, args.seed};
+        {args.command_line, paths.input_files, paths.output_files}, args.model, args.candidates, args.seed, args.mounting};
     settings.provenance.outputs.push_back({args.report, "--report"});
     writePlanReportJson(dir / "report.json", settings, info, report, camera.target ? &camera_summary : nullptr);
   }
@@ -215,7 +223,12 @@ Runner addPlanCommand(CLI::App& app) {
   cmd->add_option("--workspace", args->workspace, "workspace YAML (x_m, y_m, z_m ranges, rotations)")->required();
   cmd->add_option("--count", args->count, "number of poses to choose")->required();
   cmd->add_option("-o,--output", args->output, "plan.csv")->required();
-  cmd->add_option("--externals", args->externals, "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM)");
+  cmd->add_option("--mounting", args->mounting,
+                  "camera-fixed, or camera-on-effector: the camera on the effector, the target fixed (as identify)")
+      ->capture_default_str();
+  cmd->add_option("--externals", args->externals,
+                  "mounting guess YAML (tx_CB..rz_CB, tx_EM..rz_EM; camera on the effector: tx_EC..rz_EC, "
+                  "tx_BM..rz_BM)");
   cmd->add_option(
       "--camera", args->camera,
       "camera.yaml: exclude poses where the target is not seen whole, weight by the predicted pose covariance");

@@ -90,15 +90,10 @@ void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech:
 // Every candidate with the camera where the poses were measured from: on the effector, each is
 // identified in the camera-on-effector form (as `mire identify --mounting`); the H4's variants
 // assume the camera fixed (paper §4) and are refused by name.
-std::vector<mech::SelectionCandidate> withMounting(std::vector<mech::SelectionCandidate> candidates,
-                                                   const std::string& mounting) {
-  if (!cameraOnEffector(mounting)) return candidates;
-  for (mech::SelectionCandidate& c : candidates) {
-    if (c.variant || c.model.registered.external_form != mech::ExternalForm::Full)
-      throw UsageError("--mounting camera-on-effector: candidate " + c.label + " (" + c.model.registered.name +
-                       ") assumes the camera fixed (paper §4)");
-    c.model.registered.external_form = mech::ExternalForm::CameraOnEffector;
-  }
+std::vector<mech::SelectionCandidate> candidatesWithMounting(std::vector<mech::SelectionCandidate> candidates,
+                                                             const std::string& mounting) {
+  const bool on_effector = cameraOnEffector(mounting);
+  for (mech::SelectionCandidate& c : candidates) c.model = withMounting(c.model, on_effector, "candidate " + c.label);
   return candidates;
 }
 
@@ -112,9 +107,9 @@ int runSelect(const SelectArguments& args) {
   const auto [joint_count, unit] = jointColumns(args.joints);
   const std::string models = args.models.empty() ? mech::defaultSelectionModels(joint_count, unit) : args.models;
   const auto candidates =
-      withMounting(mech::parseSelectionCandidates(
-                       models, [&](const std::string& name) { return readDesignModel(name, args.nominal); }),
-                   args.mounting);
+      candidatesWithMounting(mech::parseSelectionCandidates(
+                                 models, [&](const std::string& name) { return readDesignModel(name, args.nominal); }),
+                             args.mounting);
   const mech::Mechanism& m = *candidates.front().model.registered.mechanism;
   for (const auto& c : candidates)
     if (c.model.registered.mechanism->jointCount() != m.jointCount())

@@ -30,7 +30,10 @@ struct DemoOptions {
   std::filesystem::path output = "demo-output";
   bool quick = false;  // fewer images and repeats (the end-to-end test uses it)
   std::uint64_t seed = 2004;
-  std::string mechanism = "h4";           // h4, delta or gough-stewart (demo_mechanism.hpp)
+  std::string mechanism = "h4";  // h4, delta or gough-stewart (demo_mechanism.hpp)
+  // camera-fixed, or camera-on-effector (doc/demo-mechanisms.md; the mechanism demos only: the H4 demo's
+  // variants assume the camera fixed, paper §4).
+  std::string mounting = "camera-fixed";
   std::vector<std::string> command_line;  // as parsed (report.json); empty when run in-process
 };
 

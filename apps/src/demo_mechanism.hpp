@@ -41,7 +41,8 @@ struct MechanismModelScore {
 };
 
 struct MechanismDemoResults {
-  std::string mechanism;  // delta, gough-stewart
+  std::string mechanism;                  // delta, gough-stewart
+  std::string mounting = "camera-fixed";  // or camera-on-effector (DemoOptions::mounting)
   std::string truth_model;
   std::vector<StageTiming> timings;
   pipeline::CalibrationScore calibration;
@@ -49,7 +50,7 @@ struct MechanismDemoResults {
   double true_v3_m = 0.0;  // the true robot's own straightness along the recorded lines
   std::vector<MechanismModelScore> models;
   // The ISO 9283 test of the true robot before / after compensation with the truth's model
-  // (closed_loop.hpp).
+  // (closed_loop.hpp); not run with the camera on the effector (its reading is the fixed camera's).
   std::optional<pipeline::ClosedLoopTest> closed_loop;
   std::vector<std::string> files;  // written, relative to the output folder
 };

@@ -38,7 +38,7 @@ Json modelJson(const MechanismModelScore& s) {
 void writeMechanismDemoReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
                                   const DemoOptions& options, const MechanismDemoResults& r) {
   Json doc = reportHeader("demo", provenance);
-  doc["run"] = {{"mechanism", r.mechanism}, {"quick", options.quick}, {"seed", options.seed}};
+  doc["run"] = {{"mechanism", r.mechanism}, {"mounting", r.mounting}, {"quick", options.quick}, {"seed", options.seed}};
   doc["true_robot_model"] = r.truth_model;
   doc["calibration"] = demo_report::calibrationJson(r.calibration);
   doc["measurement"] = demo_report::measurementJson(r.measurement);
@@ -46,7 +46,13 @@ void writeMechanismDemoReportJson(const std::filesystem::path& path, const Repor
   Json models = Json::array();
   for (const auto& s : r.models) models.push_back(modelJson(s));
   doc["models"] = models;
-  if (r.closed_loop) doc["closed_loop"] = demo_report::closedLoopJson(*r.closed_loop);
+  if (r.closed_loop) {
+    doc["closed_loop"] = demo_report::closedLoopJson(*r.closed_loop);
+  } else {
+    doc["closed_loop"] = nullptr;
+    doc["closed_loop_null_reason"] =
+        "not run with the camera on the effector: the ISO 9283 reading is made through a fixed camera";
+  }
   doc["files"] = r.files;
   writeReportJson(path, doc);
 }

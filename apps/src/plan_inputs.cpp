@@ -11,6 +11,7 @@
 #include "mire/pipeline/identify.hpp"
 #include "mire/support/constants.hpp"
 #include "mire/support/yaml.hpp"
+#include "validate.hpp"
 
 namespace mire::app {
 namespace {
@@ -72,19 +73,36 @@ mech::Workspace readWorkspaceYaml(const std::filesystem::path& path, const mech:
   return w;
 }
 
-mech::MountingGuess readMountingYaml(const std::filesystem::path& path) {
+mech::MountingGuess readMountingYaml(const std::filesystem::path& path, bool camera_on_effector) {
   const support::YamlFile file = support::YamlFile::load(path);
   const support::YamlNode& root = file.rootMap();
-  const std::vector<std::string> names = mech::ExternalParameterization(mech::ExternalForm::Full).parameters().names();
+  const mech::ExternalParameterization form(camera_on_effector ? mech::ExternalForm::CameraOnEffector
+                                                               : mech::ExternalForm::Full);
+  const std::vector<std::string> names = form.parameters().names();
   root.checkKeys(names);
   Eigen::VectorXd v(static_cast<Eigen::Index>(names.size()));
   for (std::size_t k = 0; k < names.size(); ++k)
     v[static_cast<Eigen::Index>(k)] = root.number(names[k], {-100.0, 100.0});
-  const mech::ExternalParameterization full(mech::ExternalForm::Full);
   mech::MountingGuess m;
-  m.bTc = full.baseFromCamera(v);
-  m.mTe = full.targetFromEffector(v);
+  m.camera_on_effector = camera_on_effector;
+  // With the camera on the effector the form's chain is bTm and cTe (external.hpp).
+  if (camera_on_effector) {
+    m.bTm = form.baseFromCamera(v);
+    m.eTc = form.targetFromEffector(v).inverse();
+  } else {
+    m.bTc = form.baseFromCamera(v);
+    m.mTe = form.targetFromEffector(v);
+  }
   return m;
+}
+
+mech::DesignModel withMounting(mech::DesignModel model, bool camera_on_effector, const std::string& what) {
+  if (!camera_on_effector) return model;
+  try {
+    return mech::withCameraOnEffector(std::move(model));
+  } catch (const std::invalid_argument& refused) {
+    throw UsageError("--mounting camera-on-effector: " + what + " " + refused.what());
+  }
 }
 
 }  // namespace mire::app

@@ -100,6 +100,7 @@ void writePlanReportJson(const std::filesystem::path& path, const PlanReportSett
                          const pipeline::CameraPlanSummary* camera) {
   Json doc = reportHeader("plan", settings.provenance);
   doc["model"] = settings.model;
+  doc["mounting"] = settings.mounting;
   doc["criterion"] = mech::designCriterionName(report.criterion);
   doc["count"] = report.design.size();
   doc["candidates"] = settings.candidates;

@@ -68,6 +68,7 @@ struct PlanReportSettings {
   std::string model;
   int candidates = 0;
   unsigned seed = 0;
+  std::string mounting = "camera-fixed";  // or camera-on-effector
 };
 void writePlanReportJson(const std::filesystem::path& path, const PlanReportSettings& settings,
                          const mechanism::CandidateInformation& info, const mechanism::DesignReport& report);

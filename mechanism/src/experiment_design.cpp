@@ -73,6 +73,15 @@ DesignModel makeDesignModel(const std::string& name, const H4Nominal& h4) {
   return m;
 }
 
+DesignModel withCameraOnEffector(DesignModel model) {
+  const ExternalForm form = model.registered.external_form;
+  if (form != ExternalForm::Full)
+    throw std::invalid_argument(model.registered.name + " (" + externalFormName(form) +
+                                " mounting) assumes the camera fixed (paper §4)");
+  model.registered.external_form = ExternalForm::CameraOnEffector;
+  return model;
+}
+
 Workspace protocolWorkspace(const Mechanism& mechanism, const Eigen::VectorXd& geometric) {
   const Eigen::VectorXd ref = mechanism.referencePose(geometric);
   const double deg = kPi / 180.0;
@@ -177,7 +186,11 @@ std::vector<Eigen::VectorXd> generateCandidatePoses(const Mechanism& mechanism, 
   return out;
 }
 
-MountingGuess defaultMountingGuess(const Workspace& w) {
+Eigen::Isometry3d MountingGuess::targetInCamera(const Eigen::Isometry3d& bTe) const {
+  return camera_on_effector ? eTc.inverse() * bTe.inverse() * bTm : bTc.inverse() * bTe * mTe.inverse();
+}
+
+MountingGuess defaultMountingGuess(const Workspace& w, bool camera_on_effector) {
   MountingGuess m;
   const bool below = w.z.centre() < 0.0;  // the robot hangs from its base: the camera looks up
   const Eigen::Vector3d centre(w.x.centre(), w.y.centre(), below ? w.z.min - 0.8 : w.z.max + 0.8);
@@ -185,6 +198,17 @@ MountingGuess defaultMountingGuess(const Workspace& w) {
   m.bTc = transformOf(below ? Eigen::Vector3d::Zero() : Eigen::Vector3d(kPi, 0, 0), centre);
   m.mTe = transformOf(Eigen::Vector3d(kPi, 0, 0), Eigen::Vector3d::Zero());
   if (!below) m.mTe = Eigen::Isometry3d::Identity();
+  if (!camera_on_effector) return m;
+  // The fixed camera's view at the workspace centre (effector level), cTm0, kept: the camera
+  // turned by a half turn about x rides at the effector origin and the target is placed where it
+  // sees it so, bTm = bTe0 · eTc · cTm0 (as datasets::eyeInHandMounting places the demo's).
+  const Eigen::Isometry3d bTe0 =
+      transformOf(Eigen::Vector3d::Zero(), Eigen::Vector3d(w.x.centre(), w.y.centre(), w.z.centre()));
+  const Eigen::Isometry3d cTm0 = m.targetInCamera(bTe0);
+  m.camera_on_effector = true;
+  m.eTc.linear() = fromRotationVector(Eigen::Vector3d(kPi, 0, 0)) * m.bTc.linear();
+  m.bTm = bTe0 * m.eTc * cTm0;
+  m.bTc = m.mTe = Eigen::Isometry3d::Identity();
   return m;
 }
 
@@ -192,6 +216,9 @@ CandidateInformation candidateInformation(const DesignModel& model, const Mounti
                                           const std::vector<Eigen::VectorXd>& poses, const DesignOptions& options,
                                           const PoseCovarianceProvider& covariance, const SharedTermModel& shared) {
   const RegisteredModel& r = model.registered;
+  if ((r.external_form == ExternalForm::CameraOnEffector) != mounting.camera_on_effector)
+    throw std::invalid_argument("candidateInformation: the model's mounting is " + mountingName(r.external_form) +
+                                ", the guess's " + (mounting.camera_on_effector ? "camera-on-effector" : "camera-fixed"));
   const Mechanism& m = *r.mechanism;
   const Eigen::VectorXd g = r.nominal.values();
   CandidateInformation info;
@@ -204,7 +231,7 @@ CandidateInformation candidateInformation(const DesignModel& model, const Mounti
     PoseObservation o;
     o.id = std::to_string(j + 1);
     o.joints = m.inverseKinematics(g, bTe).joints;
-    o.cTm = toPoseVector(mounting.bTc.inverse() * bTe * mounting.mTe.inverse());
+    o.cTm = toPoseVector(mounting.targetInCamera(bTe));
     std::optional<PoseCovariance> c = covariance ? covariance(o.cTm) : std::nullopt;
     o.covariance = c ? *c : fallback;
     info.observations.push_back(o);

@@ -22,7 +22,7 @@ using support::kPi;
 
 Eigen::Isometry3d plannedCameraTMarker(const mech::Mechanism& mechanism, const mech::MountingGuess& mounting,
                                        const Eigen::VectorXd& pose) {
-  return mounting.bTc.inverse() * mechanism.poseToTransform(pose) * mounting.mTe.inverse();
+  return mounting.targetInCamera(mechanism.poseToTransform(pose));
 }
 
 CameraCandidates visibleCandidates(const mech::Mechanism& mechanism, const mech::MountingGuess& mounting,

@@ -115,7 +115,8 @@ mech::ParameterSet truthInGauge(const datasets::MechanismImageCampaign& campaign
     mech::PoseObservation pose;
     pose.id = campaign.pose_ids[i];
     pose.joints = mechanism.inverseKinematics(campaign.robot.geometry.values(), bTe).joints;
-    pose.cTm = mech::toPoseVector(campaign.bTc.inverse() * bTe * campaign.mTe.inverse());
+    pose.cTm = mech::toPoseVector(campaign.camera_on_effector ? campaign.eTc.inverse() * bTe.inverse() * campaign.bTm
+                                                              : campaign.bTc.inverse() * bTe * campaign.mTe.inverse());
     const auto same = std::find_if(measured.begin(), measured.end(), [&](const auto& p) { return p.id == pose.id; });
     if (same != measured.end()) pose.covariance = same->covariance;
     exact.push_back(pose);

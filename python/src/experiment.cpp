@@ -107,8 +107,18 @@ void bindModels(py::module_& m) {
           [](G& g, const Eigen::Matrix4d& t) { g.bTc = toIsometry(t, "MountingGuess.bTc"); }, "camera in base, 4×4")
       .def_property(
           "mTe", [](const G& g) { return toMatrix(g.mTe); },
-          [](G& g, const Eigen::Matrix4d& t) { g.mTe = toIsometry(t, "MountingGuess.mTe"); }, "effector in target, 4×4");
-  m.def("defaultMountingGuess", &mech::defaultMountingGuess, py::arg("workspace"));
+          [](G& g, const Eigen::Matrix4d& t) { g.mTe = toIsometry(t, "MountingGuess.mTe"); }, "effector in target, 4×4")
+      .def_readwrite("camera_on_effector", &G::camera_on_effector,
+                     "the camera on the effector: eTc and bTm are the mounting, bTc and mTe unused")
+      .def_property(
+          "eTc", [](const G& g) { return toMatrix(g.eTc); },
+          [](G& g, const Eigen::Matrix4d& t) { g.eTc = toIsometry(t, "MountingGuess.eTc"); },
+          "camera in effector, 4×4 (camera on the effector)")
+      .def_property(
+          "bTm", [](const G& g) { return toMatrix(g.bTm); },
+          [](G& g, const Eigen::Matrix4d& t) { g.bTm = toIsometry(t, "MountingGuess.bTm"); },
+          "target in base, 4×4 (camera on the effector)");
+  m.def("defaultMountingGuess", &mech::defaultMountingGuess, py::arg("workspace"), py::arg("camera_on_effector") = false);
   py::enum_<mech::DesignCriterion>(m, "DesignCriterion")
       .value("D", mech::DesignCriterion::D)
       .value("A", mech::DesignCriterion::A)
@@ -119,6 +129,8 @@ void bindModels(py::module_& m) {
       .def_readonly("h4", &mech::DesignModel::h4);
   m.def("makeDesignModel", &mech::makeDesignModel, py::arg("name"), py::arg("h4") = mech::H4Nominal{},
         "The registry entry `name` at its nominal geometry (H4 models: from the model-12 values `h4`).");
+  m.def("withCameraOnEffector", &mech::withCameraOnEffector, py::arg("model"),
+        "the design model with the camera on the effector (ValueError for the H4's models)");
   m.def("initialModelFor", &mech::initialModelFor, py::arg("model"), py::arg("observations"),
         py::call_guard<py::gil_scoped_release>());
 }

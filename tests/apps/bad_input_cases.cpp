@@ -975,6 +975,17 @@ void newerCommandCases(std::vector<Case>& c) {
   add(c, "SelectMountingUnknown",
       [](Env e) { return "select --poses " + e.poses_csv() + " --joints " + e.joints_csv() + " --mounting eye-in-hand"; },
       2, {"--mounting 'eye-in-hand'", "camera-on-effector"});
+  add(c, "PlanMountingUnknown",
+      [](Env e) { return plan(e, e.write("workspace.yaml", kH4Workspace), "--mounting eye-in-hand"); }, 2,
+      {"--mounting 'eye-in-hand'", "camera-on-effector"});
+  // The H4's models assume the camera fixed (paper §4): refused by name, as identify and select do.
+  add(c, "PlanMountingOnEffectorH4",
+      [](Env e) { return plan(e, e.write("workspace.yaml", kH4Workspace), "--mounting camera-on-effector"); }, 2,
+      {"--mounting camera-on-effector", "h4-12", "assumes the camera fixed"});
+  add(c, "DemoMountingUnknown", [](Env e) { return "demo --mechanism delta --mounting eye-in-hand -o " + e.p("demo"); },
+      2, {"--mounting 'eye-in-hand'", "camera-on-effector"});
+  add(c, "DemoMountingOnEffectorH4", [](Env e) { return "demo --mounting camera-on-effector -o " + e.p("demo"); }, 2,
+      {"--mounting camera-on-effector", "H4 demo", "assume the camera fixed"});
 }
 
 // ---- class 4, absurd input accepted: a robust fit on joints of no robot, a negative length, an

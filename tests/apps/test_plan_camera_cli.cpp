@@ -137,5 +137,69 @@ TEST(PlanCameraCli, TooFewVisibleCandidatesFailNamingTheReason) {
             2);
 }
 
+// The camera on the effector (doc/plan-and-select.md): on the Delta (its protocol volume, the demo's camera and
+// board), the externals are eTc and bTm, the visibility check is made in that mounting, and the
+// report says so; on a described robot (the linear delta) too. The same mounting guess turned into
+// the camera-fixed names is refused (unknown keys), and a target placed where the camera on the
+// effector never sees it leaves no visible candidate (exit 1).
+TEST(PlanCameraCli, CameraOnTheEffector) {
+  test::TempDir dir;
+  const fs::path d = dir.path();
+  test::writeText(d / "workspace.yaml", "x_m: [-0.15, 0.15]\ny_m: [-0.15, 0.15]\nz_m: [-0.725, -0.575]\n");
+  const std::string base = "plan --model delta --workspace " + (d / "workspace.yaml").string() +
+                           " --count 12 --candidates 600 --mounting camera-on-effector" + cameraArgs();
+  ASSERT_EQ(test::runMireIn(dir, base + " -o " + (d / "plan.csv").string() + " --report " + (d / "report").string()), 0)
+      << test::readText(d / "stderr.txt");
+  const support::CsvTable plan = support::readCsv(d / "plan.csv");
+  ASSERT_EQ(plan.rows.size(), 12u);
+  for (const auto& row : plan.rows) EXPECT_EQ(row[plan.column("visible")], "yes");
+  const std::string out = test::readText(d / "stdout.txt");
+  EXPECT_NE(out.find("mounting: camera-on-effector (externals eTc and bTm"), std::string::npos) << out;
+  EXPECT_NE(test::readText(d / "report" / "plan_report.txt").find("mounting: camera-on-effector"), std::string::npos);
+  const nlohmann::json doc = nlohmann::json::parse(test::readText(d / "report" / "report.json"));
+  EXPECT_EQ(doc.at("mounting").get<std::string>(), "camera-on-effector");
+  bool eye_in_hand_externals = false;
+  for (const auto& p : doc.at("parameters")) {
+    const std::string name = p.at("name").get<std::string>();
+    EXPECT_EQ(name.find("_CB"), std::string::npos) << name;
+    if (p.at("role").get<std::string>() == "mounting")
+      eye_in_hand_externals |= name.find("_EC") != std::string::npos || name.find("_BM") != std::string::npos;
+  }
+  EXPECT_TRUE(eye_in_hand_externals);
+  EXPECT_LT(doc.at("summary").at("median_ratio_plan_random").get<double>(), 1.0);
+
+  // The board 1 m to the side of the workspace: never in the image of the camera on the plate.
+  test::writeText(d / "mounting.yaml",
+                  "tx_EC: 0\nty_EC: 0\ntz_EC: 0\nrx_EC: 3.141592653589793\nry_EC: 0\nrz_EC: 0\n"
+                  "tx_BM: 1.0\nty_BM: 0\ntz_BM: -1.5\nrx_BM: 0\nry_BM: 0\nrz_BM: 0\n");
+  EXPECT_EQ(
+      test::runMireIn(dir, base + " -o " + (d / "far.csv").string() + " --externals " + (d / "mounting.yaml").string()),
+      1);
+  std::string err = test::readText(d / "stderr.txt");
+  EXPECT_NE(err.find("600 outside the image"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(d / "far.csv"));
+  // The camera-fixed names with the camera on the effector: unknown keys, named.
+  test::writeText(d / "fixed.yaml",
+                  "tx_CB: 0\nty_CB: 0\ntz_CB: 1.5\nrx_CB: 0\nry_CB: 0\nrz_CB: 0\n"
+                  "tx_EM: 0\nty_EM: 0\ntz_EM: 0\nrx_EM: 3.141592653589793\nry_EM: 0\nrz_EM: 0\n");
+  EXPECT_EQ(
+      test::runMireIn(dir, base + " -o " + (d / "fixed.csv").string() + " --externals " + (d / "fixed.yaml").string()),
+      1);
+  err = test::readText(d / "stderr.txt");
+  EXPECT_NE(err.find("fixed.yaml"), std::string::npos) << err;
+  EXPECT_NE(err.find("tx_CB"), std::string::npos) << err;
+
+  // A described robot: the linear delta of examples/mechanisms (no camera check).
+  test::writeText(d / "printer_workspace.yaml", "x_m: [-0.04, 0.04]\ny_m: [-0.04, 0.04]\nz_m: [0.05, 0.15]\n");
+  ASSERT_EQ(test::runMireIn(dir, "plan --model " + (test::sourceDir() / "examples/mechanisms/linear-delta.yaml").string() +
+                                     " --workspace " + (d / "printer_workspace.yaml").string() +
+                                     " --count 20 --candidates 400 --mounting camera-on-effector -o " +
+                                     (d / "printer.csv").string() + " --report " + (d / "printer").string()),
+            0)
+      << test::readText(d / "stderr.txt");
+  EXPECT_EQ(nlohmann::json::parse(test::readText(d / "printer" / "report.json")).at("mounting").get<std::string>(),
+            "camera-on-effector");
+}
+
 }  // namespace
 }  // namespace mire::app

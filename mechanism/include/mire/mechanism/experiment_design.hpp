@@ -75,14 +75,24 @@ std::vector<Eigen::VectorXd> generateCandidatePoses(const Mechanism& mechanism, 
 bool candidateAcceptable(const Mechanism& mechanism, const Eigen::VectorXd& geometric, const Workspace& workspace,
                          const Eigen::VectorXd& pose);
 
-// The mounting guess: camera and target (bTc, mTe).
+// The mounting guess: where the camera and the target are. Camera fixed (the default):
+// bTc and mTe, cTm = bTc⁻¹ · bTe · mTe⁻¹. Camera on the effector (doc/mechanisms.md
+// "Camera on the effector"): eTc and bTm, cTm = eTc⁻¹ · bTe⁻¹ · bTm.
 struct MountingGuess {
+  bool camera_on_effector = false;
   Eigen::Isometry3d bTc = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d mTe = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d eTc = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d bTm = Eigen::Isometry3d::Identity();
+  // The target pose the camera sees with the effector at bTe.
+  Eigen::Isometry3d targetInCamera(const Eigen::Isometry3d& bTe) const;
 };
-// A camera 0.8 m beyond the workspace on its z axis, looking at it (below for a robot whose
-// workspace is under its base, above otherwise), the target at the effector origin facing it.
-MountingGuess defaultMountingGuess(const Workspace& workspace);
+// Camera fixed: a camera 0.8 m beyond the workspace on its z axis, looking at it (below for a
+// robot whose workspace is under its base, above otherwise), the target at the effector origin
+// facing it. Camera on the effector: the same view at the workspace centre seen the other way
+// round, the camera at the effector origin looking away from the base (a half turn about x) and
+// the target fixed 0.8 m beyond the workspace, facing it.
+MountingGuess defaultMountingGuess(const Workspace& workspace, bool camera_on_effector = false);
 
 enum class DesignCriterion { D, A, E };
 std::string designCriterionName(DesignCriterion criterion);  // "D", "A", "E"
@@ -100,6 +110,12 @@ IdentificationModel initialModelFor(const DesignModel& model, const std::vector<
 
 // The registry entry with the nominal geometry: for the H4 models from the model-12 values `h4`.
 DesignModel makeDesignModel(const std::string& name, const H4Nominal& h4 = {});
+
+// The model with the camera on the effector: its external form becomes CameraOnEffector (eTc,
+// bTm), as `mire identify --mounting camera-on-effector` identifies it. Throws
+// std::invalid_argument "<name> (<form> mounting) assumes the camera fixed (paper §4)" for a
+// model whose form is not the full one (the H4's axis-aligned and camera-frame forms).
+DesignModel withCameraOnEffector(DesignModel model);
 
 struct DesignOptions {
   DesignCriterion criterion = DesignCriterion::D;
@@ -144,7 +160,8 @@ struct SharedTermModel {
 // Builds the model (mounting initialised as identify() would from noise-free data at the
 // nominal geometry; gauge fixed by analyzeGauge), then the whitened Jacobian of every candidate
 // (and, with `shared`, the candidates' shared rows; throws std::invalid_argument when a
-// sensitivity is not 6 × n).
+// sensitivity is not 6 × n, or when the model's external form and the guess disagree on where
+// the camera is: ExternalForm::CameraOnEffector goes with camera_on_effector).
 CandidateInformation candidateInformation(const DesignModel& model, const MountingGuess& mounting,
                                           const std::vector<Eigen::VectorXd>& poses, const DesignOptions& options,
                                           const PoseCovarianceProvider& covariance = {},

@@ -27,7 +27,8 @@ struct CameraCandidates {
   std::string example_reason;            // the first exclusion's reason, for messages
 };
 
-// cTm = bTc⁻¹ · bTe · mTe⁻¹ at a mechanism pose, with the nominal geometry and the mounting guess.
+// cTm at a mechanism pose with the mounting guess: bTc⁻¹ · bTe · mTe⁻¹, or eTc⁻¹ · bTe⁻¹ · bTm
+// with the camera on the effector (MountingGuess::targetInCamera).
 Eigen::Isometry3d plannedCameraTMarker(const mechanism::Mechanism& mechanism, const mechanism::MountingGuess& mounting,
                                        const Eigen::VectorXd& pose);
 
