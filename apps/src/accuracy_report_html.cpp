@@ -106,14 +106,15 @@ void addAccuracyTables(rp::HtmlReport& page, const pipeline::AccuracyResult& res
     page.table({"line", "points", "straightness RMS (mm)", "noise-only RMS (mm)", "beyond the noise (mm)", "max (mm)"},
                l_rows);
   }
-  std::vector<std::string> warnings;
+  // The standard's warnings as one compact table (a page of paragraphs otherwise).
+  std::vector<std::vector<std::string>> warnings;
   for (const auto& p : result.positions)
-    for (const auto& w : p.warnings) warnings.push_back("position " + p.position + ": " + w);
+    for (const auto& w : p.warnings) warnings.push_back({"position " + p.position, w});
   for (const auto& d : result.distances)
-    for (const auto& w : d.warnings) warnings.push_back("distance " + d.from + "-" + d.to + ": " + w);
+    for (const auto& w : d.warnings) warnings.push_back({"distance " + d.from + "-" + d.to, w});
   for (const auto& l : result.lines)
-    for (const auto& w : l.warnings) warnings.push_back("line " + l.line + ": " + w);
-  for (const auto& w : warnings) page.paragraph("Warning: " + w);
+    for (const auto& w : l.warnings) warnings.push_back({"line " + l.line, w});
+  if (!warnings.empty()) page.table({"warning", "what the measurement resolves"}, warnings);
 }
 
 void writeAccuracyReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,

@@ -157,7 +157,7 @@ TEST(ReportBrowser, CalibrateOnOpenCvPhotos) {
       << test::readText(d / "stderr.txt") << test::readText(d / "stdout.txt");
   const std::string html = test::readText(d / "report" / "report.html");
   EXPECT_NE(html.find("fx = "), std::string::npos);
-  checkInBrowser(dir, d / "report" / "report.html", "calibrate-opencv-left", 3);
+  checkInBrowser(dir, d / "report" / "report.html", "calibrate-opencv-left", 4);
 }
 
 // identify on a simulated campaign of `mechanism` (no images: poses.csv with its σ columns).
