@@ -60,12 +60,17 @@ void writeSelectReportHtml(const std::filesystem::path& path, const ReportProven
   rp::HtmlReport page("Model selection report");
   const mech::ModelScore& rec = r.scores.at(static_cast<std::size_t>(r.recommended));
   const mech::ModelScore& best = r.scores.at(static_cast<std::size_t>(r.best));
-  page.lead("Recommended: " + rec.label + " (" + std::to_string(rec.parameters) +
-            " free parameters), cross-validated joint residual " +
-            rp::withSigma(mech::toDisplay(unit, rec.cv_rms()), mech::toDisplay(unit, rec.cv_rms_se()), 5) + " " + u +
-            " (" + std::to_string(folds) + "-fold, \xC2\xB1 1 standard error); the best score, " + best.label + "'s " +
+  std::string lead = "Recommended: " + rec.label + " (" + std::to_string(rec.parameters) +
+                     " free parameters), cross-validated joint residual " +
+                     rp::withSigma(mech::toDisplay(unit, rec.cv_rms()), mech::toDisplay(unit, rec.cv_rms_se()), 5) +
+                     " " + u + " (" + std::to_string(folds) + "-fold, \xC2\xB1 1 standard error)";
+  if (r.recommended == r.best)
+    lead += ", the best score.";
+  else
+    lead += "; the best score, " + best.label + "'s " +
             rp::withSigma(mech::toDisplay(unit, best.cv_rms()), mech::toDisplay(unit, best.cv_rms_se()), 5) + " " + u +
-            ", is within one standard error of it.");
+            ", is within one standard error of it with more parameters.";
+  page.lead(lead);
   page.section("Cross-validated scores");
   page.figure(selectFigure(r, unit),
               "Held-out joint residual RMS of every candidate over " + std::to_string(folds) +

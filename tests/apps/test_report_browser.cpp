@@ -117,7 +117,9 @@ void checkInBrowser(const test::TempDir& dir, const fs::path& html, const std::s
   const cv::Mat image = cv::imread(screenshot.string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty()) << screenshot;
   const double inked = static_cast<double>(cv::countNonZero(image < 200)) / static_cast<double>(image.total());
-  EXPECT_GT(inked, 0.02) << "a blank page: " << screenshot;
+  // A blank page inks nothing; the shortest page (measure's: one figure, two tables) inks 1.5 % of
+  // the 1000 × 4200 window.
+  EXPECT_GT(inked, 0.01) << "a blank page: " << screenshot;
 
   const auto figures = probeFigures(dir, html);
   EXPECT_EQ(static_cast<int>(figures.size()), expected_figures);
