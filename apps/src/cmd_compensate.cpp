@@ -18,6 +18,7 @@
 #include "mire/pipeline/identify.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
@@ -179,6 +180,8 @@ int runCompensate(CompensateArguments args) {
   std::optional<fs::path> covariance;
   if (!args.covariance.empty()) covariance = fs::path(args.covariance);
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
+  if (loaded.has_covariance && args.covariance.empty())  // read beside the parameters: an input too
+    args.inputs.push_back({support::covarianceSidePath(args.params), "the covariance side file"});
   const mech::Mechanism& m = *loaded.model.mechanism;
   const std::string sigma_note = loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0";
   if (!args.controller_model.empty()) return runControllerFit(args, loaded);
