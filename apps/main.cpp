@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
                                                                 {"select", addSelectCommand(app)},
                                                                 {"check-mechanism", addCheckMechanismCommand(app)},
                                                                 {"accuracy", addAccuracyCommand(app)},
-                                                                {"compensate", addCompensateCommand(app)}};
+                                                                {"compensate", addCompensateCommand(app)},
+                                                                {"report", addReportCommand(app)}};
 
   // Name an unknown subcommand plainly (CLI11 would only say that one is required).
   if (argc > 1 && argv[1][0] != '-') {

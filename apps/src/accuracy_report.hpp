@@ -6,6 +6,7 @@
 #include <string>
 
 #include "mire/pipeline/accuracy.hpp"
+#include "mire/report/html.hpp"
 #include "report_json.hpp"
 
 namespace mire::app {
@@ -16,5 +17,22 @@ Json accuracyFiguresJson(const pipeline::AccuracyResult& result);
 
 void writeAccuracyJson(const std::filesystem::path& path, const ReportProvenance& provenance,
                        const std::string& model_name, const pipeline::AccuracyResult& result);
+
+// report.html's ISO 9283 section (accuracy_report_html.cpp), shared with the demos' closed loop:
+// AP_p per position with its ±1σ error bar beside the noise-only p95, RP_l per position beside the
+// noise-only p95, both in mm; one bar series per labelled result (e.g. before / after), the
+// positions of the first result's order.
+struct LabelledAccuracy {
+  std::string label;
+  const pipeline::AccuracyResult* result = nullptr;
+};
+report::Figure accuracyFigure(const std::vector<LabelledAccuracy>& results);
+// The per-position table (AP_p ± σ, RP_l, their noise-only p95) of one result, then its distances
+// and lines.
+void addAccuracyTables(report::HtmlReport& page, const pipeline::AccuracyResult& result);
+
+// `mire accuracy --report DIR`: DIR/report.html.
+void writeAccuracyReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
+                             const std::string& model_name, const pipeline::AccuracyResult& result);
 
 }  // namespace mire::app

@@ -124,6 +124,40 @@ rp::Figure perViewFigure(const cal::CalibrationResult& result) {
   return figure;
 }
 
+// The model check's residual structure (model_check.hpp): each bin's mean residual from the bin's
+// centre over the image frame at one magnification, coloured by its test (significant, not,
+// untested).
+rp::Figure modelCheckFigure(const cal::CalibrationResult& result, const cal::ModelCheck& check) {
+  rp::VectorSet significant{"bin mean significant (views as clusters, Bonferroni)", {}, {}, {}, {}, "#d62728"};
+  rp::VectorSet plain{"bin mean not significant", {}, {}, {}, {}, "#1f77b4"};
+  rp::VectorSet untested{"too few views to test", {}, {}, {}, {}, "#9a9a9a"};
+  double largest = 0.0;
+  for (const auto& bin : check.structure.bins) {
+    if (bin.points == 0) continue;
+    const double radius = 0.5 * (bin.radius_min_px + bin.radius_max_px);
+    const double angle = 0.5 * (bin.angle_min_rad + bin.angle_max_rad);
+    rp::VectorSet& set = !bin.tested ? untested : bin.significant ? significant : plain;
+    set.x.push_back(result.camera.cx() + radius * std::cos(angle));
+    set.y.push_back(result.camera.cy() + radius * std::sin(angle));
+    set.dx.push_back(bin.mean_px.x()), set.dy.push_back(bin.mean_px.y());
+    largest = std::max(largest, bin.mean_px.norm());
+  }
+  const double outer =
+      check.structure.ring_edges_px.empty() ? 0.5 * result.camera.width : check.structure.ring_edges_px.back();
+  rp::VectorField field;
+  field.magnification = rp::nice125(0.45 * outer / std::max(1, check.structure.rings) / std::max(largest, 1e-6));
+  field.unit = "px";
+  for (const auto* set : {&significant, &plain, &untested})
+    if (!set->x.empty()) field.sets.push_back(*set);
+  rp::Panel panel = imageFramePanel(result);
+  panel.vectors = field;
+  rp::Figure figure;
+  figure.panels = {panel};
+  figure.panel_width = 760.0;
+  figure.panel_height = imageFrameHeight(result, figure.panel_width);
+  return figure;
+}
+
 bool isFixed(const cal::CalibrationResult& result, const std::string& name) {
   return std::find(result.fixed_parameters.begin(), result.fixed_parameters.end(), name) != result.fixed_parameters.end();
 }
@@ -181,6 +215,32 @@ void addViews(rp::HtmlReport& page, const cal::CalibrationResult& result) {
 
 }  // namespace
 
+std::vector<NamedFigure> calibrateFigures(const calibration::CalibrationResult& result,
+                                          const calibration::ModelCheck& check) {
+  const auto residuals = residualFigure(result);
+  const auto model_check = modelCheckFigure(result, check);
+  return {{"residuals.svg", residuals,
+           "Residual vectors of every used view over the image frame, magnified " +
+               fixed(residuals.panels[0].vectors->magnification, 0) +
+               " times (the scale arrow gives a true length); a swirl or a radial pattern is a model error, random "
+               "directions are noise."},
+          {"projection_uncertainty.svg", uncertaintyFigure(result, 32),
+           "Projection uncertainty (1\xCF\x83, worst direction) at the working distance " +
+               fixed(result.uncertainty_distance_m * 1e3, 0) +
+               " mm, log colour scale, over the observed corners; where there are no corners the map is "
+               "extrapolated."},
+          {"residuals_per_view.svg", perViewFigure(result),
+           "Reprojection RMS of each used view; a view above the red line deserves a look."},
+          {"model_check.svg", model_check,
+           "The residuals' structure over the image (doc/calibration.md, \"Model check\"): the mean residual of "
+           "each of " +
+               std::to_string(check.structure.rings) + " rings \xC3\x97 " + std::to_string(check.structure.sectors) +
+               " directions around the principal point, from the bin's centre, magnified " +
+               fixed(model_check.panels[0].vectors ? model_check.panels[0].vectors->magnification : 1.0, 0) +
+               " times; red where the bin's test rejects (the mean stands out of its own spread), blue where it "
+               "does not."}};
+}
+
 void writeCalibrateReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
                               const calibration::CalibrationResult& result,
                               const calibration::ProjectionUncertaintySummary& uncertainty,
@@ -188,19 +248,11 @@ void writeCalibrateReportHtml(const std::filesystem::path& path, const ReportPro
   rp::HtmlReport page("Camera calibration report");
   addResults(page, result, uncertainty);
   page.section("Evidence");
-  const auto figure = residualFigure(result);
-  page.figure(figure, "Residual vectors of every used view over the image frame, magnified " +
-                          fixed(figure.panels[0].vectors->magnification, 0) +
-                          " times (the scale arrow gives a true length); a swirl or a radial pattern is a model "
-                          "error, random directions are noise.");
-  page.figure(uncertaintyFigure(result, 32),
-              "Projection uncertainty (1\xCF\x83, worst direction) at the working distance " +
-                  fixed(result.uncertainty_distance_m * 1e3, 0) +
-                  " mm, log colour scale, over the observed corners; where there are no corners the map is "
-                  "extrapolated.");
-  page.figure(perViewFigure(result), "Reprojection RMS of each used view; a view above the red line deserves a look.");
+  const std::vector<NamedFigure> figures = calibrateFigures(result, check);
+  for (std::size_t k = 0; k + 1 < figures.size(); ++k) page.figure(figures[k].figure, figures[k].caption);
   page.section("Model check");
   page.paragraph(check.verdictLine());
+  page.figure(figures.back().figure, figures.back().caption);
   page.section("Views");
   addViews(page, result);
   addProvenance(page, provenance);

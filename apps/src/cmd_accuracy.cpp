@@ -2,6 +2,8 @@
 // position, their measured target poses turned into attained effector poses through the
 // identified mounting; pose accuracy and repeatability, distance accuracy, straightness, each
 // with the part the measurement's own noise explains.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -13,6 +15,7 @@
 #include "mire/mechanism/io.hpp"
 #include "mire/pipeline/accuracy.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/output_transaction.hpp"
 #include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 
@@ -23,7 +26,7 @@ namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
 struct AccuracyArguments {
-  std::string params, covariance, commanded, poses, lines, output;
+  std::string params, covariance, commanded, poses, lines, output, report;
   std::vector<std::string> command_line;
 };
 
@@ -52,6 +55,16 @@ std::string mm(double metres) {
   return text;
 }
 
+// The result first: the mean AP_p with its σ (positions independent) and the worst RP_l.
+void printLead(const pipeline::AccuracyResult& r) {
+  double sum = 0.0, variance = 0.0, worst_rp = 0.0;
+  for (const auto& p : r.positions)
+    sum += p.ap_p, variance += p.sigma_ap_p * p.sigma_ap_p, worst_rp = std::max(worst_rp, p.rp_l);
+  const double n = static_cast<double>(std::max<std::size_t>(1, r.positions.size()));
+  std::cout << "pose accuracy AP_p " << mm(sum / n) << " mm +/- " << mm(std::sqrt(variance) / n) << " mm (mean of "
+            << r.positions.size() << " positions, 1 sigma), largest repeatability RP_l " << mm(worst_rp) << " mm\n";
+}
+
 void printSummary(const pipeline::AccuracyResult& r) {
   std::cout << "position  cycles  AP_p [mm] (sigma, noise-only p95)   RP_l [mm] (noise-only p95)\n";
   for (const auto& p : r.positions)
@@ -78,6 +91,7 @@ int runAccuracy(const AccuracyArguments& args) {
                      {}};
   if (!args.covariance.empty()) paths.input_files.push_back({args.covariance, "--covariance"});
   if (!args.lines.empty()) paths.input_files.push_back({args.lines, "--lines"});
+  if (!args.report.empty()) paths.output_folders.push_back({args.report, "--report"});
   checkCommandPaths(paths);
   std::optional<fs::path> covariance;
   if (!args.covariance.empty()) covariance = fs::path(args.covariance);
@@ -96,13 +110,20 @@ int runAccuracy(const AccuracyArguments& args) {
   const pipeline::AccuracyResult result =
       pipeline::evaluateAccuracy(loaded.model, commanded, measured, args.poses, lines);
   ReportProvenance provenance{args.command_line, paths.input_files, paths.output_files};
-  writeAccuracyJson(args.output, provenance, loaded.model.model_name, result);
+  // All or nothing (doc/robustness.md): accuracy.json, then the report.
+  support::OutputTransaction outputs;
+  writeAccuracyJson(outputs.stageFile(args.output), provenance, loaded.model.model_name, result);
+  if (!args.report.empty())
+    writeAccuracyReportHtml(outputs.stageFolder(args.report) / "report.html", provenance, loaded.model.model_name,
+                            result);
+  outputs.commit();
+  printLead(result);
   std::cout << "model " << loaded.model.model_name << ": ISO 9283 figures from " << result.cycles_used
             << " measured cycles at " << result.positions.size() << " positions\n";
   printSummary(result);
   for (const auto& id : result.unmeasured)
     std::cerr << "mire accuracy: " << args.commanded << ": pose '" << id << "' has no measured pose (left out)\n";
-  std::cout << "wrote " << args.output << "\n";
+  std::cout << "wrote " << args.output << (args.report.empty() ? "" : " and " + args.report + "/report.html") << "\n";
   return result.unmeasured.empty() ? kOk : kPartialFailure;
 }
 
@@ -123,6 +144,7 @@ Runner addAccuracyCommand(CLI::App& app) {
   cmd->add_option("--poses", args->poses, "measured target poses of the cycles (poses.csv, by pose_id)")->required();
   cmd->add_option("--lines", args->lines, "measured poses along straight-line motions (poses.csv columns + line_id)");
   cmd->add_option("-o,--output", args->output, "the figures (accuracy.json)")->required();
+  cmd->add_option("--report", args->report, "report folder (report.html: the figures per position with their sigma)");
   return [args, cmd] {
     args->command_line = commandLineOf(*cmd);
     return runAccuracy(*args);

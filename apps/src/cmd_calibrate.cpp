@@ -6,13 +6,11 @@
 #include "detections_io.hpp"
 #include "mire/pipeline/image_folders.hpp"
 #include "output_paths.hpp"
-#include "plot.hpp"
 #include "report_html.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
 
 #include "mire/calibration/calibrate.hpp"
-#include "mire/calibration/calibration_plots.hpp"
 #include "mire/calibration/camera_io.hpp"
 #include "mire/calibration/model_check.hpp"
 #include "mire/metrology/target.hpp"
@@ -188,10 +186,7 @@ void writeCalibrateOutputs(const CalibrateArguments& args, const CommandPaths& p
                                calibration::cameraYamlString(result.camera) + extraYamlKeys(result, uncertainty));
   if (!args.report_dir.empty()) {
     const fs::path dir = outputs.stageFolder(args.report_dir);
-    writePng(dir / "residuals.png", calibration::drawResidualMap(result));
-    writePng(dir / "residuals_per_view.png", calibration::drawResidualsPerView(result));
-    writePng(dir / "projection_uncertainty.png", calibration::drawProjectionUncertaintyMap(result));
-    writePng(dir / "model_check.png", calibration::drawModelCheck(result, check));
+    writeSvgFiles(dir, calibrateFigures(result, check));
     support::writeFileAtomically(dir / "views.csv", viewsCsv(result));
     if (result.target_refined)
       support::writeFileAtomically(dir / "target_refined.csv", targetCsv(result, target.points()));
@@ -368,7 +363,7 @@ Runner addCalibrateCommand(CLI::App& app) {
   command->add_option("-o,--output", args->output_path, "camera.yaml to write")->required();
   command->add_option(
       "--report", args->report_dir,
-      "folder for report.html, residuals.png, residuals_per_view.png, projection_uncertainty.png, model_check.png, "
+      "folder for report.html, residuals.svg, residuals_per_view.svg, projection_uncertainty.svg, model_check.svg, "
       "views.csv, report.json");
   command
       ->add_option("--holdout", args->holdout_folds,

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "commands.hpp"
+#include "compensate_report.hpp"
 #include "joint_commands.hpp"
 #include "kinematics_files.hpp"
 #include "mire/mechanism/compensation.hpp"
@@ -16,6 +18,7 @@
 #include "mire/pipeline/identify.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/side_files.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
@@ -26,9 +29,22 @@ namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
 struct CompensateArguments {
-  std::string params, covariance, poses, nominal, workspace, controller_model, output;
+  std::string params, covariance, poses, nominal, workspace, controller_model, output, report;
   double grid = 0.0;
+  std::vector<std::string> command_line;
+  std::vector<PathArgument> inputs;  // as checked, for the report's provenance
 };
+
+// --report DIR: report.json and report.html (compensate_report.hpp), written after the output.
+void writeReport(const CompensateArguments& args, CompensateReportData data) {
+  if (args.report.empty()) return;
+  data.provenance = {args.command_line, args.inputs, {{args.output, "-o"}, {args.report, "--report"}}};
+  data.output = args.output;
+  fs::create_directories(args.report);
+  writeCompensateReportJson(fs::path(args.report) / "report.json", data);
+  writeCompensateReportHtml(fs::path(args.report) / "report.html", data);
+  std::cout << "wrote " << args.report << "/report.html and report.json\n";
+}
 
 // --workspace xmin,xmax,ymin,ymax,zmin,zmax [m].
 std::pair<Eigen::Vector3d, Eigen::Vector3d> parseWorkspace(const std::string& text) {
@@ -56,7 +72,8 @@ Eigen::VectorXd controllerGeometry(const std::string& model, const std::string& 
 }
 
 std::string correctionMapCsv(const mech::LoadedPredictionModel& loaded, const Eigen::VectorXd& controller,
-                             const std::vector<Eigen::VectorXd>& grid, std::vector<std::string>& failed) {
+                             const std::vector<Eigen::VectorXd>& grid, std::vector<std::string>& failed,
+                             std::vector<Eigen::VectorXd>& sigmas) {
   const mech::Mechanism& m = *loaded.model.mechanism;
   const auto columns = poseColumnNames(m);
   const auto names = m.poseComponentNames();
@@ -86,6 +103,7 @@ std::string correctionMapCsv(const mech::LoadedPredictionModel& loaded, const Ei
                                                    std::sqrt(std::max(0.0, c.command_covariance(k, k)))),
                                    6);
     out << '\n';
+    sigmas.push_back(c.command_covariance.diagonal().cwiseMax(0.0).cwiseSqrt());
   }
   return out.str();
 }
@@ -134,10 +152,17 @@ int runControllerFit(const CompensateArguments& args, const mech::LoadedPredicti
   else
     std::cout << "no covariance beside " << args.params << ": the error expected on the robot is not stated\n";
   std::cout << "wrote " << args.output << "\n";
+  CompensateReportData report;
+  report.mode = "controller-model";
+  report.model = loaded.model.model_name;
+  report.has_covariance = fit.draws > 0;
+  report.controller = fit;
+  report.controller_model = controller.name;
+  writeReport(args, report);
   return kOk;
 }
 
-int runCompensate(const CompensateArguments& args) {
+int runCompensate(CompensateArguments args) {
   const int modes = !args.poses.empty() + (args.grid > 0.0) + !args.controller_model.empty();
   if (modes != 1) throw UsageError("give one of --poses, --grid STEP (with --workspace), --controller-model");
   if ((args.grid > 0.0 || !args.controller_model.empty()) && args.workspace.empty())
@@ -149,10 +174,14 @@ int runCompensate(const CompensateArguments& args) {
   if (!args.poses.empty()) paths.input_files.push_back({args.poses, "--poses"});
   if (!args.covariance.empty()) paths.input_files.push_back({args.covariance, "--covariance"});
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
+  if (!args.report.empty()) paths.output_folders.push_back({args.report, "--report"});
   checkCommandPaths(paths);
+  args.inputs = paths.input_files;
   std::optional<fs::path> covariance;
   if (!args.covariance.empty()) covariance = fs::path(args.covariance);
   const mech::LoadedPredictionModel loaded = mech::loadPredictionModel(args.params, covariance);
+  if (loaded.has_covariance && args.covariance.empty())  // read beside the parameters: an input too
+    args.inputs.push_back({support::covarianceSidePath(args.params), "the covariance side file"});
   const mech::Mechanism& m = *loaded.model.mechanism;
   const std::string sigma_note = loaded.has_covariance ? "" : "; no parameter covariance: sigma columns are 0";
   if (!args.controller_model.empty()) return runControllerFit(args, loaded);
@@ -165,6 +194,18 @@ int runCompensate(const CompensateArguments& args) {
               << (table.unreachable.empty() ? ""
                                             : ", " + std::to_string(table.unreachable.size()) + " not (named above)")
               << sigma_note << "\nwrote " << args.output << "\n";
+    CompensateReportData report{{},
+                                "poses",
+                                loaded.model.model_name,
+                                "",
+                                m.jointColumnNames(),
+                                m.jointUnits(),
+                                table.sigmas,
+                                table.unreachable,
+                                loaded.has_covariance,
+                                std::nullopt,
+                                ""};
+    writeReport(args, report);
     return table.unreachable.empty() ? kOk : kPartialFailure;
   }
   const auto [low, high] = parseWorkspace(args.workspace);
@@ -176,7 +217,8 @@ int runCompensate(const CompensateArguments& args) {
   }
   const Eigen::VectorXd controller = controllerGeometry(loaded.model.model_name, args.nominal);
   std::vector<std::string> failed;
-  const std::string csv = correctionMapCsv(loaded, controller, grid, failed);
+  std::vector<Eigen::VectorXd> sigmas;
+  const std::string csv = correctionMapCsv(loaded, controller, grid, failed, sigmas);
   for (const auto& f : failed) std::cerr << "mire compensate: " << f << "\n";
   if (failed.size() == grid.size()) throw std::runtime_error("no grid point is reachable; nothing written");
   support::writeFileAtomically(args.output, csv);
@@ -184,6 +226,18 @@ int runCompensate(const CompensateArguments& args) {
             << (args.nominal.empty() ? "nominal" : args.nominal) << " controller at " << grid.size() - failed.size()
             << " grid points" << (failed.empty() ? "" : ", " + std::to_string(failed.size()) + " not (named above)")
             << sigma_note << "\nwrote " << args.output << "\n";
+  CompensateReportData report{{},
+                              "grid",
+                              loaded.model.model_name,
+                              "",
+                              m.poseComponentNames(),
+                              m.poseComponentUnits(),
+                              sigmas,
+                              failed,
+                              loaded.has_covariance,
+                              std::nullopt,
+                              ""};
+  writeReport(args, report);
   return failed.empty() ? kOk : kPartialFailure;
 }
 
@@ -209,7 +263,12 @@ Runner addCompensateCommand(CLI::App& app) {
   cmd->add_option("-o,--output", args->output,
                   "commands.csv (--poses), correction_map.csv (--grid) or controller.yaml (--controller-model)")
       ->required();
-  return [args] { return runCompensate(*args); };
+  cmd->add_option("--report", args->report,
+                  "report folder (report.html: the result with the commands' sigma; report.json)");
+  return [args, cmd] {
+    args->command_line = commandLineOf(*cmd);
+    return runCompensate(*args);
+  };
 }
 
 }  // namespace mire::app

@@ -3,6 +3,7 @@
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
 #include "detections_io.hpp"
+#include "measure_report.hpp"
 #include "mire/pipeline/image_folders.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
@@ -45,6 +46,8 @@ struct MeasureSettings {
   double rejection_confidence = 0.999;
   std::string save_detections;        // CSV of every image's detections (doc/targets.md)
   std::string split_moving = "fail";  // static-pose integrity: fail | keep-largest
+  std::string report;                 // folder for report.html and report.json
+  std::vector<std::string> command_line;
 };
 
 using support::median;
@@ -101,6 +104,7 @@ int runMeasure(const MeasureSettings& settings) {
   const fs::path shared = support::sharedTermSidePath(output);
   paths.output_files.push_back({shared, "the shared-term side file"});
   if (!settings.save_detections.empty()) paths.output_files.push_back({settings.save_detections, "--save-detections"});
+  if (!settings.report.empty()) paths.output_folders.push_back({settings.report, "--report"});
   checkCommandPaths(paths);
   const int threads = workerThreads(settings.threads, "--threads");
   const calibration::Camera camera = calibration::readCamera(settings.camera_path);
@@ -121,6 +125,7 @@ int runMeasure(const MeasureSettings& settings) {
       pipeline::measurePoseFolders(camera, target, settings.poses_dir, options, threads);
 
   std::vector<metrology::MeasuredPose> measured;
+  std::vector<FailedPose> failed_poses;
   int failed = 0;
   for (const pipeline::PoseFolderMeasurement& job : jobs) {
     for (const auto& warning : job.measurement.warnings)
@@ -130,6 +135,7 @@ int runMeasure(const MeasureSettings& settings) {
     if (!job.measurement.ok) {
       ++failed;
       std::cerr << "mire measure: pose " << job.pose_id << ": FAILED: " << job.measurement.error << "\n";
+      failed_poses.push_back({job.pose_id, job.measurement.error});
       continue;
     }
     measured.emplace_back(job.pose_id, job.measurement.features.images_used, job.images_total, job.measurement.estimate,
@@ -156,12 +162,25 @@ int runMeasure(const MeasureSettings& settings) {
   if (!shared_text.empty()) support::writeFileAtomically(outputs.stageFile(shared), shared_text);
   metrology::writePosesCovarianceCsv(outputs.stageFile(covariance), measured);
   metrology::writePosesCsv(outputs.stageFile(output), measured);
+  if (!settings.report.empty()) {
+    const fs::path dir = outputs.stageFolder(settings.report);
+    MeasureReportData report{{settings.command_line, paths.input_files, paths.output_files},
+                             measured,
+                             failed_poses,
+                             bias,
+                             camera.covariance.size() > 0};
+    report.provenance.inputs.push_back({settings.poses_dir, "--poses"});
+    report.provenance.outputs.push_back({settings.report, "--report"});
+    writeMeasureReportJson(dir / "report.json", report);
+    writeMeasureReportHtml(dir / "report.html", report);
+  }
   outputs.commit();
   if (shared_text.empty()) fs::remove(shared);
-  std::printf("measured %zu of %zu poses -> %s (covariances: %s%s)\n", measured.size(), jobs.size(),
-              output.string().c_str(), covariance.string().c_str(),
-              shared_text.empty() ? "" : ("; shared calibration term: " + shared.string()).c_str());
   printSummary(measured);
+  std::printf("measured %zu of %zu poses -> %s (covariances: %s%s)%s\n", measured.size(), jobs.size(),
+              output.string().c_str(), covariance.string().c_str(),
+              shared_text.empty() ? "" : ("; shared calibration term: " + shared.string()).c_str(),
+              settings.report.empty() ? "" : ("; report: " + settings.report + "/report.html").c_str());
   std::printf("detector bias shared by the poses: %s\n", bias.text().c_str());
   if (failed > 0) {
     std::cerr << "mire measure: " << failed << " pose(s) failed (listed above); the others were written\n";
@@ -210,7 +229,12 @@ Runner addMeasureCommand(CLI::App& app) {
                    "group (more than half of the images) and list the rest")
       ->check(CLI::IsMember({"fail", "keep-largest"}))
       ->capture_default_str();
-  return [settings] { return runMeasure(*settings); };
+  command->add_option("--report", settings->report,
+                      "report folder (report.html: the precision of every pose; report.json)");
+  return [settings, command] {
+    settings->command_line = commandLineOf(*command);
+    return runMeasure(*settings);
+  };
 }
 
 }  // namespace mire::app

@@ -22,6 +22,7 @@
 #include "mire/support/output_transaction.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
+#include "report_html.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
 
@@ -205,10 +206,12 @@ int runPlan(const PlanArguments& args) {
         {args.command_line, paths.input_files, paths.output_files}, args.model, args.candidates, args.seed, args.mounting};
     settings.provenance.outputs.push_back({args.report, "--report"});
     writePlanReportJson(dir / "report.json", settings, info, report, camera.target ? &camera_summary : nullptr);
+    writePlanReportHtml(dir / "report.html", settings, report, text);
   }
   outputs.commit();
   std::cout << text << "wrote " << args.output
-            << (args.report.empty() ? "" : " and " + args.report + "/plan_report.txt, plan_sigma.csv") << "\n";
+            << (args.report.empty() ? "" : " and " + args.report + "/report.html, plan_report.txt, plan_sigma.csv")
+            << "\n";
   return kOk;
 }
 
@@ -270,7 +273,7 @@ Runner addPlanCommand(CLI::App& app) {
   cmd->add_option("--candidates", args->candidates, "candidate poses drawn in the workspace")->capture_default_str();
   cmd->add_option("--seed", args->seed, "random seed of the candidates and the random comparison sets")
       ->capture_default_str();
-  cmd->add_option("--report", args->report, "report folder (plan_report.txt, plan_sigma.csv, report.json)");
+  cmd->add_option("--report", args->report, "report folder (report.html, plan_report.txt, plan_sigma.csv, report.json)");
   return [args, cmd] {
     args->command_line = commandLineOf(*cmd);
     return runPlan(*args);

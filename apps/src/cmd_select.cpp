@@ -19,7 +19,7 @@
 #include "mire/support/output_transaction.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
-#include "plot.hpp"
+#include "report_html.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
 
@@ -70,21 +70,6 @@ std::string scoresCsv(const mech::SelectionResult& r) {
         << (static_cast<int>(i) == r.recommended ? 1 : 0) << '\n';
   }
   return out.str();
-}
-
-void writeSelectPlot(const fs::path& path, const mech::SelectionResult& r, mech::Unit unit) {
-  std::vector<std::string> labels;
-  // CV score with its standard error as an error bar (the one-SE rule reads off it), beside the fit.
-  Series cv{"CV rms (bar: +/- 1 SE)", {}, seriesColour(0)}, fit{"fit rms (all poses)", {}, seriesColour(2)};
-  for (const mech::ModelScore& s : r.scores) {
-    labels.push_back(s.label + " (" + std::to_string(s.parameters) + ")");
-    cv.values.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms()) : NAN);
-    cv.sigma.push_back(s.ok ? mech::toDisplay(unit, s.cv_rms_se()) : NAN);
-    fit.values.push_back(s.ok ? mech::toDisplay(unit, s.fit_rms) : NAN);
-  }
-  writePng(path,
-           barChart("cross-validated joint residual per model (parameter count); recommended: " + r.recommendedLabel(),
-                    "joint residual [" + mech::displayUnitName(unit) + "]", labels, {cv, fit}));
 }
 
 // Every candidate with the camera where the poses were measured from: on the effector, each is
@@ -143,11 +128,12 @@ int runSelect(const SelectArguments& args) {
     const fs::path dir = outputs.stageFolder(args.report);
     support::writeFileAtomically(dir / "select_report.txt", table + "recommended: " + result.recommendedLabel() + "\n");
     support::writeFileAtomically(dir / "select_scores.csv", scoresCsv(result));
-    writeSelectPlot(dir / "select_cv.png", result, m.jointUnits().front());
+    writeSvgFiles(dir, {{"select_cv.svg", selectFigure(result, m.jointUnits().front()), ""}});
     ReportProvenance provenance{args.command_line, paths.input_files, {{args.report, "--report"}}};
     if (files.covariances && args.covariances.empty())
       provenance.inputs.push_back({*files.covariances, "the covariance side file"});
     writeSelectReportJson(dir / "report.json", provenance, result, m.jointUnits().front(), args.folds, args.seed);
+    writeSelectReportHtml(dir / "report.html", provenance, result, m.jointUnits().front(), args.folds, table);
     outputs.commit();
   }
   std::cout << observations.poses.size() << " poses, " << args.folds << "-fold cross-validation, " << candidates.size()
@@ -175,7 +161,7 @@ Runner addSelectCommand(CLI::App& app) {
   cmd->add_option("--folds", args->folds, "cross-validation folds")->capture_default_str();
   cmd->add_option("--seed", args->seed, "seed of the fold assignment")->capture_default_str();
   cmd->add_option("--report", args->report,
-                  "report folder (select_report.txt, select_scores.csv, select_cv.png, report.json)");
+                  "report folder (report.html, select_report.txt, select_scores.csv, select_cv.svg, report.json)");
   return [args, cmd, models] {
     // `--models ''` is a mistake (an unset variable), not a request for the default list.
     if (models->count() > 0 && args->models.empty())

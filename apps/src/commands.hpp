@@ -32,6 +32,7 @@ Runner addSelectCommand(CLI::App& app);
 Runner addCheckMechanismCommand(CLI::App& app);
 Runner addAccuracyCommand(CLI::App& app);
 Runner addCompensateCommand(CLI::App& app);
+Runner addReportCommand(CLI::App& app);
 
 // The version string printed by `mire --version`.
 std::string versionString();

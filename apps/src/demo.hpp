@@ -46,8 +46,9 @@ struct DemoVariant {
   char letter = 'D';
   int free_parameters = 0;
   double cond = 0.0, v1_rad = 0.0, v2_rad = 0.0, v3_m = 0.0;
-  double v3_mean_m = 0.0;  // over the repeated 71-pose sets (Fig. 11)
-  std::string error;       // when the identification failed
+  double v3_mean_m = 0.0;   // over the repeated 71-pose sets (Fig. 11)
+  double v3_sigma_m = 0.0;  // their spread (sample σ over the sets; report.html's error bars)
+  std::string error;        // when the identification failed
 };
 
 struct DemoPoseCount {

@@ -1,9 +1,9 @@
 // The mechanism demo's report (doc/demo-mechanisms.md): Markdown with the calibration and the pose
 // measurement against truth, each model's identification (parameters against the truth in its
-// gauge), V3 and the positioning test before and after, and the figures as PNG.
+// gauge), V3 and the positioning test before and after, linking the figures as SVG files.
 #include "demo_mechanism.hpp"
+#include "demo_report_html.hpp"
 #include "demo_report_parts.hpp"
-#include "plot.hpp"
 #include "report_json.hpp"
 
 #include "mire/mechanism/registry.hpp"
@@ -110,56 +110,6 @@ void writeCriteriaSection(const MechanismDemoResults& r, std::ostream& md) {
     for (const double e : s.square_after_mm) md << " " << fixed(e, 4) << " |";
     md << "\n";
   }
-  md << "\n![V3 and positioning test](criteria_before_after.png)\n\n![positioning test](positioning_test.png)\n";
-}
-
-void writeFigures(const std::filesystem::path& out, const MechanismDemoResults& r, bool with_parameters) {
-  std::vector<std::string> categories;
-  Series before{"nominal parameters", {}, seriesColour(3)};
-  Series after{"identified parameters", {}, seriesColour(2)};
-  for (const auto& s : r.models) {
-    categories.push_back(s.model + " V3");
-    before.values.push_back(1e3 * s.v3_before_m);
-    after.values.push_back(1e3 * s.v3_after_m);
-    categories.push_back(s.model + " square");
-    before.values.push_back(s.square_rms_before_mm);
-    after.values.push_back(s.square_rms_after_mm);
-  }
-  // Before and after differ by one to two decades: a log axis keeps both readable.
-  const int width = std::max(960, 300 * static_cast<int>(categories.size()));
-  writePng(out / "criteria_before_after.png",
-           barChart(family(r.mechanism).plain_title + ": V3 and positioning test (square side RMS)", "mm", categories,
-                    {before, after}, width, 540, YScale::log10));
-  // The nominal geometry is the same for every model of the mechanism: one nominal series.
-  std::vector<Series> sides;
-  if (!r.models.empty()) {
-    Series nominal{"nominal parameters", {}, seriesColour(0)};
-    for (const double e : r.models.front().square_before_mm) nominal.values.push_back(std::abs(e));
-    sides.push_back(nominal);
-  }
-  int colour = 1;
-  for (const auto& s : r.models) {
-    Series identified{s.model + ", identified", {}, seriesColour(colour++)};
-    for (const double e : s.square_after_mm) identified.values.push_back(std::abs(e));
-    sides.push_back(identified);
-  }
-  writePng(out / "positioning_test.png",
-           barChart(family(r.mechanism).plain_title + ": |side error| of a " +
-                        fixed(r.models.empty() ? 100.0 : r.models.front().square_side_mm, 0) + " mm square",
-                    "|error| (mm)", {"side 1", "side 2", "side 3", "side 4"}, sides, 960, 540, YScale::log10));
-  if (!with_parameters) return;
-  for (const auto& s : r.models) {
-    if (!s.has_truth) continue;
-    std::vector<std::string> names;
-    Series z{"error / sigma", {}, seriesColour(0)};
-    for (const auto& p : s.identified) {
-      names.push_back(p.name);
-      z.values.push_back(std::abs(p.estimate - p.truth) / p.sigma);
-    }
-    writePng(out / "parameter_errors.png",
-             barChart(s.model + ": |error| / sigma of every identified parameter (truth in the gauge)",
-                      "|error| / sigma", names, {z}, std::max(960, 56 * static_cast<int>(names.size())), 540));
-  }
 }
 
 }  // namespace
@@ -170,12 +120,10 @@ std::vector<std::string> writeMechanismDemoReport(const DemoOptions& options, co
   demo_report::writeCalibrationSection(r.calibration, md);
   writeMeasurementSection(r.measurement, md);
   md << "\n## 3. Identification (`mire identify --model NAME` on `poses.csv` + `joints.csv`)\n";
-  bool with_parameters = false;
   for (const auto& s : r.models) {
     writeModelSummary(s, r.truth_model, md);
-    with_parameters = with_parameters || s.has_truth;
+    if (s.has_truth) md << "\n![parameter errors](parameter_errors_" << s.model << ".svg)\n";
   }
-  if (with_parameters) md << "\n![parameter errors](parameter_errors.png)\n";
   writeCriteriaSection(r, md);
   if (r.closed_loop)
     demo_report::writeClosedLoopSection(*r.closed_loop, "## 5. Closing the loop: ISO 9283 before and after compensation",
@@ -187,11 +135,11 @@ std::vector<std::string> writeMechanismDemoReport(const DemoOptions& options, co
   md << "\nFiles: `camera.yaml`, `poses.csv` (+ `poses_covariance.csv`, `poses_shared.csv`)";
   for (const auto& s : r.models) md << ", `" << s.file << "`";
   md << "; the simulated campaign under `campaign/` (its truth under `campaign/truth/`).\n";
-  writeFigures(options.output, r, with_parameters);
+  const std::vector<std::string> figures = writeSvgFiles(options.output, mechanismDemoFigures(r));
   support::writeFileAtomically(options.output / "report.md", md.str());
 
-  std::vector<std::string> files{"report.md", "report.json", "criteria_before_after.png", "positioning_test.png"};
-  if (with_parameters) files.emplace_back("parameter_errors.png");
+  std::vector<std::string> files{"report.md", "report.html", "report.json"};
+  files.insert(files.end(), figures.begin(), figures.end());
   files.insert(files.end(), {"camera.yaml", "poses.csv", "poses_covariance.csv"});
   for (const auto& s : r.models) files.push_back(s.file);
   MechanismDemoResults with_files = r;
@@ -205,6 +153,7 @@ std::vector<std::string> writeMechanismDemoReport(const DemoOptions& options, co
     provenance.command_line.insert(provenance.command_line.end(), {"--seed", std::to_string(options.seed)});
   }
   writeMechanismDemoReportJson(options.output / "report.json", provenance, options, with_files);
+  writeMechanismDemoReportHtml(options.output / "report.html", provenance, options, with_files);
   return files;
 }
 

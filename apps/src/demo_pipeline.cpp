@@ -136,7 +136,9 @@ DemoVariant identifyVariant(char letter, const DemoOptions& options, const Ident
     study.seed = options.seed + static_cast<std::uint64_t>(letter);
     study.identification = data.identification;
     const auto model = mechanism::makeH4VariantModel(letter, data.nominal, data.poses, data.identification);
-    row.v3_mean_m = mechanism::runMonteCarloStudy(model, data.poses, data.lines, study).summaries.front().v3_mean;
+    const auto summary = mechanism::runMonteCarloStudy(model, data.poses, data.lines, study).summaries.front();
+    row.v3_mean_m = summary.v3_mean;
+    row.v3_sigma_m = summary.v3_sigma;
   } catch (const std::exception& e) {
     row.error = e.what();
     std::cerr << "mire demo: variant " << letter << ": " << e.what() << "\n";

@@ -1,8 +1,8 @@
 // The demo's report: Markdown with mire's numbers beside the paper's (Tables 1, 3, 4, the
-// pose-count study of §6.2, Fig. 11) and the figures as PNG.
+// pose-count study of §6.2, Fig. 11) linking the figures as SVG files; report.html and report.json.
 #include "demo.hpp"
+#include "demo_report_html.hpp"
 #include "demo_report_parts.hpp"
-#include "plot.hpp"
 #include "report_json.hpp"
 
 #include "mire/support/atomic_file.hpp"
@@ -30,16 +30,6 @@ using demo_report::fixed;
 using demo_report::format;
 using demo_report::percent;
 std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
-
-// The figures' data, gathered while the tables are written.
-struct DemoCharts {
-  std::vector<std::string> letters;  // one per variant
-  Series mire_v3{"mire: mean V3 (mm)", {}, seriesColour(0)};
-  Series paper_v3{"paper: V3 (mm)", {}, seriesColour(1)};
-  std::vector<double> sizes;  // pose counts of the study
-  Series v2_series{"V2 (mrad)", {}, seriesColour(0)};
-  Series v3_series{"V3 (mm)", {}, seriesColour(1)};
-};
 
 void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::ostream& md) {
   const StageTiming* slowest = nullptr;
@@ -69,7 +59,7 @@ void writeMeasurementSection(const DemoResults& r, std::ostream& md) {
 }
 
 // 3. Identification: criteria before, then Tables 1 and 3 per variant (and Fig. 11's data).
-void writeVariantSection(const DemoResults& r, std::ostream& md, DemoCharts* charts) {
+void writeVariantSection(const DemoResults& r, std::ostream& md) {
   md << "\n## 3. Identification\n\nBefore identification (nominal geometry, external parameters estimated from "
         "the data): V1 = "
      << sci(r.nominal_v1_rad) << " rad, V2 = " << sci(r.nominal_v2_rad)
@@ -86,9 +76,6 @@ void writeVariantSection(const DemoResults& r, std::ostream& md, DemoCharts* cha
   for (std::size_t i = 0; i < r.variants.size(); ++i) {
     const auto& v = r.variants[i];
     const auto& p = kPaperTable3[i % 8];
-    charts->letters.emplace_back(1, v.letter);
-    charts->mire_v3.values.push_back(v.error.empty() ? 1e3 * v.v3_mean_m : NAN);
-    charts->paper_v3.values.push_back(1e3 * p.v3);
     if (!v.error.empty()) {
       md << "| " << v.letter << " | failed: " << v.error << " | | | | | |\n";
       continue;
@@ -98,11 +85,11 @@ void writeVariantSection(const DemoResults& r, std::ostream& md, DemoCharts* cha
        << " [" << sci(p.v2) << "] | " << fixed(1e3 * v.v3_m, 3) << " [" << fixed(1e3 * p.v3, 2) << "] | "
        << fixed(1e3 * v.v3_mean_m, 3) << " |\n";
   }
-  md << "\n![V3 per variant](fig11_v3_per_variant.png)\n";
+  md << "\n![V3 per variant](fig11_v3_per_variant.svg)\n";
 }
 
 // The pose-count study of §6.2 (and its figure's data).
-void writePoseCountSection(const DemoResults& r, std::ostream& md, DemoCharts* charts) {
+void writePoseCountSection(const DemoResults& r, std::ostream& md) {
   md << "\n### Pose-count study (paper §6.2): model 12 (variant D), " << r.pose_count_repeats
      << " random subsets per size, the other poses validate\n\n"
      << "| poses | runs ok | V1 mean (rad) | V2 mean ± σ (rad) | V2 vs nominal | V3 mean ± σ (mm) | V3 vs nominal | "
@@ -112,14 +99,9 @@ void writePoseCountSection(const DemoResults& r, std::ostream& md, DemoCharts* c
        << sci(row.v2_sigma) << " | " << percent(row.v2_mean, r.nominal_v2_rad) << " | " << fixed(1e3 * row.v3_mean, 3)
        << " ± " << fixed(1e3 * row.v3_sigma, 3) << " | " << percent(row.v3_mean, r.nominal_v3_m) << " | "
        << fixed(row.median_parameter_sigma_ratio, 2) << " |\n";
-    charts->sizes.push_back(row.size);
-    charts->v2_series.values.push_back(1e3 * row.v2_mean);
-    charts->v2_series.sigma.push_back(1e3 * row.v2_sigma);
-    charts->v3_series.values.push_back(1e3 * row.v3_mean);
-    charts->v3_series.sigma.push_back(1e3 * row.v3_sigma);
   }
   md << "\nPaper, 15 poses: V2 −98 %, V3 −68 % (1.8 mm → 0.56 mm); parameter σ divided by about 3 from 6 to 15 "
-        "poses, then about −30 % to 71.\n\n![pose-count study](pose_count_study.png)\n";
+        "poses, then about −30 % to 71.\n\n![pose-count study](pose_count_study.svg)\n";
 }
 
 // What `mire plan` and `mire select` say about this campaign (doc/plan-and-select.md).
@@ -161,32 +143,9 @@ void writeSquareSection(const DemoResults& r, std::ostream& md) {
   for (const double e : kPaperSquareBefore) md << " " << fixed(e, 1) << " |";
   md << "\n| paper, identified parameters (trace 3) |";
   for (const double e : kPaperSquareAfter) md << " " << fixed(e, 1) << " |";
-  md << "\n\n![square test](square_test.png)\n\nFiles: `camera.yaml`, `poses.csv`, `poses_covariance.csv`, "
+  md << "\n\nThe measured version of this test, with its σ, is the closed loop below (report.html draws it).\n\nFiles: "
+        "`camera.yaml`, `poses.csv`, `poses_covariance.csv`, "
         "`identified_D.yaml`; the simulated campaign under `campaign/` (its truth under `campaign/truth/`).\n";
-}
-
-void writeDemoFigures(const std::filesystem::path& out, const DemoResults& r, const DemoCharts& charts) {
-  // mire's V3 and the paper's differ by up to two decades: a log axis keeps both readable.
-  writePng(out / "fig11_v3_per_variant.png",
-           barChart("Fig. 11: straightness V3 per identified model", "V3 (mm)", charts.letters,
-                    {charts.mire_v3, charts.paper_v3}, 960, 540, YScale::log10));
-  // V2 (mrad) and V3 (mm) have different units: one panel each, error bars ±σ over the random subsets.
-  const std::string study = "Pose-count study (model 12, variant D): ";
-  writePng(out / "pose_count_study.png",
-           sideBySide({lineChart(study + "RMS joint residual V2", "poses used for identification",
-                                 "V2, mean +/- sigma (mrad)", charts.sizes, {charts.v2_series}, 640, 480),
-                       lineChart(study + "straightness V3", "poses used for identification", "V3, mean +/- sigma (mm)",
-                                 charts.sizes, {charts.v3_series}, 640, 480)}));
-  Series before{"nominal parameters", {}, seriesColour(3)};
-  Series after{"identified parameters", {}, seriesColour(2)};
-  for (int k = 0; k < 4; ++k) {
-    before.values.push_back(std::abs(r.square_before_mm[k]));
-    after.values.push_back(std::abs(r.square_after_mm[k]));
-  }
-  // Log scale: the identified errors are one to two decades below the nominal ones.
-  writePng(out / "square_test.png",
-           barChart("Square test: |side error| of a 100 mm square", "|error| (mm)",
-                    {"side 1", "side 2", "side 3", "side 4"}, {before, after}, 960, 540, YScale::log10));
 }
 
 }  // namespace
@@ -194,23 +153,22 @@ void writeDemoFigures(const std::filesystem::path& out, const DemoResults& r, co
 // The report section by section, then the figures, then report.md.
 std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& r) {
   std::ostringstream md;
-  DemoCharts charts;
   writeIntroduction(options, r, md);
   demo_report::writeCalibrationSection(r.calibration, md);
   writeMeasurementSection(r, md);
-  writeVariantSection(r, md, &charts);
-  writePoseCountSection(r, md, &charts);
+  writeVariantSection(r, md);
+  writePoseCountSection(r, md);
   writeExperimentDesignSection(r, md);
   writeIdentifiedSection(r, md);
   writeSquareSection(r, md);
   if (r.closed_loop)
     demo_report::writeClosedLoopSection(*r.closed_loop, "### Closing the loop: ISO 9283 before and after compensation",
                                         "model 12 with the nominal parameters", md);
-  writeDemoFigures(options.output, r, charts);
+  const std::vector<std::string> figures = writeSvgFiles(options.output, demoFigures(r));
   support::writeFileAtomically(options.output / "report.md", md.str());
-  std::vector<std::string> files{
-      "report.md",   "report.json", "fig11_v3_per_variant.png", "pose_count_study.png", "square_test.png",
-      "camera.yaml", "poses.csv",   "poses_covariance.csv",     "identified_D.yaml"};
+  std::vector<std::string> files{"report.md", "report.html", "report.json"};
+  files.insert(files.end(), figures.begin(), figures.end());
+  files.insert(files.end(), {"camera.yaml", "poses.csv", "poses_covariance.csv", "identified_D.yaml"});
   DemoResults with_files = r;
   with_files.files = files;
   ReportProvenance provenance{options.command_line, {}, {{options.output, "--output"}}};
@@ -220,6 +178,7 @@ std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoR
     provenance.command_line.insert(provenance.command_line.end(), {"--seed", std::to_string(options.seed)});
   }
   writeDemoReportJson(options.output / "report.json", provenance, options, with_files);
+  writeDemoReportHtml(options.output / "report.html", provenance, options, with_files);
   return files;
 }
 

@@ -218,10 +218,6 @@ void addFit(rp::HtmlReport& page, const IdentifyReportData& data) {
 }
 
 void addIdentifiability(rp::HtmlReport& page, const mech::IdentifiabilityReport& id) {
-  page.figure(singularValueFigure(id),
-              "Singular values of the column-scaled identification Jacobian (condition number " +
-                  format("%.4g", id.condition_number) +
-                  "); the parameter dominating each direction is in the table below.");
   std::vector<std::vector<std::string>> rows;
   for (Eigen::Index k = 0; k < id.singular_values.size(); ++k)
     rows.push_back({std::to_string(k + 1), format("%.4g", id.singular_values[k]),
@@ -283,6 +279,34 @@ std::vector<Eigen::VectorXd> jointResidualSigmas(const mechanism::Identification
   return out;
 }
 
+std::vector<NamedFigure> identifyFigures(const IdentifyReportData& data) {
+  const mech::IdentificationResult& result = data.result;
+  const std::vector<mech::Unit> units = result.model.mechanism->jointUnits();
+  const auto& id = result.identifiability;
+  std::vector<NamedFigure> figures{
+      {"residuals.svg",
+       residualFigure(data.residuals_after, jointResidualSigmas(result), units, "after identification", "#1f77b4"),
+       "Joint residuals q\xCC\x84 \xE2\x88\x92 f(X) per pose and leg after identification (" + data.model_label +
+           "), with the \xC2\xB1"
+           "1\xCF\x83 band the pose covariances predict for each pose; \xCF\x87\xC2\xB2/dof " +
+           format("%.3g", result.chi2 / std::max(1, result.dof)) + " measures how well the points fill it."},
+      {"residuals_before.svg", residualFigure(data.residuals_before, {}, units, "nominal geometry", "#7f7f7f"),
+       "The same residuals before identification (nominal geometry), on their own scale."},
+      {"singular_values.svg", singularValueFigure(id),
+       "Singular values of the column-scaled identification Jacobian (condition number " +
+           format("%.4g", id.condition_number) + "); the parameter dominating each direction is in the table below."}};
+  if (data.study)
+    figures.push_back(
+        {"monte_carlo_spread.svg", spreadFigure(*data.study, result, result.poses.size()),
+         "Spread (\xCF\x83 over the runs) of every free parameter per subset size, one panel per unit, beside "
+         "the analytic \xCF\x83 of the fit on all " +
+             std::to_string(result.poses.size()) +
+             " poses and, for each subset size, what that spread should be from it: subsets of n drawn from the "
+             "same N poses share most of them, so their spread is near the analytic \xCF\x83 \xC3\x97 "
+             "\xE2\x88\x9A(N/n \xE2\x88\x92 1) (delete-d jackknife), not \xE2\x88\x9A(N/n)."});
+  return figures;
+}
+
 void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyReportData& data) {
   const mech::IdentificationResult& result = data.result;
   const std::vector<mech::Unit> units = result.model.mechanism->jointUnits();
@@ -292,15 +316,11 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
   addParameters(page, data);
   page.section("Fit");
   addFit(page, data);
-  const auto sigmas = jointResidualSigmas(result);
-  page.figure(residualFigure(data.residuals_after, sigmas, units, "after identification", "#1f77b4"),
-              "Joint residuals q\xCC\x84 \xE2\x88\x92 f(X) per pose and leg after identification (" + data.model_label +
-                  "), with the \xC2\xB1"
-                  "1\xCF\x83 band the pose covariances predict for each pose; \xCF\x87\xC2\xB2/dof " +
-                  format("%.3g", result.chi2 / std::max(1, result.dof)) + " measures how well the points fill it.");
-  page.figure(residualFigure(data.residuals_before, {}, units, "nominal geometry", "#7f7f7f"),
-              "The same residuals before identification (nominal geometry), on their own scale.");
+  const std::vector<NamedFigure> figures = identifyFigures(data);
+  page.figure(figures[0].figure, figures[0].caption);
+  page.figure(figures[1].figure, figures[1].caption);
   page.section("Identifiability");
+  page.figure(figures[2].figure, figures[2].caption);
   addIdentifiability(page, result.identifiability);
   if (!data.gauge_text.empty()) {
     page.subsection("Gauge (model-consistent poses)");
@@ -308,13 +328,7 @@ void writeIdentifyReportHtml(const std::filesystem::path& path, const IdentifyRe
   }
   if (data.study) {
     page.section("Monte-Carlo study");
-    page.figure(spreadFigure(*data.study, result, result.poses.size()),
-                "Spread (\xCF\x83 over the runs) of every free parameter per subset size, one panel per unit, beside "
-                "the analytic \xCF\x83 of the fit on all " +
-                    std::to_string(result.poses.size()) +
-                    " poses and, for each subset size, what that spread should be from it: subsets of n drawn from the "
-                    "same N poses share most of them, so their spread is near the analytic \xCF\x83 \xC3\x97 "
-                    "\xE2\x88\x9A(N/n \xE2\x88\x92 1) (delete-d jackknife), not \xE2\x88\x9A(N/n).");
+    page.figure(figures[3].figure, figures[3].caption);
     addStudyTable(page, *data.study, data.v3_after_m >= 0.0);
   }
   addProvenance(page, data.provenance);

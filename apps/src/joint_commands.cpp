@@ -46,6 +46,7 @@ JointCommandTable jointCommandTable(const mech::PredictionModel& model, const st
     for (Eigen::Index k = 0; k < p.ikm.joints.size(); ++k)
       out << ',' << support::formatNumber(std::sqrt(std::max(0.0, p.covariance(k, k))), 6);
     out << '\n';
+    table.sigmas.push_back(p.covariance.diagonal().cwiseMax(0.0).cwiseSqrt());
     ++table.written;
   }
   progress.finish();

@@ -4,6 +4,8 @@
 #include "commands.hpp"
 #include "mire/support/atomic_file.hpp"
 
+#include <stdexcept>
+
 namespace mire::app {
 
 std::string commandLineText(const std::vector<std::string>& command_line) {
@@ -31,6 +33,21 @@ void addProvenance(report::HtmlReport& report, const ReportProvenance& provenanc
 
 void writeHtml(const std::filesystem::path& path, const report::HtmlReport& report) {
   support::writeFileAtomically(path, report.html());
+}
+
+std::vector<std::string> writeSvgFiles(const std::filesystem::path& dir, const std::vector<NamedFigure>& figures) {
+  std::vector<std::string> written;
+  for (const NamedFigure& f : figures) {
+    std::string svg;
+    try {
+      svg = report::renderSvg(f.figure, std::filesystem::path(f.file).stem().string());
+    } catch (const std::invalid_argument&) {
+      continue;  // data the figure cannot show: report.html names it and why
+    }
+    support::writeFileAtomically(dir / f.file, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + svg);
+    written.push_back(f.file);
+  }
+  return written;
 }
 
 }  // namespace mire::app

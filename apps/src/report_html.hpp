@@ -8,6 +8,8 @@
 
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/model_check.hpp"
+#include "mire/mechanism/experiment_design.hpp"
+#include "mire/mechanism/model_selection.hpp"
 #include "mire/report/html.hpp"
 #include "report_json.hpp"
 
@@ -20,9 +22,35 @@ void addProvenance(report::HtmlReport& report, const ReportProvenance& provenanc
 // Writes the page atomically.
 void writeHtml(const std::filesystem::path& path, const report::HtmlReport& report);
 
+// A report's figure with the file name the Markdown report links (`<file>`, an SVG) and its caption.
+struct NamedFigure {
+  std::string file;
+  report::Figure figure;
+  std::string caption;
+};
+// Each figure as a standalone SVG file in `dir` (atomically); returns the names written.
+std::vector<std::string> writeSvgFiles(const std::filesystem::path& dir, const std::vector<NamedFigure>& figures);
+
+// calibrate's figures (calibrate_report_html.cpp): residuals.svg, projection_uncertainty.svg,
+// residuals_per_view.svg, model_check.svg.
+std::vector<NamedFigure> calibrateFigures(const calibration::CalibrationResult& result,
+                                          const calibration::ModelCheck& check);
+
 void writeCalibrateReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
                               const calibration::CalibrationResult& result,
                               const calibration::ProjectionUncertaintySummary& uncertainty,
                               const calibration::ModelCheck& check);
+
+// `mire plan --report`: the predicted σ of every free parameter from the planned, random and all
+// candidate poses (plan_report_html.cpp).
+void writePlanReportHtml(const std::filesystem::path& path, const PlanReportSettings& settings,
+                         const mechanism::DesignReport& report, const std::string& text);
+
+// `mire select --report`: the cross-validated score of every candidate with its standard error and
+// the one-SE threshold (select_report_html.cpp). The figure is select_cv.svg's too.
+report::Figure selectFigure(const mechanism::SelectionResult& result, mechanism::Unit joint_unit);
+void writeSelectReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
+                           const mechanism::SelectionResult& result, mechanism::Unit joint_unit, int folds,
+                           const std::string& table);
 
 }  // namespace mire::app

@@ -129,6 +129,10 @@ void HtmlReport::provenance(const std::string& command_line, const std::vector<I
                             const std::string& version) {
   section("Provenance");
   keyValues({{"command", command_line}, {"mire version", version}});
+  inputTable(inputs);
+}
+
+void HtmlReport::inputTable(const std::vector<InputFile>& inputs) {
   body_ += "<table class=\"inputs\">\n<tr><th>input</th><th>file</th><th>size</th><th>SHA-256</th></tr>\n";
   for (const auto& input : inputs) {
     std::string size = "-", digest;
@@ -148,6 +152,10 @@ void HtmlReport::provenance(const std::string& command_line, const std::vector<I
         "<tr>" + cell(input.role) + cell(input.path.string()) + cell(size, "num") + cell(digest, "hash") + "</tr>\n";
   }
   body_ += "</table>\n";
+}
+
+void HtmlReport::link(const std::string& text, const std::string& label, const std::string& href) {
+  body_ += "<p>" + escapeXml(text) + " <a href=\"" + escapeXml(href) + "\">" + escapeXml(label) + "</a></p>\n";
 }
 
 std::string HtmlReport::html() const {

@@ -110,12 +110,13 @@ std::string sha256File(const std::filesystem::path& path) {
 }
 
 FolderDigest sha256Folder(const std::filesystem::path& folder) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(folder))
-    if (entry.is_regular_file()) files.push_back(entry.path());
+  // Files in sub-folders too (measure's one folder per pose), named by their relative path.
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) files.push_back(entry.path().lexically_relative(folder).generic_string());
   std::sort(files.begin(), files.end());
   std::string manifest;
-  for (const auto& file : files) manifest += sha256File(file) + "  " + file.filename().string() + "\n";
+  for (const auto& file : files) manifest += sha256File(folder / file) + "  " + file + "\n";
   return {sha256Hex(manifest), files.size()};
 }
 

@@ -73,7 +73,7 @@ TEST(IdentifyCli, HappyPathWritesIdentifiedParametersAndReport) {
   }
   EXPECT_NE(file.find("x_BC"), nullptr);
   EXPECT_EQ(file.find("variant")->text, "D");
-  for (const char* name : {"report.md", "report.html", "residuals.png", "singular_values.png", "monte_carlo_spread.png"})
+  for (const char* name : {"report.md", "report.html", "residuals.svg", "singular_values.svg", "monte_carlo_spread.svg"})
     EXPECT_TRUE(fs::exists(c.dir.path() / "report" / name)) << name;
 }
 

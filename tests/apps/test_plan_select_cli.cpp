@@ -110,7 +110,8 @@ TEST(SelectCli, LastLineIsTheRecommendation) {
   const std::string rec = out.substr(last);
   EXPECT_TRUE(rec == "recommended: C\n" || rec == "recommended: D\n") << out;
   EXPECT_TRUE(fs::exists(d / "report" / "select_scores.csv"));
-  EXPECT_TRUE(fs::exists(d / "report" / "select_cv.png"));
+  EXPECT_TRUE(fs::exists(d / "report" / "select_cv.svg"));
+  EXPECT_TRUE(fs::exists(d / "report" / "report.html"));
   EXPECT_EQ(test::runMireIn(dir, "select --poses " + (d / "poses.csv").string() + " --joints " +
                                      (d / "joints.csv").string() + " --models h4-12:E"),
             1);

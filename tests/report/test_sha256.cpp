@@ -45,6 +45,12 @@ TEST(Sha256, FolderDigestIsTheSha256sumManifest) {
   const auto digest = mire::report::sha256Folder(folder);
   EXPECT_EQ(digest.files, 2u);  // the sub-folder is not a file
   EXPECT_EQ(digest.sha256, sha256Hex(sha256Hex("a") + "  a.png\n" + sha256Hex("bb") + "  b.png\n"));
+  // A file in a sub-folder (one folder per pose) by its relative path.
+  std::ofstream(folder / "sub" / "c.png") << "c";
+  const auto nested = mire::report::sha256Folder(folder);
+  EXPECT_EQ(nested.files, 3u);
+  EXPECT_EQ(nested.sha256,
+            sha256Hex(sha256Hex("a") + "  a.png\n" + sha256Hex("bb") + "  b.png\n" + sha256Hex("c") + "  sub/c.png\n"));
   std::filesystem::remove_all(folder);
 }
 

@@ -44,6 +44,11 @@ class HtmlReport {
   // naming it and the reason; the rest of the page is written.
   void figure(const Figure& figure, const std::string& caption);
   void preformatted(const std::string& text);
+  // A paragraph ending in a link: `text` then <a href="href">label</a> (a relative path to a file
+  // beside the page: the report stays offline).
+  void link(const std::string& text, const std::string& label, const std::string& href);
+  // The inputs' table of provenance(): role, path, size and SHA-256 of each file or folder.
+  void inputTable(const std::vector<InputFile>& inputs);
   // The command line and every input file's size and SHA-256 (unreadable files say so).
   void provenance(const std::string& command_line, const std::vector<InputFile>& inputs, const std::string& version);
   std::string html() const;

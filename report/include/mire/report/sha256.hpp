@@ -10,9 +10,10 @@ namespace mire::report {
 std::string sha256Hex(std::string_view bytes);
 // Reads the file in blocks; throws std::runtime_error naming the file when it cannot be read.
 std::string sha256File(const std::filesystem::path& path);
-// A folder's digest: the SHA-256 of its manifest, the lines "<sha256>  <name>\n" of its regular
-// files sorted by name (what `sha256sum *` prints there, so a reader can check it), and how many
-// files that is.
+// A folder's digest: the SHA-256 of its manifest, the lines "<sha256>  <path>\n" of its regular
+// files, those of its sub-folders included, by relative path ("p001/img_00.png") in byte order
+// (what `find . -type f | cut -c3- | LC_ALL=C sort | xargs sha256sum` prints there, so a reader can
+// check it), and how many files that is.
 struct FolderDigest {
   std::string sha256;
   std::size_t files = 0;
