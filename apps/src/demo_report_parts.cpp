@@ -7,18 +7,6 @@
 
 namespace mire::app::demo_report {
 
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
-
-std::string fixed(double value, int digits) {
-  char pattern[16];
-  std::snprintf(pattern, sizeof pattern, "%%.%df", digits);
-  return std::isfinite(value) ? format(pattern, value) : "n/a";
-}
-
 std::string percent(double after, double before) {
   return before > 0.0 && std::isfinite(after) ? format("%+.0f %%", 100.0 * (after - before) / before) : "n/a";
 }

@@ -4,6 +4,7 @@
 // sections and their report.json objects.
 #include "demo.hpp"
 #include "mire/pipeline/closed_loop.hpp"
+#include "number_text.hpp"
 #include "report_json.hpp"
 
 #include <ostream>
@@ -12,9 +13,9 @@
 
 namespace mire::app::demo_report {
 
-std::string format(const char* pattern, double value);  // printf-style, one number
-std::string fixed(double value, int digits);            // "n/a" when not finite
-std::string percent(double after, double before);       // signed change, "n/a" when undefined
+using app::fixed;
+using app::format;
+std::string percent(double after, double before);  // signed change, "n/a" when undefined
 
 void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md);
 // "## 1. Camera calibration": views, RMS, projection uncertainty, estimate / σ / truth / error/σ.

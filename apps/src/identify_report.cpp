@@ -1,5 +1,6 @@
 // Report of `mire identify` (see identify_report.hpp).
 #include "identify_report.hpp"
+#include "number_text.hpp"
 #include "report_html.hpp"
 
 #include "mire/support/atomic_file.hpp"
@@ -10,15 +11,6 @@
 #include <sstream>
 
 namespace mire::app {
-namespace {
-
-std::string format(const char* fmt, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, value);
-  return buffer;
-}
-
-}  // namespace
 
 void writeIdentifyReport(const std::filesystem::path& dir, const IdentifyReportData& data) {
   std::filesystem::create_directories(dir);

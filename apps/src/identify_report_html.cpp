@@ -3,6 +3,7 @@
 // units) with the σ band the pose covariances predict, the identifiability, the Monte-Carlo
 // spreads beside the analytic σ, and the provenance.
 #include "identify_report.hpp"
+#include "number_text.hpp"
 #include "report_html.hpp"
 
 #include "mire/report/figure.hpp"
@@ -20,12 +21,6 @@ namespace {
 
 namespace rp = mire::report;
 namespace mech = mire::mechanism;
-
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
 
 // One symmetric y range for every leg of the same unit (display units, widened to a nice tick) so
 // the legs compare at a glance.

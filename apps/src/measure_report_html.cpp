@@ -3,6 +3,7 @@
 // own axes, the pixel-noise-only part beside the total), the failed and flagged poses, and the
 // provenance.
 #include "measure_report.hpp"
+#include "number_text.hpp"
 #include "report_html.hpp"
 
 #include "mire/support/constants.hpp"
@@ -14,12 +15,6 @@ namespace mire::app {
 namespace {
 
 namespace rp = mire::report;
-
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
 
 // One panel for the translation (mm), one for the rotation (deg): per pose (file order) the total
 // σ of each component as points and the pixel-noise-only σ as a line beneath.

@@ -2,6 +2,7 @@
 // the predicted σ of every free parameter from the planned poses beside random sets of the same
 // size and all candidates (one panel per unit: never mm and degrees on one axis), the plan's text
 // and the provenance.
+#include "number_text.hpp"
 #include "report_html.hpp"
 
 #include <cstdio>
@@ -12,12 +13,6 @@ namespace {
 
 namespace rp = mire::report;
 namespace mech = mire::mechanism;
-
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
 
 rp::Figure sigmaFigure(const mech::DesignReport& r) {
   std::map<std::string, std::vector<std::size_t>> by_unit;  // geometric parameters only

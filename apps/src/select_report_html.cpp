@@ -1,6 +1,7 @@
 // report.html of `mire select --report` (report_html.hpp): the recommended model with its
 // cross-validated score and standard error first, the scores of every candidate as a figure
 // (error bars ±1 SE, the one-SE threshold drawn) and a table, the nested F-tests, the provenance.
+#include "number_text.hpp"
 #include "report_html.hpp"
 
 #include <cmath>
@@ -12,10 +13,9 @@ namespace {
 namespace rp = mire::report;
 namespace mech = mire::mechanism;
 
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return std::isfinite(value) ? std::string(buffer) : std::string("n/a");
+// A cross-validation score is not finite when a candidate could not be fitted.
+std::string formatOrNa(const char* pattern, double value) {
+  return std::isfinite(value) ? format(pattern, value) : std::string("n/a");
 }
 
 }  // namespace
@@ -83,10 +83,11 @@ void writeSelectReportHtml(const std::filesystem::path& path, const ReportProven
       rows.push_back({s.label, std::to_string(s.parameters), "failed: " + s.message, "", "", "", "", "", ""});
       continue;
     }
-    rows.push_back({s.label + (static_cast<int>(i) == r.recommended ? " (recommended)" : ""), std::to_string(s.parameters),
-                    rp::withSigma(mech::toDisplay(unit, s.cv_rms()), mech::toDisplay(unit, s.cv_rms_se()), 5),
-                    format("%.5f", mech::toDisplay(unit, s.fit_rms)), format("%.1f", s.aic), format("%.1f", s.bic),
-                    format("%.1f", s.condition), std::to_string(s.rank), format("%.4f", s.v3 * 1e3)});
+    rows.push_back(
+        {s.label + (static_cast<int>(i) == r.recommended ? " (recommended)" : ""), std::to_string(s.parameters),
+         rp::withSigma(mech::toDisplay(unit, s.cv_rms()), mech::toDisplay(unit, s.cv_rms_se()), 5),
+         formatOrNa("%.5f", mech::toDisplay(unit, s.fit_rms)), formatOrNa("%.1f", s.aic), formatOrNa("%.1f", s.bic),
+         formatOrNa("%.1f", s.condition), std::to_string(s.rank), formatOrNa("%.4f", s.v3 * 1e3)});
   }
   page.table({"candidate", "parameters", "CV RMS \xC2\xB1 SE (" + u + ")", "fit RMS (" + u + ")", "AIC", "BIC", "cond",
               "rank", "V3 (mm)"},
