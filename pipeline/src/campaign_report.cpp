@@ -1,6 +1,8 @@
 // A campaign's report from the files its commands wrote (campaign_report.hpp).
 #include "mire/pipeline/campaign_report.hpp"
 
+#include "mire/mechanism/parameter_set.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/report/figure.hpp"
 #include "mire/report/html.hpp"
 
@@ -18,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace rp = mire::report;
+namespace mech = mire::mechanism;
 using Json = nlohmann::json;
 
 constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
@@ -116,13 +119,26 @@ void addMeasure(rp::HtmlReport& page, const Json& doc) {
   page.table({"", "tx (mm)", "ty (mm)", "tz (mm)", "rx (deg)", "ry (deg)", "rz (deg)"}, {row});
 }
 
+// identify's joint residual in the model's display unit (report.json keeps SI and does not name
+// the unit): the unit of the registered or described model's joints when they share one.
+std::string jointResidualText(const std::string& model_name, double rms_si) {
+  try {
+    const std::vector<mech::Unit> units = mech::makeRegisteredModel(model_name).mechanism->jointUnits();
+    if (!units.empty() && std::all_of(units.begin(), units.end(), [&](mech::Unit u) { return u == units[0]; }))
+      return format("%.4g", mech::toDisplay(units[0], rms_si)) + " " + mech::displayUnitName(units[0]);
+  } catch (const std::exception&) {
+    // A description file no longer where identify read it: the SI value, said so.
+  }
+  return format("%.4g", rms_si) + " (joint unit, SI)";
+}
+
 void addIdentify(rp::HtmlReport& page, const Json& doc) {
   const Json& fit = doc.value("fit", Json::object());
   const Json& model = doc.value("model", Json::object());
   std::string line = "Model " + text(model, "name") + ": " + std::to_string(fit.value("free_parameters", 0)) +
                      " free parameters from " + std::to_string(fit.value("poses", 0)) +
                      " poses, \xCF\x87\xC2\xB2/dof " + format("%.3g", number(fit, "chi2_per_dof")) +
-                     ", joint residual RMS " + format("%.4g", number(fit, "rms_joint_residual")) + " (joint unit, SI)";
+                     ", joint residual RMS " + jointResidualText(text(model, "name"), number(fit, "rms_joint_residual"));
   if (std::isfinite(number(fit, "v3_after_m")))
     line += ", straightness V3 " + format("%.4f", 1e3 * number(fit, "v3_before_m")) + " \xE2\x86\x92 " +
             format("%.4f", 1e3 * number(fit, "v3_after_m")) + " mm";

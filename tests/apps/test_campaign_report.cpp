@@ -56,8 +56,9 @@ TEST(CampaignReport, StagesInTheChainsOrderWithTheirSigmaAndTheInputsChecksums) 
   EXPECT_EQ(report.stages[1].kind, "identify");
   EXPECT_EQ(report.stages[2].kind, "accuracy");
   const std::string& html = report.html;
-  EXPECT_NE(html.find("812.346 \xC2\xB1 0.012"), std::string::npos);  // fx ± σ (px), σ to two digits
-  EXPECT_NE(html.find("350.12 \xC2\xB1 0.21"), std::string::npos);    // L in mm
+  EXPECT_NE(html.find("812.346 \xC2\xB1 0.012"), std::string::npos);                  // fx ± σ (px), σ to two digits
+  EXPECT_NE(html.find("350.12 \xC2\xB1 0.21"), std::string::npos);                    // L in mm
+  EXPECT_NE(html.find("joint residual RMS 0.00573 deg"), std::string::npos) << html;  // the Delta's joints turn
   // AP_p mean (0.9 + 1.1)/2 = 1.000 mm, σ √(2·0.04²)/2 = 0.028 mm.
   EXPECT_NE(html.find("mean AP_p 1.000 \xC2\xB1 0.028 mm"), std::string::npos) << html;
   EXPECT_NE(html.find("href=\"z_calibrate/report.html\""), std::string::npos);
