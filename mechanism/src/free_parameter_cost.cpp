@@ -72,6 +72,7 @@ bool FreeParameterCost::Evaluate(double const* const* parameters, double* residu
   const int rows = num_residuals();
   std::vector<Eigen::VectorXd> ambient_jacobians;
   std::vector<double*> pointers;
+  ambient_jacobians.reserve(sizes.size());  // the pointers taken below stay valid
   for (const int32_t size : sizes) {
     ambient_jacobians.emplace_back(static_cast<Eigen::Index>(rows) * size);
     pointers.push_back(ambient_jacobians.back().data());
