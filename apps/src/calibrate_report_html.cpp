@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mire::app {
@@ -38,6 +39,17 @@ double imageFrameHeight(const cal::CalibrationResult& result, double width) {
   return 150.0 + (width - 120.0) * result.camera.height / std::max(1, result.camera.width);
 }
 
+// One full-width panel of the image frame with `field`'s vectors drawn on it.
+rp::Figure imageFrameFigure(const cal::CalibrationResult& result, rp::VectorField field) {
+  rp::Panel panel = imageFramePanel(result);
+  panel.vectors = std::move(field);
+  rp::Figure figure;
+  figure.panels = {panel};
+  figure.panel_width = 760.0;
+  figure.panel_height = imageFrameHeight(result, figure.panel_width);
+  return figure;
+}
+
 // Every used view's residuals pooled, magnified so the 95th-percentile inlier draws ≈ 3 % of the
 // width (1-2-5); rejected points only when there are some.
 rp::Figure residualFigure(const cal::CalibrationResult& result) {
@@ -59,13 +71,7 @@ rp::Figure residualFigure(const cal::CalibrationResult& result) {
   field.magnification = rp::nice125(0.03 * result.camera.width / p95);
   field.unit = "px";
   field.sets = {inliers, rejected};
-  rp::Panel panel = imageFramePanel(result);
-  panel.vectors = field;
-  rp::Figure figure;
-  figure.panels = {panel};
-  figure.panel_width = 760.0;
-  figure.panel_height = imageFrameHeight(result, figure.panel_width);
-  return figure;
+  return imageFrameFigure(result, std::move(field));
 }
 
 // The 1σ projection uncertainty (worst direction) at the working distance, sampled at cell
@@ -149,13 +155,7 @@ rp::Figure modelCheckFigure(const cal::CalibrationResult& result, const cal::Mod
   field.unit = "px";
   for (const auto* set : {&significant, &plain, &untested})
     if (!set->x.empty()) field.sets.push_back(*set);
-  rp::Panel panel = imageFramePanel(result);
-  panel.vectors = field;
-  rp::Figure figure;
-  figure.panels = {panel};
-  figure.panel_width = 760.0;
-  figure.panel_height = imageFrameHeight(result, figure.panel_width);
-  return figure;
+  return imageFrameFigure(result, std::move(field));
 }
 
 bool isFixed(const cal::CalibrationResult& result, const std::string& name) {
