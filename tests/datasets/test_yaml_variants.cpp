@@ -1,9 +1,10 @@
 // Every example file mire ships (datasets/specs: simulation specs, the nominal H4 parameters,
-// the reference camera) read in each YAML syntax a person or another tool may write gives the
-// same result: plain YAML (as shipped), OpenCV's %YAML:1.0 header, a '---' line only, CRLF,
-// a UTF-8 BOM, flow style, comments everywhere. One test per file and variant.
+// the reference camera; examples/mechanisms: the described robots) read in each YAML syntax a person or another tool
+// may write gives the same result: plain YAML (as shipped), OpenCV's %YAML:1.0 header, a '---' line only, CRLF, a UTF-8
+// BOM, flow style, comments everywhere. One test per file and variant.
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/datasets/simulation.hpp"
+#include "mire/mechanism/described.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 
@@ -107,6 +108,17 @@ TEST_P(YamlVariant, ReferenceCamera) {
   const auto read = calibration::readCamera(write("reference_camera.yaml"));
   EXPECT_EQ(read.params, reference.params);
   EXPECT_EQ(read.width, 1024);
+}
+
+TEST_P(YamlVariant, DescribedMechanisms) {
+  for (const char* name : {"linear-delta.yaml", "6-rus.yaml", "6-pus.yaml"}) {
+    const fs::path shipped = test::sourceDir() / "examples/mechanisms" / name;
+    const fs::path path = dir_.path() / (std::string("variant_") + name);
+    std::ofstream(path, std::ios::binary) << variant(GetParam(), test::readText(shipped));
+    EXPECT_EQ(mechanism::readMechanismDescription(path).yamlString(),
+              mechanism::readMechanismDescription(shipped).yamlString())
+        << name;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryYamlSyntax, YamlVariant, ::testing::ValuesIn(kVariants),
