@@ -199,7 +199,7 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   files.lines = campaign->lines_file();
   const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign->robot.mechanism().jointColumnNames());
   results.true_v3_m = trueStraightness(campaign->robot, data.lineJoints());
-  for (const auto& name : mechanism::mechanismFamilyOf(options.mechanism).models)
+  for (const auto& name : mechanism::selectionModelNames(mechanism::mechanismFamilyOf(options.mechanism)))
     stage("identify " + modelLabel(name) + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
   results.mounting = options.mounting;

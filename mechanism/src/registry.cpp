@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 #include "mire/mechanism/delta.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/gough_stewart.hpp"
 #include "mire/mechanism/gough_stewart_gains.hpp"
+#include "mire/mechanism/gough_stewart_symmetric.hpp"
 
 namespace mire::mechanism {
 
@@ -86,6 +88,16 @@ std::vector<ModelInfo> builtInModels() {
        {"delta"},
        {},
        other([] { return makeDeltaMechanism(DeltaModelKind::Legs); })},
+      {"gough-stewart-symmetric",
+       "Gough-Stewart platform, symmetric layout (rb beta_b rp beta_p rho0), full mounting",
+       "gough-stewart-symmetric",
+       "gough-stewart",
+       false,
+       "",
+       0,
+       {},
+       {},
+       other([] { return makeGoughStewartSymmetricMechanism(); })},
       {"gough-stewart",
        "Gough-Stewart platform (42 parameters), full mounting",
        "gough-stewart",
@@ -93,7 +105,7 @@ std::vector<ModelInfo> builtInModels() {
        false,
        "",
        0,
-       {},
+       {"gough-stewart-symmetric"},
        {},
        other([] { return makeGoughStewartMechanism(); })},
       {"gough-stewart-gains",
@@ -197,6 +209,17 @@ const ModelInfo& modelOfVariant(char letter) {
 }
 
 std::string registeredModelList() { return nameList(registeredModels()); }
+
+std::vector<std::string> selectionModelNames(const MechanismFamily& family) {
+  if (family.selection.empty()) return family.models;  // a described robot: its one model
+  std::vector<std::string> names;
+  std::istringstream items(family.selection);
+  for (std::string item; std::getline(items, item, ',');) {
+    const std::string name = item.substr(0, item.find(':'));
+    if (name.size() > 1) names.push_back(name);  // a lone letter is a variant of the model before it
+  }
+  return names;
+}
 
 std::string variantOwnerList() {
   std::string list;

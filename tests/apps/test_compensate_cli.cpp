@@ -185,7 +185,7 @@ double trueResidual(const datasets::Campaign& c, const mech::Mechanism& controll
 // quadrature instead of the 1.3× criterion.
 void controllerAcceptance(const std::string& truth_model, const std::string& controller_model,
                           const Eigen::Vector3d& half_box, bool best_above_noise = true, unsigned seed = 41,
-                          int extra = 400) {
+                          int extra = 400, double nominal_over_fitted = 2.0) {
   test::TempDir dir;
   const fs::path d = dir.path();
   // The protocol + 400 random poses: the fitted controller carries the part of the
@@ -253,7 +253,7 @@ void controllerAcceptance(const std::string& truth_model, const std::string& con
   else
     EXPECT_LT(r_fitted, 1.3 * std::hypot(r_best, r_full));
   EXPECT_LT(r_full, 0.15e-3);  // the identification's noise level (0.2 mm measurements, 81 poses)
-  EXPECT_GT(r_nominal, 2 * r_fitted);
+  EXPECT_GT(r_nominal, nominal_over_fitted * r_fitted);
 }
 
 TEST(CompensateCli, DeltaControllerFromThePerLegModel) {
@@ -261,6 +261,13 @@ TEST(CompensateCli, DeltaControllerFromThePerLegModel) {
 }
 TEST(CompensateCli, H4Model12ControllerFromModel31) {
   controllerAcceptance("h4-31", "h4-12", Eigen::Vector3d(0.1, 0.1, 0.05));
+}
+// The hexapod's analogue of the Delta's: its legs differ (every joint centre and leg length off by
+// about 1 mm), identified with the per-leg model, run by a controller with the symmetric layout.
+// Measured (seed 41): fitted 0.149 mm, best 0.150 mm, nominal 0.227 mm frame-free — the symmetric
+// layout corrects a third of the nominal's error (the per-leg differences stay), hence 1.3×.
+TEST(CompensateCli, SymmetricHexapodControllerFromThePerLegModel) {
+  controllerAcceptance("gough-stewart", "gough-stewart-symmetric", Eigen::Vector3d(0.04, 0.04, 0.03), true, 41, 400, 1.3);
 }
 TEST(CompensateCli, HexapodControllerWithNominalJoints) {
   controllerAcceptance("gough-stewart-gains", "gough-stewart", Eigen::Vector3d(0.04, 0.04, 0.03), false);

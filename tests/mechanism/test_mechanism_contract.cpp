@@ -37,6 +37,10 @@ struct GoughStewart {
   static std::string name() { return "gough-stewart"; }
   static constexpr int kRank = 42;
 };
+struct GoughStewartSymmetric {
+  static std::string name() { return "gough-stewart-symmetric"; }
+  static constexpr int kRank = 17;
+};
 struct GoughStewartGains {
   static std::string name() { return "gough-stewart-gains"; }
   static constexpr int kRank = 48;
@@ -44,7 +48,8 @@ struct GoughStewartGains {
 
 template <class M>
 class MechanismContract : public ::testing::Test {};
-using Models = ::testing::Types<H4Model12, H4Model31, Delta, DeltaLegs, GoughStewart, GoughStewartGains>;
+using Models =
+    ::testing::Types<H4Model12, H4Model31, Delta, DeltaLegs, GoughStewartSymmetric, GoughStewart, GoughStewartGains>;
 TYPED_TEST_SUITE(MechanismContract, Models);
 
 TYPED_TEST(MechanismContract, IkmAndFkmAreInverse) {

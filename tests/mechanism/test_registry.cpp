@@ -63,9 +63,13 @@ TEST(Registry, EveryFamilyNamesItsOwnModelsAndItsSelectionParses) {
     const mech::RegisteredModel simplest = mech::makeRegisteredModel(family.models.front());
     EXPECT_EQ(mech::defaultSelectionModels(simplest.mechanism->jointCount(), simplest.mechanism->jointUnits().front()),
               family.selection);
-    for (const mech::SelectionCandidate& c :
-         mech::parseSelectionCandidates(family.selection, [](const std::string& n) { return mech::makeDesignModel(n); }))
+    std::vector<std::string> selected;  // the demo identifies these (selectionModelNames)
+    for (const mech::SelectionCandidate& c : mech::parseSelectionCandidates(
+             family.selection, [](const std::string& n) { return mech::makeDesignModel(n); })) {
       EXPECT_EQ(mech::modelInfo(c.model.registered.name).family, family.name) << c.label;
+      if (selected.empty() || selected.back() != c.model.registered.name) selected.push_back(c.model.registered.name);
+    }
+    EXPECT_EQ(mech::selectionModelNames(family), selected) << family.name;
     EXPECT_EQ(&mech::familyWithDefects(family.defects), &family);
   }
   EXPECT_EQ(in_a_family.size(), mech::registeredModels().size());

@@ -52,8 +52,8 @@ struct MechanismFamily {
   std::string name;
   std::string title;                // in reports
   std::string plain_title;          // ASCII, for the charts' Hershey fonts
-  std::vector<std::string> models;  // its registered models, simplest first (the demo identifies each)
-  std::string selection;            // select's default `--models` for its joints
+  std::vector<std::string> models;  // its registered models, simplest first
+  std::string selection;            // select's default `--models` for its joints (the demo identifies these)
   // The model its simulated robot's true geometry is written in (truth/<model>.yaml) and which
   // of that model's parameters compare with the truth directly (the others are in the gauge's frame).
   std::string truth_model;
@@ -83,6 +83,9 @@ const MechanismFamily& mechanismFamily(const std::string& name);
 // description is its only model and its truth, with BentReadings defects. Throws as
 // mechanismFamily, or naming the description file's line and key.
 MechanismFamily mechanismFamilyOf(const std::string& name_or_file);
+// The model names of a family's `selection`, in its order (variant letters dropped); a described
+// robot's family, which has no selection: its model.
+std::vector<std::string> selectionModelNames(const MechanismFamily& family);
 const MechanismFamily& familyWithDefects(SimulatedDefects defects);
 
 // Throws as modelInfo(). The H4 models take their

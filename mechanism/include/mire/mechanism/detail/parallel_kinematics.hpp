@@ -4,6 +4,7 @@
 #include <ceres/rotation.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -11,6 +12,7 @@
 
 #include "mire/mechanism/detail/h4_kinematics.hpp"
 #include "mire/mechanism/mechanism.hpp"
+#include "mire/support/constants.hpp"
 
 namespace mire::mechanism {
 
@@ -141,6 +143,46 @@ struct GoughStewartKinematics {
       T d[3];
       for (int k = 0; k < 3; ++k) d[k] = t[k] + R[k] * p[0] + R[3 + k] * p[1] + R[6 + k] * p[2] - b[k];
       joints[i] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g[36 + i];
+    }
+    return 0;
+  }
+};
+
+// Model `gough-stewart-symmetric` (gough_stewart_symmetric.hpp): the Gough–Stewart legs above with
+// the joints placed by the 3-fold symmetric layout of the nominal hexapod, g = (rb, beta_b, rp, beta_p, rho0):
+//   b_i = rb·(cos(c_i + σ_i·beta_b), sin(…), 0),  p_i = rp·(cos(d_i + τ_i·beta_p), sin(…), 0),
+//   q̄_i = ‖t + R·p_i − b_i‖ − rho0,
+// with the pair centres c = (0, 0, 120, 120, 240, 240)°, d = (300, 60, 60, 180, 180, 300)° and the
+// signs σ = (−, +, −, +, −, +), τ = (+, −, +, −, +, −) of doc/mechanisms.md.
+struct GoughStewartSymmetricKinematics : GoughStewartKinematics {
+  static constexpr int kGeometric = 5;
+  static constexpr int kRho0 = 4;  // index of rho0
+  static constexpr std::array<double, 6> kBaseCentreDeg{0, 0, 120, 120, 240, 240};
+  static constexpr std::array<double, 6> kPlatformCentreDeg{300, 60, 60, 180, 180, 300};
+  static constexpr std::array<double, 6> kBaseSign{-1, 1, -1, 1, -1, 1};
+  static constexpr std::array<double, 6> kPlatformSign{1, -1, 1, -1, 1, -1};
+
+  std::string name() const { return "gough-stewart-symmetric"; }
+  bool inStroke(const double* g, int, double q) const {
+    const double rho = q + g[kRho0];
+    return rho >= leg_min && rho <= leg_max;
+  }
+  template <class T>
+  int inverseKinematics(const T* g, const T* R, const T* t, T* joints) const {
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    constexpr double kDeg = support::kPi / 180.0;
+    for (std::size_t i = 0; i < 6; ++i) {
+      const T base_angle = kBaseCentreDeg[i] * kDeg + kBaseSign[i] * g[1];
+      const T platform_angle = kPlatformCentreDeg[i] * kDeg + kPlatformSign[i] * g[3];
+      const T p[2] = {g[2] * cos(platform_angle), g[2] * sin(platform_angle)};
+      const T b[2] = {g[0] * cos(base_angle), g[0] * sin(base_angle)};
+      T d[3];
+      for (int k = 0; k < 3; ++k) d[k] = t[k] + R[k] * p[0] + R[3 + k] * p[1];
+      d[0] -= b[0];
+      d[1] -= b[1];
+      joints[i] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g[kRho0];
     }
     return 0;
   }
