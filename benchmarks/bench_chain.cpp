@@ -13,7 +13,7 @@
 #include "chain_statistics.hpp"
 
 #include "mire/calibration/calibrate.hpp"
-#include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/io.hpp"
@@ -91,11 +91,11 @@ Eigen::Isometry3d drawnPlacement(std::uint64_t seed) {
   return base_T_camera;
 }
 
-datasets::H4CampaignSpec chainSpec(int chain, int images_per_pose, bool draw_placement) {
-  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
+datasets::MechanismImageCampaignSpec chainSpec(int chain, int images_per_pose, bool draw_placement) {
+  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference("h4");
   spec.seed = 19000 + static_cast<std::uint64_t>(chain);  // new images and encoder noise
   spec.robot_seed = chain % 2 == 0 ? 2004 : 5000 + static_cast<std::uint64_t>(chain);
-  spec.errors.leg_length_m = spec.errors.pivot_height_m = spec.errors.axis_tilt_rad = spec.errors.bar_mismatch_m = 0.0;
+  spec.unmodelled_defects = false;
   spec.images_per_pose = images_per_pose;
   spec.line_points = 3;  // the lines (V3) are not used here
   if (draw_placement) spec.base_T_camera = drawnPlacement(spec.seed);
@@ -103,7 +103,8 @@ datasets::H4CampaignSpec chainSpec(int chain, int images_per_pose, bool draw_pla
 }
 
 // Stage 1, as `mire demo`: detection in every calibration image, bundle adjustment (OpenCV5).
-calibration::Camera calibrate(const datasets::H4Campaign& campaign, const metrology::Target& target, Study& study) {
+calibration::Camera calibrate(const datasets::MechanismImageCampaign& campaign, const metrology::Target& target,
+                              Study& study) {
   const pipeline::CalibrationFolder folder = pipeline::detectCalibrationFolder(target, campaign.calibration_images(), 0);
   calibration::CalibrationOptions options;
   options.model = calibration::DistortionModel::OpenCV5;
@@ -139,8 +140,9 @@ void scoreCorrelation(const std::vector<Eigen::Matrix<double, 6, 1>>& whitened, 
 // Stage 2, as `mire demo`/`mire measure`: one pose per folder, poses.csv + covariance + shared
 // term; each pose scored against the true cTm, and with the calibration's own error removed
 // (e − D_j Δk, the true Δk known here) against the independent part of its covariance.
-void measure(const datasets::H4Campaign& campaign, const calibration::Camera& camera, const metrology::Target& target,
-             const Eigen::VectorXd& camera_error, const fs::path& poses_csv, Study& study) {
+void measure(const datasets::MechanismImageCampaign& campaign, const calibration::Camera& camera,
+             const metrology::Target& target, const Eigen::VectorXd& camera_error, const fs::path& poses_csv,
+             Study& study) {
   metrology::MeasurementOptions options;
   options.integrity.split = metrology::SplitPolicy::KeepLargest;
   static const char* const components[6] = {"tx", "ty", "tz", "rx", "ry", "rz"};
@@ -166,7 +168,7 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
     study.pose_mahalanobis_independent.push_back(mahalanobis(independent, m.estimate.covariance_noise) / 6.0);
     whitened.push_back(m.estimate.covariance_noise.llt().matrixL().solve(independent));
     const auto index = std::find(campaign.pose_ids.begin(), campaign.pose_ids.end(), pose.pose_id);
-    theta.push_back(campaign.poses[static_cast<std::size_t>(index - campaign.pose_ids.begin())][3]);
+    theta.push_back(campaign.commanded[static_cast<std::size_t>(index - campaign.pose_ids.begin())][3]);
   }
   scoreCorrelation(whitened, theta, study);
   metrology::writePosesCsv(poses_csv, measured);
@@ -177,12 +179,10 @@ void measure(const datasets::H4Campaign& campaign, const calibration::Camera& ca
 
 // The simulator's truth in the identified parameters' order (z_BC in the model's z_ME gauge,
 // paper eq. 24), as `mire demo` scores it.
-Eigen::VectorXd truthOf(const mech::IdentificationResult& result, const datasets::H4Campaign& campaign,
-                        const datasets::H4CampaignSpec& spec) {
+Eigen::VectorXd truthOf(const mech::IdentificationResult& result, const datasets::MechanismImageCampaign& campaign) {
   const auto& p = result.model.parameters;
   Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
-  truth << mech::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, *spec.robot_seed)).values(),
-      result.model.external.valuesFrom(campaign.robot.baseTCamera(), campaign.robot.markerTEffector());
+  truth << campaign.robot.geometry.values(), result.model.external.valuesFrom(campaign.bTc, campaign.mTe);
   truth[static_cast<Eigen::Index>(p.index("z_BC"))] +=
       truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
   return truth;
@@ -192,7 +192,7 @@ Eigen::VectorXd truthOf(const mech::IdentificationResult& result, const datasets
 // with it propagated by refits of the whole estimator ("after").
 // Diagnostic (truth known here): the refit on poses with the calibration's own error removed,
 // cTm_j − D_j Δk, is scored against the σ without the shared term.
-void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSpec& spec, const fs::path& poses_csv,
+void identify(const datasets::MechanismImageCampaign& campaign, const fs::path& poses_csv,
               const Eigen::VectorXd& camera_error, Study& study) {
   const pipeline::ModelChoice choice = pipeline::chooseModel("h4-12", "D");
   const pipeline::PoseSet set = pipeline::readPoseSet(pipeline::PoseSetFiles::beside(poses_csv, campaign.joints_file()),
@@ -211,7 +211,7 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
     pose.cTm -= shared.sensitivity.at(pose.id).leftCols(camera_error.size()) * camera_error;
   const mech::IdentificationResult corrected =
       pipeline::fit(choice, pipeline::initialModel(choice, corrected_poses), corrected_poses, {});
-  const Eigen::VectorXd truth = truthOf(before, campaign, spec);
+  const Eigen::VectorXd truth = truthOf(before, campaign);
   const auto& p = before.model.parameters;
   const auto free = static_cast<Eigen::Index>(before.free_names.size());
   // An angle may come out a turn away from the truth (ψ_BC near ±180° with a drawn placement).
@@ -253,11 +253,11 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
       worst = f;
   std::vector<Eigen::VectorXd> joints;
   std::vector<Eigen::Isometry3d> cTm;
-  for (const datasets::H4Pose& pose : campaign.poses) {
-    const std::optional<datasets::H4Joints> q = campaign.robot.joints(pose);
-    if (!q) throw std::runtime_error("the true robot does not reach a protocol pose");
-    joints.emplace_back(*q);
-    cTm.push_back(campaign.robot.cameraTMarker(pose));
+  for (std::size_t i = 0; i < campaign.commanded.size(); ++i) {
+    const Eigen::VectorXd q = campaign.robot.joints(campaign.commanded[i]);
+    if (q.size() == 0) throw std::runtime_error("the true robot does not reach a protocol pose");
+    joints.push_back(q);
+    cTm.push_back(campaign.trueCameraTMarker(campaign.pose_ids[i]));
   }
   scorePredictions(mech::predictionModelFrom("h4-12", after), joints, cTm, study.prediction);
   std::printf("  largest |error/sigma| with the shared term: %s %.2f\n",
@@ -266,11 +266,11 @@ void identify(const datasets::H4Campaign& campaign, const datasets::H4CampaignSp
 }
 
 void runChain(int chain, int images_per_pose, bool draw_placement, const fs::path& work, Study& study) {
-  const datasets::H4CampaignSpec spec = chainSpec(chain, images_per_pose, draw_placement);
+  const datasets::MechanismImageCampaignSpec spec = chainSpec(chain, images_per_pose, draw_placement);
   const fs::path dir = work / ("chain" + std::to_string(chain));
   const double start = processCpuSeconds();
   const auto wall = std::chrono::steady_clock::now();
-  const datasets::H4Campaign campaign = datasets::generateH4Campaign(spec, dir / "campaign");
+  const datasets::MechanismImageCampaign campaign = datasets::generateMechanismImageCampaign(spec, dir / "campaign");
   const metrology::Target target = metrology::Target::fromFile(campaign.target_file());
   const double simulated = processCpuSeconds();
   const calibration::Camera camera = calibrate(campaign, target, study);
@@ -279,7 +279,7 @@ void runChain(int chain, int images_per_pose, bool draw_placement, const fs::pat
     camera_error[static_cast<Eigen::Index>(i)] = camera.params[i] - campaign.camera.params[i];
   measure(campaign, camera, target, camera_error, dir / "poses.csv", study);
   const double measured = processCpuSeconds();
-  identify(campaign, spec, dir / "poses.csv", camera_error, study);
+  identify(campaign, dir / "poses.csv", camera_error, study);
   const double done = processCpuSeconds();
   ++study.chains;
   std::printf(
@@ -356,7 +356,8 @@ void printIdentification(const Study& s) {
 
 int main(int argc, char** argv) {
   const int chains = argc > 1 ? std::atoi(argv[1]) : 20;
-  const int images = argc > 2 ? std::atoi(argv[2]) : datasets::H4CampaignSpec::reference().images_per_pose;
+  const int images =
+      argc > 2 ? std::atoi(argv[2]) : datasets::MechanismImageCampaignSpec::reference("h4").images_per_pose;
   const fs::path work = argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "mire_bench_chain";
   const std::string placement = argc > 4 ? argv[4] : "drawn";
   const bool draw_placement = placement == "drawn";

@@ -3,7 +3,7 @@
 // (OpenCV's settings and mire's stored PNG), detection, refinement and one pose of 10 images.
 // Run by hand: bench_demo_stages DEMO_DIR (the output of `mire demo -o DEMO_DIR`).
 #include "mire/calibration/camera_formats.hpp"
-#include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/datasets/png.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/metrology/detection.hpp"
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   }
   const std::filesystem::path demo = argv[1];
   cv::setNumThreads(1);
-  const auto spec = datasets::H4CampaignSpec::reference();
+  const auto spec = datasets::MechanismImageCampaignSpec::reference("h4");
   const calibration::Camera camera = calibration::readCamera(spec.camera_file);
   const metrology::Target target = metrology::Target::fromFile(spec.target_file);
 

@@ -5,8 +5,8 @@
 //     the spread over repeated campaigns and over 100 random 71-pose subsets (target [0.5, 2]),
 //     the outlier list, and the outlier list with two corrupted poses injected.
 // Usage: bench_identify_sigma [campaigns=40] [same|different robots]
-#include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/h4_true_robot.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/variants.hpp"
 
@@ -25,7 +25,7 @@ using namespace mire;
 namespace mech = mire::mechanism;
 
 datasets::H4ErrorSizes demoSizes(bool defects) {
-  datasets::H4ErrorSizes sizes = datasets::H4CampaignSpec::reference().errors;
+  datasets::H4ErrorSizes sizes = datasets::MechanismImageCampaignSpec::reference("h4").h4_errors;
   if (!defects) sizes.leg_length_m = sizes.pivot_height_m = sizes.axis_tilt_rad = sizes.bar_mismatch_m = 0.0;
   return sizes;
 }
@@ -38,7 +38,7 @@ struct Campaign {
 
 Campaign simulate(std::uint64_t robot_seed, std::uint64_t noise_seed, bool defects) {
   const auto sizes = demoSizes(defects);
-  const datasets::H4TrueRobot robot(datasets::makeTrueGeometry({}, sizes, robot_seed));
+  const datasets::H4TrueKinematics robot(datasets::makeTrueGeometry({}, sizes, robot_seed));
   datasets::H4MeasurementNoise noise;
   noise.encoder_rad = 2e-5;
   Campaign c;

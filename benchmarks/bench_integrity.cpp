@@ -2,7 +2,7 @@
 // (doc/measurement.md, "Imperfect campaigns"), run by hand:
 //   bench_integrity [campaign_dir]   (default /tmp/mire-bench-integrity; generated if absent)
 //  1. false alarms: the 81 genuinely static poses × 10 images of the H4 reference campaign
-//     (H4CampaignSpec::reference: defocus 0.6 px, read + shot noise), measured with the true
+//     (MechanismImageCampaignSpec::reference("h4"): defocus 0.6 px, read + shot noise), measured with the true
 //     camera; how many fail the integrity test, the largest pairwise χ² / threshold, the
 //     screening flags, and the time with and without the test (same run);
 //  2. sensitivity: for 10 of those poses, 6 + 4 images of two views 1 mm or 0.1° apart
@@ -10,7 +10,7 @@
 //  3. screening: the campaign with one pose downscaled (×¼ and back) and one blurred (σ 3 px).
 #include "feature_displacement.hpp"
 #include "mire/calibration/camera_io.hpp"
-#include "mire/datasets/h4_campaign.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/metrology/campaign_screening.hpp"
 #include "mire/metrology/pose_measurement.hpp"
@@ -59,10 +59,10 @@ Eigen::Isometry3d rotatedAboutCentre(const Eigen::Isometry3d& pose, const mire::
 
 int main(int argc, char** argv) {
   const fs::path directory = argc > 1 ? fs::path(argv[1]) : fs::path("/tmp/mire-bench-integrity");
-  const auto spec = mire::datasets::H4CampaignSpec::reference();
+  const auto spec = mire::datasets::MechanismImageCampaignSpec::reference("h4");
   if (!fs::exists(directory / "poses")) {
     const auto start = Clock::now();
-    mire::datasets::generateH4Campaign(spec, directory);
+    mire::datasets::generateMechanismImageCampaign(spec, directory);
     std::printf("generated the campaign in %.0f s\n", seconds(start));
   }
   const auto camera = mire::calibration::readCameraYaml(spec.camera_file);

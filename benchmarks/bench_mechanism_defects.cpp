@@ -38,7 +38,7 @@ struct Outcome {
 
 // The true robot's encoder readings along the two V3 lines (datasets::straightLinePoses, 21
 // poses each; `reach` scales their extent).
-std::vector<std::vector<Eigen::VectorXd>> recordLines(const DefectiveRobot& robot, double reach) {
+std::vector<std::vector<Eigen::VectorXd>> recordLines(const TrueRobot& robot, double reach) {
   std::vector<std::vector<Eigen::VectorXd>> lines;
   for (const auto& poses : straightLinePoses(robot, 21, reach)) {
     std::vector<Eigen::VectorXd> q;
@@ -51,7 +51,7 @@ std::vector<std::vector<Eigen::VectorXd>> recordLines(const DefectiveRobot& robo
   return lines;
 }
 
-Scores score(const DefectiveRobot& robot, const Mechanism& m, const Eigen::VectorXd& g, double reach) {
+Scores score(const TrueRobot& robot, const Mechanism& m, const Eigen::VectorXd& g, double reach) {
   Scores s;
   const StraightnessResult v3 = straightnessCriterion(m, g, recordLines(robot, reach));
   s.v3 = v3.ok ? v3.v3_m : NAN;
@@ -63,7 +63,7 @@ Scores score(const DefectiveRobot& robot, const Mechanism& m, const Eigen::Vecto
 
 struct Case {
   std::string robot, model;
-  std::function<DefectiveRobot(unsigned)> make;
+  std::function<TrueRobot(unsigned)> make;
   bool noisy = true;    // pose noise 0.2 mm / 0.03°, or none (then the identification is unweighted)
   double spread = 1.0;  // protocol positions spread about the reference pose
   double reach = 1.0;   // V3 lines' half-extents scale
@@ -72,7 +72,7 @@ struct Case {
 
 // One campaign of the case's robot identified with its model; V3 and the square before and after.
 Outcome study(const Case& k, unsigned seed) {
-  const DefectiveRobot robot = k.make(seed);
+  const TrueRobot robot = k.make(seed);
   const std::string& model = k.model;
   const bool noisy = k.noisy;
   Campaign c = simulateDefectiveCampaign(robot, model, seed, noisy ? 0.2e-3 : 0.0, noisy ? 0.03 * kCampaignDeg : 0.0,

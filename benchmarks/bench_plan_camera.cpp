@@ -22,8 +22,8 @@
 
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/datasets/data_dir.hpp"
-#include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/h4_true_robot.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/datasets/render.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/pose.hpp"
@@ -43,7 +43,7 @@ double median(std::vector<double> v) {
   return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-// The demo's mounting (datasets/src/h4_campaign.cpp): the board centred under the effector.
+// The demo's mounting (datasets/src/mechanism_image_campaign.cpp): the board centred under the effector.
 mech::MountingGuess demoMounting(const metro::Target& target) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const auto& p : target.points()) centroid += p;
@@ -59,7 +59,7 @@ mech::MountingGuess demoMounting(const metro::Target& target) {
 // Renders one pose `images` times (one render, independent sensor noise, as the demo's
 // campaign) and measures it as `mire measure` does.
 metro::PoseMeasurement renderAndMeasure(const mire::datasets::Renderer& renderer,
-                                        const mire::datasets::H4CampaignSpec& spec,
+                                        const mire::datasets::MechanismImageCampaignSpec& spec,
                                         const mire::calibration::Camera& camera, const metro::Target& target,
                                         const Eigen::Isometry3d& cTm, int images, std::size_t seed) {
   const mire::datasets::Rendering r = renderer.render(cTm);
@@ -92,9 +92,9 @@ struct Comparison {
 
 // Measures one planned pose, prints predicted vs reported σ and accumulates the ratios
 // reported/predicted.
-void measurePlannedPose(const mire::datasets::Renderer& renderer, const mire::datasets::H4CampaignSpec& spec,
-                        const mire::calibration::Camera& camera, const metro::Target& target,
-                        const Eigen::Isometry3d& cTm, const Sigma6& predicted,
+void measurePlannedPose(const mire::datasets::Renderer& renderer,
+                        const mire::datasets::MechanismImageCampaignSpec& spec, const mire::calibration::Camera& camera,
+                        const metro::Target& target, const Eigen::Isometry3d& cTm, const Sigma6& predicted,
                         const metro::PredictionOptions& prediction, std::size_t k, Comparison* c) {
   const int images = prediction.images;
   const metro::PoseMeasurement m = renderAndMeasure(renderer, spec, camera, target, cTm, images, k);
@@ -157,7 +157,8 @@ void fitBoardImageModel(const std::vector<double>& systematic, const std::vector
 
 // The detector's noise measured on `count` visible candidates that are not planned (every
 // k-th one): the medians, what `--pixel-sigma` and `--systematic-px` default to.
-DetectorNoise calibrateNoise(const mire::datasets::Renderer& renderer, const mire::datasets::H4CampaignSpec& spec,
+DetectorNoise calibrateNoise(const mire::datasets::Renderer& renderer,
+                             const mire::datasets::MechanismImageCampaignSpec& spec,
                              const mire::calibration::Camera& camera, const metro::Target& target,
                              const mech::CandidateInformation& info, const std::vector<int>& design, int images,
                              int count) {
@@ -198,7 +199,7 @@ double worst(const std::vector<double>& ratios) {
 
 int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
-  mire::datasets::H4CampaignSpec spec = mire::datasets::H4CampaignSpec::reference();
+  mire::datasets::MechanismImageCampaignSpec spec = mire::datasets::MechanismImageCampaignSpec::reference("h4");
   const mire::calibration::Camera truth = mire::calibration::readCamera(spec.camera_file);
   const mire::calibration::Camera camera = argc > 1 && argv[1][0] != 0 ? mire::calibration::readCamera(argv[1]) : truth;
   const metro::Target target = metro::Target::fromFile(spec.target_file);

@@ -73,8 +73,8 @@ void h4Case(bool legs_differ, int campaigns) {
 // arm and forearm lengths changed by 1–3 mm (random sign) on top of equal legs.
 enum class DeltaLegs { Equal, SmallPerturbation, LengthsDiffer };
 
-ds::DefectiveRobot deltaRobot(unsigned seed, DeltaLegs legs) {
-  ds::DefectiveRobot robot = ds::makeDefectiveDelta(seed, legs == DeltaLegs::SmallPerturbation, 0.0);
+ds::TrueRobot deltaRobot(unsigned seed, DeltaLegs legs) {
+  ds::TrueRobot robot = ds::makeDefectiveDelta(seed, legs == DeltaLegs::SmallPerturbation, 0.0);
   if (legs != DeltaLegs::LengthsDiffer) return robot;
   std::mt19937 rng(seed + 77);
   std::uniform_real_distribution<double> size(1e-3, 3e-3);
@@ -89,7 +89,7 @@ void deltaCase(DeltaLegs legs, int campaigns, int extra_poses) {
   const bool legs_differ = legs != DeltaLegs::Equal;
   int hits = 0;
   for (int c = 0; c < campaigns; ++c) {
-    const ds::DefectiveRobot robot = deltaRobot(200u + static_cast<unsigned>(c), legs);
+    const ds::TrueRobot robot = deltaRobot(200u + static_cast<unsigned>(c), legs);
     const ds::Campaign campaign = ds::simulateDefectiveCampaign(robot, "delta", 300u + static_cast<unsigned>(c), 0.2e-3,
                                                                 0.03 * ds::kCampaignDeg, extra_poses);
     SelectionOptions options;

@@ -11,7 +11,7 @@
 
 int main() {
   using namespace mire;
-  const datasets::H4TrueRobot robot(datasets::makeTrueGeometry({}, datasets::H4ErrorSizes{}, 3));
+  const datasets::H4TrueKinematics robot(datasets::makeTrueGeometry({}, datasets::H4ErrorSizes{}, 3));
   datasets::H4MeasurementNoise noise;
   noise.encoder_rad = 2e-5;
   const auto poses =

@@ -1,16 +1,14 @@
 // `mire simulate campaign --mechanism h4|delta|gough-stewart -o DIR` (or `--model robot.yaml`, a
 // described robot, doc/mechanisms.md): the demo's whole rendered campaign on disk (doc/simulation.md, "Whole
 // campaigns"), so that a user runs calibrate -> measure -> identify by hand with the public commands. Glue only: the
-// campaigns are datasets::generateH4Campaign and datasets::generateMechanismImageCampaign.
+// campaign is datasets::generateMechanismImageCampaign.
 #include "output_paths.hpp"
 #include "simulate_campaign.hpp"
 #include "validate.hpp"
 
-#include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/described.hpp"
-#include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/pipeline/identify.hpp"
@@ -95,10 +93,7 @@ void requireOnlyCampaignFiles(const std::string& output) {
 // parameters compare with the truth directly, and the family's other models. The Delta's and
 // the hexapod's joint centres and angles are identified in the frame of the mounting `mire
 // identify` holds as gauge, not the simulator's (doc/demo-mechanisms.md, "Scoring"); lengths do
-// not depend on the frame. The H4's family has its own campaign generator.
-bool isH4(const mechanism::MechanismFamily& family) {
-  return family.defects == mechanism::SimulatedDefects::H4Parallelograms;
-}
+// not depend on the frame.
 
 // `h4-31, h4-31c (variants E-H: --variant)`
 std::string otherModels(const mechanism::MechanismFamily& family) {
@@ -129,7 +124,8 @@ void checkCampaignOptions(const CampaignOptions& options) {
   if (described) paths.input_files = {{options.mechanism, "--model"}};
   checkCommandPaths(paths);
   checkCampaignMechanism(options.mechanism);
-  if (cameraOnEffector(options.mounting) && !described && isH4(mechanism::mechanismFamily(options.mechanism)))
+  if (cameraOnEffector(options.mounting) && !described &&
+      mechanism::mechanismFamily(options.mechanism).defects == mechanism::SimulatedDefects::H4Parallelograms)
     throw UsageError("--mounting camera-on-effector: the H4's campaign has the camera fixed only");
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
@@ -148,8 +144,7 @@ struct WrittenCampaign {
   std::vector<std::string> joint_columns;
 };
 
-template <class Spec>
-void applyOptions(const CampaignOptions& options, Spec& spec) {
+void applyOptions(const CampaignOptions& options, datasets::MechanismImageCampaignSpec& spec) {
   spec.seed = options.seed;
   if (options.images_per_pose) spec.images_per_pose = *options.images_per_pose;
   if (options.calibration_views) spec.calibration_views = *options.calibration_views;
@@ -185,37 +180,14 @@ void writeIsoTest(const fs::path& directory, const mechanism::RegisteredModel& c
   datasets::writeIso9283Truth(directory / "truth" / "iso9283.yaml", truth, model_key, bTc, mTe);
 }
 
-WrittenCampaign generateH4(const CampaignOptions& options, const fs::path& directory,
-                           const datasets::ProgressCallback& progress) {
-  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
-  applyOptions(options, spec);
-  const datasets::H4Campaign campaign = datasets::generateH4Campaign(spec, directory, progress);
-  // The model-12 part of the true robot (the demo scores model 12 against it, demo_pipeline.cpp).
-  const std::string model = mechanism::mechanismFamily(options.mechanism).truth_model;
-  const mechanism::ParameterSet truth =
-      mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, spec.seed));
-  writeTruthParameters(directory, model, truth,
-                       "True geometry of the simulated H4 in model 12's parameters (SI); its unmodelled defects "
-                       "are in robot.yaml");
-  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(datasets::H4ProtocolGrid{});
-  iso.joint_repeatability = spec.encoder_noise_rad;
-  writeIsoTest(directory, nominalController(model), datasets::reachOf(campaign.robot), campaign.robot.baseTCamera(),
-               campaign.robot.markerTEffector(), iso, options, truth, model);
-  return {spec.calibration_views,
-          spec.images_per_pose,
-          campaign.poses.size(),
-          campaign.lines.size(),
-          {"q1_rad", "q2_rad", "q3_rad", "q4_rad"}};
-}
-
-WrittenCampaign generateMechanism(const CampaignOptions& options, const fs::path& directory,
-                                  const datasets::ProgressCallback& progress) {
+WrittenCampaign generateCampaign(const CampaignOptions& options, const fs::path& directory,
+                                 const datasets::ProgressCallback& progress) {
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   applyOptions(options, spec);
   spec.camera_on_effector = options.mounting == "camera-on-effector";
   const datasets::MechanismImageCampaign campaign = datasets::generateMechanismImageCampaign(spec, directory, progress);
-  const std::string what = "True geometry of the simulated " + campaign.robot.geometry_model.name +
-                           " (SI); its unmodelled defects are in robot.yaml";
+  const std::string what =
+      "True geometry of the simulated " + campaign.robot.title() + " (SI); its unmodelled defects are in robot.yaml";
   datasets::Iso9283Spec iso = datasets::iso9283SpecFor(campaign.robot);
   iso.joint_repeatability = campaign.robot.mechanism().jointUnits().front() == mechanism::Unit::Radian
                                 ? spec.encoder_noise_rad
@@ -318,10 +290,7 @@ int runCampaign(const CampaignOptions& options) {
   };
   support::OutputTransaction outputs;
   const fs::path staged = outputs.stageFolder(options.output, support::OutputTransaction::FolderCommit::ReplaceWhole);
-  const WrittenCampaign written =
-      !mechanism::isDescriptionFile(options.mechanism) && isH4(mechanism::mechanismFamily(options.mechanism))
-          ? generateH4(options, staged, advance)
-          : generateMechanism(options, staged, advance);
+  const WrittenCampaign written = generateCampaign(options, staged, advance);
   if (progress) progress->finish();
   outputs.commit();
   printCampaign(options, written);
@@ -360,7 +329,7 @@ SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
   campaign->add_option("--seed", options->seed, "Seed of the simulated robot, images and encoder noise")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  const datasets::H4CampaignSpec defaults;  // the reference campaigns' counts (both mechanisms' specs)
+  const datasets::MechanismImageCampaignSpec defaults;  // the reference campaigns' counts
   campaign->add_option("--images-per-pose", options->images_per_pose, "Images per pose (1 to 100)")
       ->default_str(std::to_string(defaults.images_per_pose));
   campaign->add_option("--calibration-views", options->calibration_views, "Calibration views (3 to 500)")

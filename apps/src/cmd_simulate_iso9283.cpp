@@ -12,7 +12,6 @@
 #include <string>
 
 #include "mire/calibration/camera_formats.hpp"
-#include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/described.hpp"
@@ -40,8 +39,7 @@ struct IsoAfterOptions {
 // simulate campaign` drew them for this mechanism and seed (no image rendered). The robot is kept
 // here: `reach` refers to it.
 struct CampaignRig {
-  std::optional<datasets::H4TrueRobot> h4;
-  std::optional<datasets::DefectiveRobot> robot;
+  datasets::TrueRobot robot;
   datasets::TrueRobotReach reach;
   Eigen::Isometry3d bTc = Eigen::Isometry3d::Identity(), mTe = Eigen::Isometry3d::Identity();
   datasets::Iso9283Spec iso;
@@ -50,32 +48,15 @@ struct CampaignRig {
 };
 
 std::unique_ptr<CampaignRig> campaignRig(const IsoAfterOptions& options) {
-  auto rig = std::make_unique<CampaignRig>();
-  const bool h4 = !mech::isDescriptionFile(options.mechanism) &&
-                  mech::mechanismFamily(options.mechanism).defects == mech::SimulatedDefects::H4Parallelograms;
-  if (h4) {
-    datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
-    spec.seed = options.seed;
-    rig->h4.emplace(datasets::trueRobotOf(spec));
-    rig->reach = datasets::reachOf(*rig->h4);
-    rig->bTc = rig->h4->baseTCamera();
-    rig->mTe = rig->h4->markerTEffector();
-    rig->iso = datasets::iso9283SpecFor(datasets::H4ProtocolGrid{});
-    rig->iso.joint_repeatability = spec.encoder_noise_rad;
-    rig->joint_units.assign(4, mech::Unit::Radian);
-    rig->camera_file = spec.camera_file;
-    rig->target_file = spec.target_file;
-    return rig;
-  }
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   spec.seed = options.seed;
-  rig->robot.emplace(datasets::trueRobotOf(spec));
-  const metrology::Target target = metrology::Target::fromFile(spec.target_file);
-  rig->reach = datasets::reachOf(*rig->robot);
+  auto rig = std::make_unique<CampaignRig>();
+  rig->robot = datasets::trueRobotOf(spec);
+  rig->reach = datasets::reachOf(rig->robot);
   rig->bTc = datasets::mechanismBaseTCamera(spec.mechanism);
-  rig->mTe = datasets::mechanismMarkerTEffector(spec.mechanism, target);
-  rig->iso = datasets::iso9283SpecFor(*rig->robot);
-  rig->joint_units = rig->robot->mechanism().jointUnits();
+  rig->mTe = datasets::mechanismMarkerTEffector(spec.mechanism, metrology::Target::fromFile(spec.target_file));
+  rig->iso = datasets::iso9283SpecFor(rig->robot);
+  rig->joint_units = rig->robot.mechanism().jointUnits();
   rig->iso.joint_repeatability =
       rig->joint_units.front() == mech::Unit::Radian ? spec.encoder_noise_rad : spec.encoder_noise_m;
   rig->camera_file = spec.camera_file;

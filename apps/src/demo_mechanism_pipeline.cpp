@@ -61,7 +61,7 @@ double squareSide(const mech::Mechanism& model, const Eigen::VectorXd& geometric
   return 0.1 * std::min(1.0, datasets::protocolScale(model, geometric, model.referencePose(geometric)));
 }
 
-std::array<double, 4> squareSides(const datasets::DefectiveRobot& robot, const mech::Mechanism& model,
+std::array<double, 4> squareSides(const datasets::TrueRobot& robot, const mech::Mechanism& model,
                                   const Eigen::VectorXd& geometric, double side) {
   std::array<double, 4> sides_mm = datasets::positioningTestSides(robot, model, geometric, side);
   for (double& error : sides_mm) error *= 1e3;
@@ -81,7 +81,7 @@ double straightnessOf(const mech::Mechanism& model, const Eigen::VectorXd& geome
 }
 
 // The true robot's own straightness along the recorded (noisy) readings: its FKM.
-double trueStraightness(const datasets::DefectiveRobot& robot, const std::vector<std::vector<Eigen::VectorXd>>& lines) {
+double trueStraightness(const datasets::TrueRobot& robot, const std::vector<std::vector<Eigen::VectorXd>>& lines) {
   double total = 0.0;
   for (const auto& line : lines) {
     std::vector<Eigen::Vector3d> points;

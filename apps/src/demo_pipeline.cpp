@@ -3,8 +3,8 @@
 // poses.csv + joints.csv), and score against the simulator's truth only at the end.
 #include "demo.hpp"
 
-#include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/iso9283_test.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
@@ -32,13 +32,14 @@ namespace {
 using support::upperMedian;
 
 // The robot's own straightness along the recorded lines: positions from the TRUE FKM.
-double trueStraightness(const datasets::H4Campaign& campaign, const std::vector<std::vector<Eigen::VectorXd>>& lines) {
+double trueStraightness(const datasets::MechanismImageCampaign& campaign,
+                        const std::vector<std::vector<Eigen::VectorXd>>& lines) {
   double total = 0.0;
   for (std::size_t l = 0; l < lines.size(); ++l) {
     std::vector<Eigen::Vector3d> points;
-    datasets::H4Pose guess = campaign.lines[l].front();
+    datasets::H4Pose guess(campaign.lines[l].front());
     for (const auto& q : lines[l]) {
-      const auto pose = campaign.robot.pose(datasets::H4Joints(q), guess);
+      const auto pose = campaign.robot.h4->pose(datasets::H4Joints(q), guess);
       if (!pose) continue;
       guess = *pose;
       points.emplace_back(pose->head<3>());
@@ -48,7 +49,7 @@ double trueStraightness(const datasets::H4Campaign& campaign, const std::vector<
   return total / static_cast<double>(lines.size());
 }
 
-std::array<double, 4> squareSides(const datasets::H4TrueRobot& robot, const mechanism::Mechanism& model,
+std::array<double, 4> squareSides(const datasets::H4TrueKinematics& robot, const mechanism::Mechanism& model,
                                   const Eigen::VectorXd& geometric) {
   const auto command = [&](const datasets::H4Pose& pose) -> std::optional<datasets::H4Joints> {
     const auto ikm = model.inverseKinematics(geometric, model.poseToTransform(Eigen::VectorXd(pose)));
@@ -62,13 +63,11 @@ std::array<double, 4> squareSides(const datasets::H4TrueRobot& robot, const mech
 }
 
 // error/σ of every identified parameter against the simulator's truth (scoring only).
-void scoreIdentified(const DemoOptions& options, const datasets::H4Campaign& campaign,
-                     const mechanism::IdentificationResult& result, DemoResults& results) {
-  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
+void scoreIdentified(const datasets::MechanismImageCampaign& campaign, const mechanism::IdentificationResult& result,
+                     DemoResults& results) {
   const auto& p = result.model.parameters;
   Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
-  truth << mechanism::h4Model12Parameters(datasets::drawModel12Values({}, spec.errors, options.seed)).values(),
-      result.model.external.valuesFrom(campaign.robot.baseTCamera(), campaign.robot.markerTEffector());
+  truth << campaign.robot.geometry.values(), result.model.external.valuesFrom(campaign.bTc, campaign.mTe);
   truth[static_cast<Eigen::Index>(p.index("z_BC"))] +=
       truth[static_cast<Eigen::Index>(p.index("z_ME"))] - p.value("z_ME");
   for (const auto& name : result.free_names) {
@@ -97,7 +96,7 @@ struct IdentificationData {
   mechanism::IdentificationOptions identification;
 };
 
-IdentificationData identificationData(const DemoOptions& options, const datasets::H4Campaign& campaign,
+IdentificationData identificationData(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
                                       const fs::path& poses_csv) {
   pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(poses_csv, campaign.joints_file());
   files.lines = campaign.lines_file();
@@ -186,7 +185,7 @@ struct IdentifiedController {
 };
 
 // Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
-IdentifiedController identifyStage(const DemoOptions& options, const datasets::H4Campaign& campaign,
+IdentifiedController identifyStage(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
                                    const fs::path& output, DemoResults& results) {
   const fs::path poses_csv = output / "poses.csv";
   const IdentificationData data = identificationData(options, campaign, poses_csv);
@@ -219,28 +218,27 @@ IdentifiedController identifyStage(const DemoOptions& options, const datasets::H
   identify_options.fit = data.identification;
   const pipeline::ModelChoice variant_d = pipeline::chooseModel("", "D", data.nominal);
   const auto identified_d = pipeline::identify(variant_d, poses, data.shared, identify_options).result;
-  scoreIdentified(options, campaign, identified_d, results);
+  scoreIdentified(campaign, identified_d, results);
   mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
                                 {{"model", variant_d.model}, {"variant", "D"}},
                                 "H4 model 12, variant D, identified by mire demo");
   const auto& model = *identified_d.model.mechanism;
-  results.square_before_mm = squareSides(campaign.robot, model, initial.geometricValues());
-  results.square_after_mm = squareSides(campaign.robot, model, identified_d.model.geometricValues());
+  results.square_before_mm = squareSides(*campaign.robot.h4, model, initial.geometricValues());
+  results.square_after_mm = squareSides(*campaign.robot.h4, model, identified_d.model.geometricValues());
 
   return {mechanism::predictionModelFrom(variant_d.model, identified_d), initial.geometricValues()};
 }
 
 // Stage 5, closing the loop: the ISO 9283 test with the nominal, then the identified model's
 // commands, measured through the calibrated camera.
-pipeline::ClosedLoopTest closedLoopStage(const DemoOptions& options, const datasets::H4Campaign& campaign,
+pipeline::ClosedLoopTest closedLoopStage(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
                                          const calibration::Camera& camera, const metrology::Target& target,
                                          const IdentifiedController& identified) {
-  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(datasets::H4ProtocolGrid{});
+  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(campaign.robot);
   iso.seed = options.seed;
-  iso.joint_repeatability = datasets::H4CampaignSpec::reference().encoder_noise_rad;
-  return pipeline::closedLoopTest(identified.model, identified.nominal, datasets::reachOf(campaign.robot),
-                                  campaign.robot.baseTCamera(), campaign.robot.markerTEffector(), iso,
-                                  pipeline::calibratedCameraReading(campaign.camera, camera, target));
+  iso.joint_repeatability = datasets::MechanismImageCampaignSpec::reference("h4").encoder_noise_rad;
+  return pipeline::closedLoopTest(identified.model, identified.nominal, datasets::reachOf(campaign.robot), campaign.bTc,
+                                  campaign.mTe, iso, pipeline::calibratedCameraReading(campaign.camera, camera, target));
 }
 
 }  // namespace
@@ -251,20 +249,21 @@ DemoResults runDemo(const DemoOptions& options) {
   fs::create_directories(output);
   const auto stage = [&](const std::string& name, const auto& work) { timedStage(results.timings, name, work); };
 
-  datasets::H4CampaignSpec spec = datasets::H4CampaignSpec::reference();
+  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference("h4");
   spec.seed = options.seed;
   if (options.quick) {
     spec.calibration_views = 15;
     spec.images_per_pose = 3;
     spec.line_points = 10;
   }
-  std::optional<datasets::H4Campaign> campaign;
+  std::optional<datasets::MechanismImageCampaign> campaign;
   stage("simulate the campaign (render images, record joints)", [&] {
     std::optional<support::Progress> progress;
-    campaign = datasets::generateH4Campaign(spec, output / "campaign", [&](std::size_t done, std::size_t total) {
-      if (!progress) progress.emplace("simulation: rendering", total);
-      progress->advance(done > 0 ? 1 : 0);
-    });
+    campaign =
+        datasets::generateMechanismImageCampaign(spec, output / "campaign", [&](std::size_t done, std::size_t total) {
+          if (!progress) progress.emplace("simulation: rendering", total);
+          progress->advance(done > 0 ? 1 : 0);
+        });
   });
   const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
   calibration::Camera camera;

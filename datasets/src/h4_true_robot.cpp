@@ -13,6 +13,7 @@
 #include "mire/mechanism/io.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/csv.hpp"
+#include "mire/support/yaml.hpp"
 
 namespace mire::datasets {
 
@@ -201,6 +202,20 @@ H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSiz
   return g;
 }
 
+std::string trueGeometryYaml(const H4TrueGeometry& geometry) {
+  const auto n = [](double value) { return support::formatYamlNumber(value); };
+  std::ostringstream out;
+  out << "h: " << n(geometry.h) << "\nd: " << n(geometry.d) << "\nbar_spacing: " << n(geometry.bar_spacing)
+      << "\nrotation_ratio: " << n(geometry.rotation_ratio) << "\nlegs:\n";
+  for (const auto& leg : geometry.legs) {
+    out << "  - { pivot: [" << n(leg.pivot.x()) << ", " << n(leg.pivot.y()) << ", " << n(leg.pivot.z())
+        << "], psi: " << n(leg.psi) << ", beta: " << n(leg.beta) << ", L: " << n(leg.arm_length)
+        << ", l: " << n(leg.forearm_length) << ", q0: " << n(leg.joint_offset)
+        << ", bar_mismatch: " << n(leg.bar_mismatch) << " }\n";
+  }
+  return out.str();
+}
+
 Eigen::Isometry3d defaultBaseTCamera() {
   const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(25.0 * kH4Degree, Eigen::Vector3d::UnitZ()) *
                                     Eigen::AngleAxisd(1.5 * kH4Degree, Eigen::Vector3d::UnitX()) *
@@ -216,19 +231,19 @@ Eigen::Isometry3d defaultMarkerTEffector() {
   return makeIsometry(rotation, Eigen::Vector3d(0.088, 0.064, 0.04));
 }
 
-H4TrueRobot::H4TrueRobot(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera,
-                         const Eigen::Isometry3d& marker_T_effector)
+H4TrueKinematics::H4TrueKinematics(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera,
+                                   const Eigen::Isometry3d& marker_T_effector)
     : geometry_(std::move(geometry)), base_T_camera_(base_T_camera), marker_T_effector_(marker_T_effector) {}
 
-Eigen::Vector3d H4TrueRobot::tilt(const H4Pose& pose) const {
+Eigen::Vector3d H4TrueKinematics::tilt(const H4Pose& pose) const {
   return tiltVector(geometry_, armFrames(geometry_), pose.data());
 }
 
-std::array<Eigen::Vector3d, 4> H4TrueRobot::attachmentPoints(const H4Pose& pose) const {
+std::array<Eigen::Vector3d, 4> H4TrueKinematics::attachmentPoints(const H4Pose& pose) const {
   return attachments(geometry_, armFrames(geometry_), pose.data());
 }
 
-Eigen::Isometry3d H4TrueRobot::baseTEffector(const H4Pose& pose) const {
+Eigen::Isometry3d H4TrueKinematics::baseTEffector(const H4Pose& pose) const {
   const Eigen::Vector3d omega = tilt(pose);
   Eigen::Matrix3d tilt_rotation = Eigen::Matrix3d::Identity();
   if (omega.norm() > 0.0) tilt_rotation = Eigen::AngleAxisd(omega.norm(), omega.normalized()).toRotationMatrix();
@@ -237,11 +252,11 @@ Eigen::Isometry3d H4TrueRobot::baseTEffector(const H4Pose& pose) const {
   return makeIsometry(rotation, pose.head<3>());
 }
 
-Eigen::Isometry3d H4TrueRobot::cameraTMarker(const H4Pose& pose) const {
+Eigen::Isometry3d H4TrueKinematics::cameraTMarker(const H4Pose& pose) const {
   return base_T_camera_.inverse() * baseTEffector(pose) * marker_T_effector_.inverse();
 }
 
-std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose) const {
+std::optional<H4Joints> H4TrueKinematics::joints(const H4Pose& pose) const {
   const auto frames = armFrames(geometry_);
   const auto points = attachments(geometry_, frames, pose.data());
   H4Joints q;
@@ -253,7 +268,7 @@ std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose) const {
   return q;
 }
 
-std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose, double noise_rad, std::mt19937_64& rng) const {
+std::optional<H4Joints> H4TrueKinematics::joints(const H4Pose& pose, double noise_rad, std::mt19937_64& rng) const {
   auto q = joints(pose);
   if (!q || noise_rad <= 0.0) return q;
   std::normal_distribution<double> normal(0.0, noise_rad);
@@ -261,14 +276,14 @@ std::optional<H4Joints> H4TrueRobot::joints(const H4Pose& pose, double noise_rad
   return q;
 }
 
-std::array<Eigen::Vector3d, 4> H4TrueRobot::elbows(const H4Joints& q) const {
+std::array<Eigen::Vector3d, 4> H4TrueKinematics::elbows(const H4Joints& q) const {
   const auto frames = armFrames(geometry_);
   std::array<Eigen::Vector3d, 4> points;
   for (int i = 0; i < 4; ++i) points[i] = elbow(geometry_.legs[i], frames[i], q[i] + geometry_.legs[i].joint_offset);
   return points;
 }
 
-std::optional<H4Pose> H4TrueRobot::pose(const H4Joints& q, const H4Pose& guess) const {
+std::optional<H4Pose> H4TrueKinematics::pose(const H4Joints& q, const H4Pose& guess) const {
   const auto frames = armFrames(geometry_);
   auto* closure = new ForearmClosure{&geometry_, &frames, elbows(q)};
   H4Pose x = guess;
@@ -290,7 +305,7 @@ std::optional<H4Pose> H4TrueRobot::pose(const H4Joints& q, const H4Pose& guess) 
   return x;
 }
 
-std::optional<Eigen::Isometry3d> H4TrueRobot::baseTEffector(const H4Joints& q, const H4Pose& guess) const {
+std::optional<Eigen::Isometry3d> H4TrueKinematics::baseTEffector(const H4Joints& q, const H4Pose& guess) const {
   const auto x = pose(q, guess);
   if (!x) return std::nullopt;
   return baseTEffector(*x);
@@ -327,7 +342,7 @@ std::array<std::vector<H4Pose>, 2> straightLineMotions(const H4ProtocolGrid& gri
   return lines;
 }
 
-std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H4Pose>& poses, double noise_rad,
+std::vector<H4Joints> recordJoints(const H4TrueKinematics& robot, const std::vector<H4Pose>& poses, double noise_rad,
                                    std::mt19937_64& rng) {
   std::vector<H4Joints> joints;
   joints.reserve(poses.size());
@@ -339,7 +354,7 @@ std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H
   return joints;
 }
 
-SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_ikm, const Eigen::Vector3d& centre,
+SquareTestResult squareTest(const H4TrueKinematics& robot, const CommandIkm& command_ikm, const Eigen::Vector3d& centre,
                             double side) {
   SquareTestResult result;
   const double half = 0.5 * side;
@@ -374,7 +389,7 @@ Eigen::Isometry3d perturbPose(const Eigen::Isometry3d& pose, const H4Measurement
   return noisy;
 }
 
-std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
+std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueKinematics& robot, const std::vector<H4Pose>& poses,
                                                          const H4MeasurementNoise& noise, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::vector<H4SimulatedMeasurement> out;
@@ -440,7 +455,7 @@ void writeSimulatedCampaign(const std::filesystem::path& dir, const std::vector<
   }
 }
 
-double smallestImageMargin(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
+double smallestImageMargin(const H4TrueKinematics& robot, const std::vector<H4Pose>& poses,
                            const std::vector<Eigen::Vector3d>& marker_points, int width, int height, double focal_px) {
   const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
   double margin = std::numeric_limits<double>::infinity();

@@ -40,7 +40,7 @@ std::pair<Eigen::Vector3d, double> cubeInside(const std::vector<Eigen::Vector3d>
   return {0.5 * (low + high), (high - low).minCoeff()};
 }
 
-TrueRobotReach reachOf(const DefectiveRobot& robot) {
+TrueRobotReach reachOf(const TrueRobot& robot) {
   return [&robot](const Eigen::VectorXd& q) -> std::optional<Eigen::Isometry3d> {
     try {
       return robot.effector(robot.fkm(q));
@@ -50,13 +50,8 @@ TrueRobotReach reachOf(const DefectiveRobot& robot) {
   };
 }
 
-TrueRobotReach reachOf(const H4TrueRobot& robot) {
-  const Eigen::Vector3d centre = H4ProtocolGrid{}.centre;
-  const H4Pose guess(centre[0], centre[1], centre[2], 0.0);
-  return [&robot, guess](const Eigen::VectorXd& q) { return robot.baseTEffector(H4Joints(q), guess); };
-}
-
-Iso9283Spec iso9283SpecFor(const DefectiveRobot& robot) {
+Iso9283Spec iso9283SpecFor(const TrueRobot& robot) {
+  if (robot.h4) return iso9283SpecFor(H4ProtocolGrid{});
   const mech::Mechanism& m = robot.mechanism();
   std::vector<Eigen::Vector3d> positions;
   for (const Eigen::Isometry3d& T : protocolPoses(m, robot.geometry.values())) positions.push_back(T.translation());

@@ -71,7 +71,7 @@ const Fixture& fixture() {
     fs::remove_all(f.root / "check");
     // The simulated H4 (no unmodelled defects), as identify reads it.
     const auto sizes = datasets::H4ErrorSizes::withoutUnmodelledDefects();
-    const datasets::H4TrueRobot robot(datasets::makeTrueGeometry({}, sizes, 3));
+    const datasets::H4TrueKinematics robot(datasets::makeTrueGeometry({}, sizes, 3));
     datasets::H4MeasurementNoise noise;
     const auto measurements = datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, 1);
     std::mt19937_64 rng(2);

@@ -22,7 +22,7 @@ struct CliCampaign {
   CliCampaign() {
     const auto sizes = datasets::H4ErrorSizes::withoutUnmodelledDefects();
     truth = datasets::drawModel12Values({}, sizes, 3);
-    const datasets::H4TrueRobot robot(datasets::makeTrueGeometry({}, sizes, 3));
+    const datasets::H4TrueKinematics robot(datasets::makeTrueGeometry({}, sizes, 3));
     datasets::H4MeasurementNoise noise;
     const auto measurements = datasets::simulateMeasurements(robot, datasets::protocolPoses(), noise, 1);
     std::mt19937_64 rng(2);

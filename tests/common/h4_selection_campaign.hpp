@@ -23,7 +23,7 @@ inline std::vector<mechanism::PoseObservation> h4SelectionCampaign(unsigned seed
       leg.forearm_length += (rng() & 1U ? 1 : -1) * size(rng);
     }
   }
-  const ds::H4TrueRobot robot(g);
+  const ds::H4TrueKinematics robot(g);
   const ds::H4MeasurementNoise noise;
   return ds::toObservations(ds::simulateMeasurements(robot, ds::protocolPoses(), noise, seed), noise);
 }

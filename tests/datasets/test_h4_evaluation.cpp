@@ -25,7 +25,7 @@ constexpr double kEncoderNoise = 2e-5;  // rad, encoder noise at the calibration
 constexpr std::uint64_t kRobotSeed = 3;
 
 struct Campaign {
-  H4TrueRobot robot;
+  H4TrueKinematics robot;
   H4Model12Values model12_truth;
   std::vector<PoseObservation> poses;               // the 81 protocol poses
   std::vector<std::vector<Eigen::VectorXd>> lines;  // the two straight-line motions
@@ -44,8 +44,10 @@ H4ErrorSizes testErrors(bool unmodelled_defects) {
 // `line_noise`: encoder noise along the straight-line motions (rad); it sets V3's floor.
 Campaign makeCampaign(const H4ErrorSizes& sizes, double line_noise) {
   const H4Model12Values nominal;
-  Campaign c{
-      H4TrueRobot(makeTrueGeometry(nominal, sizes, kRobotSeed)), drawModel12Values(nominal, sizes, kRobotSeed), {}, {}};
+  Campaign c{H4TrueKinematics(makeTrueGeometry(nominal, sizes, kRobotSeed)),
+             drawModel12Values(nominal, sizes, kRobotSeed),
+             {},
+             {}};
   H4MeasurementNoise noise;
   noise.encoder_rad = kEncoderNoise;
   c.poses = toObservations(simulateMeasurements(c.robot, protocolPoses(), noise, 11), noise);
@@ -80,7 +82,8 @@ double jointNoiseLevel(const mechanism::IdentificationModel& model, const std::v
 
 Eigen::VectorXd model12Vector(const H4Model12Values& v) { return mechanism::h4Model12Parameters(v).values(); }
 
-SquareTestResult square(const H4TrueRobot& robot, const mechanism::Mechanism& model, const Eigen::VectorXd& geometric) {
+SquareTestResult square(const H4TrueKinematics& robot, const mechanism::Mechanism& model,
+                        const Eigen::VectorXd& geometric) {
   return squareTest(robot, [&](const H4Pose& x) -> std::optional<H4Joints> {
     const auto ikm = model.inverseKinematics(geometric, model.poseToTransform(Eigen::VectorXd(x)));
     if (!ikm.reachable()) return std::nullopt;

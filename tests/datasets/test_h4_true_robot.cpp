@@ -9,11 +9,11 @@
 namespace mire::datasets {
 namespace {
 
-H4TrueRobot defectiveRobot() { return H4TrueRobot(makeTrueGeometry(H4Model12Values{}, H4ErrorSizes{}, 3)); }
+H4TrueKinematics defectiveRobot() { return H4TrueKinematics(makeTrueGeometry(H4Model12Values{}, H4ErrorSizes{}, 3)); }
 
-TEST(H4TrueRobot, NominalIkmMatchesBriefClosedForm) {
+TEST(H4TrueKinematics, NominalIkmMatchesBriefClosedForm) {
   // The model-12 closed form (doc/mechanisms.md) on the nominal geometry at the workspace centre, leg 1.
-  const H4TrueRobot robot(geometryFromModel12(H4Model12Values{}));
+  const H4TrueKinematics robot(geometryFromModel12(H4Model12Values{}));
   const H4Pose x(0.01, -0.02, -0.62, 0.1);
   const auto q = robot.joints(x);
   ASSERT_TRUE(q.has_value());
@@ -35,8 +35,8 @@ TEST(H4TrueRobot, NominalIkmMatchesBriefClosedForm) {
   }
 }
 
-TEST(H4TrueRobot, IkmFkmRoundTripOverTheProtocol) {
-  const H4TrueRobot robot = defectiveRobot();
+TEST(H4TrueKinematics, IkmFkmRoundTripOverTheProtocol) {
+  const H4TrueKinematics robot = defectiveRobot();
   double worst = 0.0;
   for (const H4Pose& x : protocolPoses()) {
     const auto q = robot.joints(x);
@@ -53,8 +53,8 @@ TEST(H4TrueRobot, IkmFkmRoundTripOverTheProtocol) {
   EXPECT_LT(worst, 1e-9);
 }
 
-TEST(H4TrueRobot, NacelleTiltIsAboutATenthOfADegreeAndVaries) {
-  const H4TrueRobot robot = defectiveRobot();
+TEST(H4TrueKinematics, NacelleTiltIsAboutATenthOfADegreeAndVaries) {
+  const H4TrueKinematics robot = defectiveRobot();
   double largest = 0.0, smallest = 1e9;
   Eigen::Vector3d lowest_tilt, highest_tilt;
   std::vector<Eigen::Vector3d> tilts;
@@ -75,15 +75,15 @@ TEST(H4TrueRobot, NacelleTiltIsAboutATenthOfADegreeAndVaries) {
   EXPECT_LT(spread * deg, 0.2);
   EXPECT_LT(largest * deg, 0.3);
   // The robot without unmodelled defects has no tilt at all.
-  const H4TrueRobot exact(makeTrueGeometry(H4Model12Values{}, H4ErrorSizes::withoutUnmodelledDefects(), 3));
+  const H4TrueKinematics exact(makeTrueGeometry(H4Model12Values{}, H4ErrorSizes::withoutUnmodelledDefects(), 3));
   for (const H4Pose& x : protocolPoses()) EXPECT_EQ(exact.tilt(x).norm(), 0.0);
   // Same seed: same model-12 part.
   EXPECT_EQ(exact.geometry().h, robot.geometry().h);
   EXPECT_EQ(exact.geometry().legs[2].joint_offset, robot.geometry().legs[2].joint_offset);
 }
 
-TEST(H4TrueRobot, EffectorPoseCarriesTiltAndRotation) {
-  const H4TrueRobot robot = defectiveRobot();
+TEST(H4TrueKinematics, EffectorPoseCarriesTiltAndRotation) {
+  const H4TrueKinematics robot = defectiveRobot();
   const H4Pose x(0.05, 0.02, -0.6, 0.3);
   const Eigen::Isometry3d b_T_e = robot.baseTEffector(x);
   EXPECT_LT((b_T_e.translation() - x.head<3>()).norm(), 1e-15);
@@ -94,8 +94,8 @@ TEST(H4TrueRobot, EffectorPoseCarriesTiltAndRotation) {
   EXPECT_LT((recomposed.matrix() - b_T_e.matrix()).cwiseAbs().maxCoeff(), 1e-12);
 }
 
-TEST(H4TrueRobot, TargetStaysInViewOverTheProtocol) {
-  const H4TrueRobot robot = defectiveRobot();
+TEST(H4TrueKinematics, TargetStaysInViewOverTheProtocol) {
+  const H4TrueKinematics robot = defectiveRobot();
   // Outer corners of the 12 x 9 inner-corner, 16 mm chessboard of specs/target_h4.yaml
   // (doc/file-formats.md: first inner corner at the origin, one square of border beyond).
   std::vector<Eigen::Vector3d> board;
@@ -114,7 +114,7 @@ TEST(H4TrueRobot, TargetStaysInViewOverTheProtocol) {
   }
 }
 
-TEST(H4TrueRobot, ProtocolShapes) {
+TEST(H4TrueKinematics, ProtocolShapes) {
   const auto poses = protocolPoses();
   ASSERT_EQ(poses.size(), 81U);
   Eigen::Vector4d low = poses[0], high = poses[0];
@@ -138,19 +138,19 @@ TEST(H4TrueRobot, ProtocolShapes) {
   }
 }
 
-TEST(H4TrueRobot, SquareTestWithTheTrueModelIsExactAndWithNominalIsMillimetres) {
-  const H4TrueRobot robot = defectiveRobot();
+TEST(H4TrueKinematics, SquareTestWithTheTrueModelIsExactAndWithNominalIsMillimetres) {
+  const H4TrueKinematics robot = defectiveRobot();
   const auto exact = squareTest(robot, [&](const H4Pose& x) { return robot.joints(x); });
   EXPECT_LT(exact.max_abs_error_m, 1e-9);
-  const H4TrueRobot nominal(geometryFromModel12(H4Model12Values{}));
+  const H4TrueKinematics nominal(geometryFromModel12(H4Model12Values{}));
   const auto before = squareTest(robot, [&](const H4Pose& x) { return nominal.joints(x); });
   std::printf("square sides with nominal control: %+.2f %+.2f %+.2f %+.2f mm\n", before.side_error_m[0] * 1e3,
               before.side_error_m[1] * 1e3, before.side_error_m[2] * 1e3, before.side_error_m[3] * 1e3);
   EXPECT_GT(before.max_abs_error_m, 1e-3);
 }
 
-TEST(H4TrueRobot, SimulatedMeasurementsAreDeterministicAndNoisy) {
-  const H4TrueRobot robot = defectiveRobot();
+TEST(H4TrueKinematics, SimulatedMeasurementsAreDeterministicAndNoisy) {
+  const H4TrueKinematics robot = defectiveRobot();
   const auto poses = protocolPoses();
   const H4MeasurementNoise noise;
   const auto a = simulateMeasurements(robot, poses, noise, 3);

@@ -8,8 +8,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "mire/datasets/feature_campaign.hpp"
-#include "mire/datasets/h4_campaign.hpp"
 #include "mire/datasets/h4_true_robot.hpp"
+#include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/identification_covariance.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/variants.hpp"
@@ -37,14 +37,14 @@ struct Campaign {
 
 // The demo's error sizes (5 mm, 2°, 5°), with or without the unmodelled defects.
 H4ErrorSizes demoSizes(bool defects) {
-  H4ErrorSizes sizes = H4CampaignSpec::reference().errors;
+  H4ErrorSizes sizes = MechanismImageCampaignSpec::reference("h4").h4_errors;
   if (!defects) sizes.leg_length_m = sizes.pivot_height_m = sizes.axis_tilt_rad = sizes.bar_mismatch_m = 0.0;
   return sizes;
 }
 
 Campaign simulate(std::uint64_t robot_seed, std::uint64_t noise_seed, bool defects) {
   const H4ErrorSizes sizes = demoSizes(defects);
-  const H4TrueRobot robot(makeTrueGeometry({}, sizes, robot_seed));
+  const H4TrueKinematics robot(makeTrueGeometry({}, sizes, robot_seed));
   H4MeasurementNoise noise;
   noise.encoder_rad = 2e-5;
   Campaign c;

@@ -70,7 +70,7 @@ void scoreRepetition(const Iso9283Test& test, const Eigen::Isometry3d& bTc, cons
   }
 }
 
-void expectApWithinItsSigma(const DefectiveRobot& robot, const Eigen::VectorXd& controller) {
+void expectApWithinItsSigma(const TrueRobot& robot, const Eigen::VectorXd& controller) {
   const auto [bTc, mTe] = campaignMountings(robot.mechanism());
   Iso9283Spec spec = iso9283SpecFor(robot);
   spec.joint_repeatability = robot.mechanism().jointUnits().front() == Unit::Radian ? 2e-5 : 1e-6;
@@ -102,17 +102,17 @@ void expectApWithinItsSigma(const DefectiveRobot& robot, const Eigen::VectorXd& 
 }
 
 TEST(Iso9283Test, ApWithinThreeSigmaOfTheTruthDelta) {
-  const DefectiveRobot robot = makeDefectiveDelta(11, true);
+  const TrueRobot robot = makeDefectiveDelta(11, true);
   expectApWithinItsSigma(robot, robot.geometry_model.nominal.values());
 }
 
 TEST(Iso9283Test, ApWithinThreeSigmaOfTheTruthHexapod) {
-  const DefectiveRobot robot = makeDefectiveHexapod(12);
+  const TrueRobot robot = makeDefectiveHexapod(12);
   expectApWithinItsSigma(robot, robot.geometry_model.nominal.values());
 }
 
 TEST(Iso9283Test, WrittenFilesAreWhatAccuracyReads) {
-  const DefectiveRobot robot = makeDefectiveDelta(11, true);
+  const TrueRobot robot = makeDefectiveDelta(11, true);
   const auto [bTc, mTe] = campaignMountings(robot.mechanism());
   Iso9283Spec spec = iso9283SpecFor(robot);
   spec.cycles = 3;

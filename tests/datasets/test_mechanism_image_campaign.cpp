@@ -1,12 +1,14 @@
 // The mechanism campaign's switches for the end-to-end σ study (benchmarks/bench_chain_mechanisms.cpp):
 // the robot's own seed, the true robot without its unmodelled defects, identical Delta legs, and the
-// camera placement; the defaults stay the demo's.
+// camera placement; the defaults stay the demo's. The H4 through the same generator.
 #include <gtest/gtest.h>
 
+#include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -40,7 +42,7 @@ TEST_F(MechanismImageCampaignTest, HexapodWithoutUnmodelledDefectsKeepsTheGeomet
   spec.robot_seed = 2004;
   spec.unmodelled_defects = false;
   const MechanismImageCampaign exact = generate(spec);
-  const DefectiveRobot demo = makeDefectiveHexapod(2004);  // the demo's robot (seed 2004)
+  const TrueRobot demo = makeDefectiveHexapod(2004);  // the demo's robot (seed 2004)
   EXPECT_EQ(exact.robot.geometry.values(), demo.geometry.values());
   EXPECT_DOUBLE_EQ(demo.eccentricity, 0.3e-3);
   EXPECT_DOUBLE_EQ(exact.robot.eccentricity, 0.0);
@@ -51,6 +53,52 @@ TEST_F(MechanismImageCampaignTest, HexapodWithoutUnmodelledDefectsKeepsTheGeomet
   const Eigen::VectorXd model_q =
       exact.robot.mechanism().inverseKinematics(exact.robot.geometry.values(), exact.robot.effector(X)).joints;
   EXPECT_LT((q - model_q).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// The H4's true robot in the one type is the draw of h4_true_robot.hpp for the seed, bit for bit
+// (the demo's published numbers depend on it), with the H4's mountings, its 81 protocol poses of
+// paper §6 and its own readings and FKM.
+TEST_F(MechanismImageCampaignTest, H4TrueRobotIsTheH4DrawOfItsSeed) {
+  MechanismImageCampaignSpec spec = MechanismImageCampaignSpec::reference("h4");
+  spec.seed = 31;
+  const TrueRobot robot = trueRobotOf(spec);
+  ASSERT_TRUE(robot.h4.has_value());
+  const H4TrueGeometry drawn = makeTrueGeometry(H4Model12Values{}, spec.h4_errors, 31);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const H4TrueLeg &leg = robot.h4->geometry().legs[i], &expected = drawn.legs[i];
+    EXPECT_TRUE(leg.pivot == expected.pivot);
+    EXPECT_EQ(leg.psi, expected.psi);
+    EXPECT_EQ(leg.arm_length, expected.arm_length);
+    EXPECT_EQ(leg.joint_offset, expected.joint_offset);
+    EXPECT_EQ(leg.bar_mismatch, expected.bar_mismatch);
+    EXPECT_GT(std::abs(leg.bar_mismatch), 0.5e-3);  // the unmodelled defect is there
+  }
+  EXPECT_TRUE(robot.geometry.values() == h4Model12Parameters(drawModel12Values({}, spec.h4_errors, 31)).values());
+  EXPECT_TRUE(robot.h4->baseTCamera().matrix() == defaultBaseTCamera().matrix());
+  EXPECT_TRUE(robot.h4->baseTCamera().matrix() == mechanismBaseTCamera("h4").matrix());
+
+  const std::vector<Eigen::VectorXd> poses = protocolCoordinates(robot);
+  const std::vector<H4Pose> grid = protocolPoses(H4ProtocolGrid{});
+  ASSERT_EQ(poses.size(), 81u);
+  for (std::size_t k = 0; k < grid.size(); ++k) EXPECT_TRUE(poses[k] == Eigen::VectorXd(grid[k])) << k;
+  const Eigen::VectorXd& X = poses[7];
+  const Eigen::VectorXd q = robot.joints(X);
+  ASSERT_EQ(q.size(), 4);
+  EXPECT_TRUE(q == Eigen::VectorXd(*robot.h4->joints(H4Pose(X))));
+  EXPECT_LT((robot.fkm(q) - X).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_TRUE(robot.effector(X).matrix() == robot.h4->baseTEffector(H4Pose(X)).matrix());
+  EXPECT_EQ(straightLinePoses(robot, 20)[1].size(), 20u);
+  EXPECT_DOUBLE_EQ(iso9283SpecFor(robot).side, 0.15);  // the grid's smallest extent
+
+  spec.unmodelled_defects = false;  // model 12 exactly, the same model-12 part
+  const TrueRobot exact = trueRobotOf(spec);
+  EXPECT_EQ(exact.h4->geometry().legs[2].bar_mismatch, 0.0);
+  EXPECT_EQ(exact.h4->geometry().legs[2].beta, 0.5 * kH4Pi);
+  EXPECT_TRUE(exact.geometry.values() == robot.geometry.values());
+
+  spec.camera_on_effector = true;  // refused before anything is written
+  EXPECT_THROW(generate(spec), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir_));
 }
 
 TEST_F(MechanismImageCampaignTest, DeltaSwitchesAndCameraPlacement) {

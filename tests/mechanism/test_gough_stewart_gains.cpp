@@ -81,7 +81,7 @@ TEST(GoughStewartGains, PredictedSigmaMatchesTheSpreadOverFortyCampaigns) {
 }
 
 TEST(GoughStewartGains, RecoversTheEncoderScalesOfATrueRobot) {
-  const datasets::DefectiveRobot robot = datasets::makeDefectiveHexapod(3, 2e-3, 0.0);
+  const datasets::TrueRobot robot = datasets::makeDefectiveHexapod(3, 2e-3, 0.0);
   const datasets::Campaign c = datasets::simulateDefectiveCampaign(robot, kModel, 3);
   const RegisteredModel reg = makeRegisteredModel(kModel);
   IdentificationModel model = makeInitialModel(reg.mechanism, reg.nominal, c.poses, reg.external_form);
@@ -107,7 +107,7 @@ TEST(GoughStewartGains, ModelSelectionRanksItBesideTheSimpleModel) {
                                                    [](const std::string& n) { return makeDesignModel(n); });
   ASSERT_EQ(candidates.size(), 2u);
   for (const double gain : {0.0, 2e-3, 5e-3}) {
-    const datasets::DefectiveRobot robot = datasets::makeDefectiveHexapod(4, gain, 0.0);
+    const datasets::TrueRobot robot = datasets::makeDefectiveHexapod(4, gain, 0.0);
     const SelectionResult r = selectModel(candidates, datasets::simulateDefectiveCampaign(robot, kModel, 4).poses);
     std::printf("gains 1 +- %.0e:\n%s", gain, selectionTable(r, Unit::Metre).c_str());
     for (const ModelScore& score : r.scores) EXPECT_TRUE(score.ok) << score.label << ": " << score.message;

@@ -43,7 +43,7 @@ TEST(Strokes, SimulatorsStayInsideTheStrokes) {
   const datasets::Campaign c = datasets::simulateCampaign("gough-stewart", 5, 0.2e-3, 0.03 * datasets::kCampaignDeg, 20);
   for (const Eigen::Isometry3d& bTe : c.bTe)
     EXPECT_TRUE(c.model.mechanism->inverseKinematics(c.truth.values(), bTe).withinStroke());
-  const datasets::DefectiveRobot robot = datasets::makeDefectiveHexapod(1);
+  const datasets::TrueRobot robot = datasets::makeDefectiveHexapod(1);
   Eigen::VectorXd X = robot.mechanism().referencePose(robot.geometry.values());
   EXPECT_EQ(robot.joints(X).size(), 6);
   X[2] += 0.2;  // past the strokes: the true robot does not go there

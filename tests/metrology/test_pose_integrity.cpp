@@ -17,7 +17,7 @@ namespace {
 
 using mire::metrology::PoseMeasurement;
 
-// Realistic optics as in the demo campaign (H4CampaignSpec::reference): slight defocus, read
+// Realistic optics as in the demo campaign (MechanismImageCampaignSpec::reference("h4")): slight defocus, read
 // and shot noise.
 mire::datasets::RenderOptions softOptics(double blur_px = 0.6) {
   mire::datasets::RenderOptions options;

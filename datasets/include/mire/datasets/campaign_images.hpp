@@ -12,7 +12,7 @@
 namespace mire::datasets {
 
 // The simulator's input common to the campaigns: their camera, target, rendering, noise, seed,
-// calibration views and images per pose (`CampaignSpec` has those fields: H4CampaignSpec,
+// calibration views and images per pose (`CampaignSpec` has those fields:
 // MechanismImageCampaignSpec); the caller adds one SimulatedPose per protocol pose.
 template <class CampaignSpec>
 SimulationSpec campaignSimulationBase(const CampaignSpec& spec, const calibration::Camera& camera,

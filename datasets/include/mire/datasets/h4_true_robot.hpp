@@ -30,6 +30,7 @@
 #include <functional>
 #include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mire/mechanism/h4.hpp"
@@ -106,6 +107,10 @@ H4TrueGeometry makeTrueGeometry(const H4Model12Values& nominal, const H4ErrorSiz
 // of that robot (exact when `sizes` has no unmodelled defects).
 H4Model12Values drawModel12Values(const H4Model12Values& nominal, const H4ErrorSizes& sizes, std::uint64_t seed);
 
+// The true geometry as the campaigns' truth/robot.yaml writes it: h, d, bar_spacing,
+// rotation_ratio and one line per leg (pivot, psi, beta, L, l, q0, bar_mismatch; SI).
+std::string trueGeometryYaml(const H4TrueGeometry& geometry);
+
 // Default true mounting of the camera (doc/mechanisms.md, "The simulated true H4"): below the workspace,
 // looking up (z_C ≈ z_B), ≈0.8 m from the target, turned by ψ_BC = 25° with a 1–2° tilt like a real bracket.
 Eigen::Isometry3d defaultBaseTCamera();
@@ -113,10 +118,10 @@ Eigen::Isometry3d defaultBaseTCamera();
 // the effector, origin (first feature) offset so a ≈180×140 mm board is centred on it, ψ_ME = 10°.
 Eigen::Isometry3d defaultMarkerTEffector();
 
-class H4TrueRobot {
+class H4TrueKinematics {
  public:
-  explicit H4TrueRobot(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera = defaultBaseTCamera(),
-                       const Eigen::Isometry3d& marker_T_effector = defaultMarkerTEffector());
+  explicit H4TrueKinematics(H4TrueGeometry geometry, const Eigen::Isometry3d& base_T_camera = defaultBaseTCamera(),
+                            const Eigen::Isometry3d& marker_T_effector = defaultMarkerTEffector());
 
   const H4TrueGeometry& geometry() const { return geometry_; }
   const Eigen::Isometry3d& baseTCamera() const { return base_T_camera_; }
@@ -170,7 +175,7 @@ std::array<std::vector<H4Pose>, 2> straightLineMotions(const H4ProtocolGrid& gri
 
 // Encoder readings the true robot records along a motion (the effector being guided on the
 // line); throws std::runtime_error if a pose is unreachable.
-std::vector<H4Joints> recordJoints(const H4TrueRobot& robot, const std::vector<H4Pose>& poses, double noise_rad,
+std::vector<H4Joints> recordJoints(const H4TrueKinematics& robot, const std::vector<H4Pose>& poses, double noise_rad,
                                    std::mt19937_64& rng);
 
 // The square test of paper §6.4 (Table 4): corners of a `side` square at constant z commanded
@@ -184,7 +189,7 @@ struct SquareTestResult {
   std::array<double, 4> side_error_m{};  // reached side length − commanded side (m)
   double max_abs_error_m = 0.0;
 };
-SquareTestResult squareTest(const H4TrueRobot& robot, const CommandIkm& command_ikm,
+SquareTestResult squareTest(const H4TrueKinematics& robot, const CommandIkm& command_ikm,
                             const Eigen::Vector3d& centre = Eigen::Vector3d(0.0, 0.0, -0.62), double side = 0.100);
 
 // A simulated measurement campaign: for each pose, the measured target pose cTm (true value
@@ -201,7 +206,7 @@ struct H4MeasurementNoise {
   double rotation_rad = 0.03 * kH4Degree;
   double encoder_rad = 0.0;
 };
-std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
+std::vector<H4SimulatedMeasurement> simulateMeasurements(const H4TrueKinematics& robot, const std::vector<H4Pose>& poses,
                                                          const H4MeasurementNoise& noise, std::uint64_t seed);
 
 // Applies the measurement noise model above to a pose (rotation noise as a right-multiplied
@@ -222,7 +227,7 @@ void writeSimulatedCampaign(const std::filesystem::path& dir, const std::vector<
 // Smallest distance (pixels) between the projections of `marker_points` (in M) and the border
 // of a width×height pinhole image (fx = fy = focal_px, principal point at the centre) over all
 // `poses`; negative when a point leaves the image or goes behind the camera.
-double smallestImageMargin(const H4TrueRobot& robot, const std::vector<H4Pose>& poses,
+double smallestImageMargin(const H4TrueKinematics& robot, const std::vector<H4Pose>& poses,
                            const std::vector<Eigen::Vector3d>& marker_points, int width = 1024, int height = 768,
                            double focal_px = 817.0);
 

@@ -15,7 +15,6 @@
 #include <string>
 #include <vector>
 
-#include "mire/datasets/h4_true_robot.hpp"
 #include "mire/datasets/mechanism_true_robots.hpp"
 #include "mire/mechanism/identification.hpp"
 #include "mire/mechanism/mechanism.hpp"
@@ -57,15 +56,14 @@ std::vector<Eigen::VectorXd> iso9283Positions(const Eigen::VectorXd& centre, dou
 // extent), for a test inside a protocol's volume.
 std::pair<Eigen::Vector3d, double> cubeInside(const std::vector<Eigen::Vector3d>& positions);
 
-// The true robots of the simulated campaigns as TrueRobotReach (their own FKM, defects included;
+// The true robot of a simulated campaign as TrueRobotReach (its own FKM, defects included;
 // encoder readings in, effector out).
-TrueRobotReach reachOf(const DefectiveRobot& robot);
-TrueRobotReach reachOf(const H4TrueRobot& robot);
+TrueRobotReach reachOf(const TrueRobot& robot);
 
 // The test inside the protocol's volume of a campaign robot (mechanism_campaign.hpp's protocol
-// poses; the H4's protocol grid): the cube centred on it, as large as its smallest extent, the
-// orientation of the reference pose.
-Iso9283Spec iso9283SpecFor(const DefectiveRobot& robot);
+// poses; the H4's protocol grid, iso9283SpecFor(H4ProtocolGrid{})): the cube centred on it, as
+// large as its smallest extent, the orientation of the reference pose.
+Iso9283Spec iso9283SpecFor(const TrueRobot& robot);
 Iso9283Spec iso9283SpecFor(const H4ProtocolGrid& grid);
 
 // Runs the test: each cycle visits P1..P5 in order, commanded through `controller`'s IKM at

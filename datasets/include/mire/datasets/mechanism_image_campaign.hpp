@@ -1,14 +1,18 @@
 #pragma once
-// The H4 demo's campaign (h4_campaign.hpp) for the other parallel mechanisms (doc/demo-mechanisms.md): a
-// simulated true Delta or Gough–Stewart with unmodelled defects (mechanism_true_robots.hpp) carries the
-// H4 demo's chessboard through the protocol poses of doc/mechanisms.md, seen by the same reference camera
-// and rendered by the same renderer. Generates, deterministically for a seed, what a user would record:
+// The paper's experiment in simulation (paper §5–6; doc/mechanisms.md, "Evaluation criteria"), for every
+// mechanism of the table (registry.hpp; doc/demo-mechanisms.md): a simulated true robot with its unmodelled
+// defects (mechanism_true_robots.hpp: the H4's tilted arm axes and imperfect parallelograms, the Delta's
+// differing legs and tilting plate, the hexapod's gains and eccentricities, a described robot's bent
+// readings) carries the demo's chessboard through its protocol poses (the H4's 81 of paper §6,
+// doc/mechanisms.md for the others), seen by the reference camera. Generates, deterministically for a
+// seed, what a user would record on the real robot, as files in the formats of doc/file-formats.md:
 //   <dir>/target.yaml                      the target
 //   <dir>/calibration/images/view_XXX.png  calibration images
-//   <dir>/poses/<pose_id>/img_XX.png       81 (hexapod) or 27 (Delta) poses × N images
+//   <dir>/poses/<pose_id>/img_XX.png       81 (H4, hexapod) or 27 (Delta) poses × N images
 //   <dir>/joints.csv                       encoder readings (q<i>_rad or q<i>_m) at the poses
 //   <dir>/lines.csv                        encoder readings along two straight lines (V3)
-// and, for scoring only: <dir>/truth/ (true camera, true geometry and mountings, true poses).
+// and, for scoring only (never read by the pipeline): <dir>/truth/ (true camera, true geometry and
+// mountings, true poses).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -28,43 +32,49 @@
 namespace mire::datasets {
 
 struct MechanismImageCampaignSpec {
-  // A family of the table (registry.hpp) other than the H4: the Delta (legs differ, plate tilts) or
-  // the hexapod (gains, eccentricities); set by reference().
+  // A family of the table (registry.hpp) or a description file; set by reference().
   std::string mechanism;
   std::filesystem::path camera_file;  // true camera; default: the reference camera
   std::filesystem::path target_file;  // default: datasets/specs/target_h4.yaml
   int calibration_views = 25;
   int images_per_pose = 10;
-  int line_points = 21;             // per straight line (V3)
-  double encoder_noise_rad = 2e-5;  // rotary joints (Delta), as the H4 demo
+  int line_points = 21;             // per straight line (V3); the H4's reference: 20
+  double encoder_noise_rad = 2e-5;  // rotary joints (H4, Delta)
   double encoder_noise_m = 1e-6;    // prismatic joints (hexapod): a 1 µm linear scale
   RenderOptions render;
   NoiseOptions noise;
   std::uint64_t seed = 2004;
   // The true robot's draw; unset: `seed`. Set, it keeps one robot while `seed` renews the
-  // images and encoder noise (benchmarks/bench_chain_mechanisms.cpp).
+  // images and encoder noise (benchmarks/bench_chain.cpp, bench_chain_mechanisms.cpp).
   std::optional<std::uint64_t> robot_seed;
-  // false: the true robot is exactly of its geometry model (Delta: no plate tilt, the legs
-  // still differ, so exactly `delta-legs`; hexapod: unit encoder gains, no eccentricity, so
-  // exactly `gough-stewart`), for studies of the σ rather than of the model error.
+  // The H4's manufacturing errors and unmodelled defects (h4_true_robot.hpp); reference("h4")
+  // makes them as large as the paper's robot's.
+  H4ErrorSizes h4_errors;
+  // false: the true robot is exactly of its geometry model (H4: model 12; Delta: no plate tilt,
+  // the legs still differ, so exactly `delta-legs`; hexapod: unit encoder gains, no eccentricity,
+  // so exactly `gough-stewart`), for studies of the σ rather than of the model error.
   bool unmodelled_defects = true;
   // false: the Delta's legs are identical (only the common geometry's errors), so that without
   // its unmodelled defects it is exactly the simple `delta` model.
   bool delta_legs_differ = true;
-  // The camera's placement in the robot's base; unset: mechanismBaseTCamera(mechanism).
+  // The camera's placement in the robot's base; unset: mechanismBaseTCamera(mechanism). The H4's
+  // chain study draws one per chain so that the detector's systematic feature error differs
+  // between chains (doc/uncertainty.md).
   std::optional<Eigen::Isometry3d> base_T_camera;
   // The camera on the effector, the target fixed (doc/mechanisms.md, "Camera on the effector"):
-  // placed by eyeInHandMounting().
+  // placed by eyeInHandMounting(); not the H4's.
   bool camera_on_effector = false;
+  // The images are read back once by the pipeline: stored PNG, 10x cheaper to write and 7x
+  // to read than compressed, for twice the disk space (png.hpp).
   PngEncoding png = PngEncoding::Stored;
 
-  // The H4 demo's optics (slight defocus, sensor noise) for `mechanism`; throws
-  // std::invalid_argument naming an unknown mechanism.
+  // The demo's optics (a slightly soft lens, a noisy sensor: paper §5) for `mechanism`, and the
+  // H4's errors and line points; throws std::invalid_argument naming an unknown mechanism.
   static MechanismImageCampaignSpec reference(const std::string& mechanism);
 };
 
 struct MechanismImageCampaign {
-  DefectiveRobot robot;                    // true geometry and defects (scoring only)
+  TrueRobot robot;                         // true geometry and defects (scoring only)
   calibration::Camera camera;              // true camera (scoring only)
   Eigen::Isometry3d bTc, mTe;              // true mountings (scoring only)
   std::vector<Eigen::VectorXd> commanded;  // protocol poses X (the true robot's pose coordinates)
@@ -86,8 +96,8 @@ struct MechanismImageCampaign {
   Eigen::Isometry3d trueCameraTMarker(const std::string& pose_id) const;
 };
 
-// The camera and target placement of the demo: the camera below a Delta looking up (as the
-// H4's), above a hexapod looking down; the target centred on the effector facing the camera.
+// The camera and target placement of the demo: the camera below an H4 or a Delta looking up,
+// above a hexapod looking down; the target centred on the effector facing the camera.
 Eigen::Isometry3d mechanismBaseTCamera(const std::string& mechanism);
 Eigen::Isometry3d mechanismMarkerTEffector(const std::string& mechanism, const metrology::Target& target);
 
@@ -102,11 +112,15 @@ std::pair<Eigen::Isometry3d, Eigen::Isometry3d> eyeInHandMounting(const Eigen::I
                                                                   const Eigen::Isometry3d& bTe_home);
 
 // The spec's true robot (geometry and defects) as generateMechanismImageCampaign draws it, without
-// rendering; its mountings are mechanismBaseTCamera() (or the spec's) and mechanismMarkerTEffector().
-DefectiveRobot trueRobotOf(const MechanismImageCampaignSpec& spec);
+// rendering: a campaign's robot run again, e.g. by `mire simulate iso9283` with compensated
+// commands. Its mountings are mechanismBaseTCamera() (or the spec's) and mechanismMarkerTEffector()
+// (the H4's kinematics hold them too, for the spec's target file).
+TrueRobot trueRobotOf(const MechanismImageCampaignSpec& spec);
 
-// Generates the campaign under `directory`. Throws std::runtime_error naming the pose when a
-// target feature would leave the image (less than 10 px inside) at a protocol pose.
+// Generates the campaign under `directory` (created; existing files are replaced atomically).
+// Throws std::runtime_error naming the pose, before writing anything, when a target feature
+// would leave the image (less than 10 px inside) at a protocol pose; std::invalid_argument for
+// the H4 with the camera on the effector. `progress` is called after each image written.
 MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampaignSpec& spec,
                                                       const std::filesystem::path& directory,
                                                       const ProgressCallback& progress = {});

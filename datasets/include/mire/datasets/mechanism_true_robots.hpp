@@ -1,6 +1,10 @@
 #pragma once
-// Simulated true Delta and Gough–Stewart robots with defects their simple models cannot
-// represent (doc/studies/2026-11-23-mechanisms-sigma-and-defects.md, "Unmodelled defects"):
+// The simulated true robot of every mechanism of the table (registry.hpp): its true geometry in
+// its family's truth model and the defects none of its models represent, one kind per family
+// (SimulatedDefects; doc/studies/2026-11-23-mechanisms-sigma-and-defects.md, "Unmodelled defects"):
+//  - H4: per-leg geometry, tilted arm axes and imperfect parallelograms that tilt the nacelle
+//    (h4_true_robot.hpp, doc/mechanisms.md "The simulated true H4"); its geometry is the
+//    model-12 part of that robot.
 //  - Delta: per-leg geometry (the `delta-legs` model: pivots, arm axes, L_i, l_i, q0_i all
 //    differing by leg) and imperfect parallelograms that tilt the plate: the plate turns by
 //    ω = κ·z_B × (X − X0) (κ rad per metre of travel from the levelling pose X0), which the
@@ -13,20 +17,26 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "mire/datasets/h4_true_robot.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/mechanism/delta.hpp"
+#include "mire/mechanism/h4.hpp"
 
 namespace mire::datasets {
 
-struct DefectiveRobot {
+struct TrueRobot {
   RegisteredModel geometry_model;  // its family's truth model (registry.hpp)
-  ParameterSet geometry;           // true values
-  double tilt_per_m = 0.0;         // Delta plate tilt κ [rad/m]
+  ParameterSet geometry;           // true values (the H4's: the model-12 part of its legs)
+  // The H4's legs and nacelle (its kinematics replace the truth model's; mountings included).
+  std::optional<H4TrueKinematics> h4;
+  double tilt_per_m = 0.0;  // Delta plate tilt κ [rad/m]
   Eigen::Vector3d level_pose = Eigen::Vector3d(0, 0, -0.65);
   std::vector<double> encoder_gain;  // hexapod, per leg
   double eccentricity = 0.0;         // hexapod [m]
@@ -36,9 +46,13 @@ struct DefectiveRobot {
   Eigen::VectorXd curvature_origin;
 
   const Mechanism& mechanism() const { return *geometry_model.mechanism; }
+  // What the truth parameter files call it: the H4 in model 12's parameters, the others their
+  // truth model's name.
+  std::string title() const { return h4 ? "H4 in model 12's parameters" : geometry_model.name; }
 
-  // The true effector transform at pose X (Delta: plate centre + tilt).
+  // The true effector transform at pose X (Delta: plate centre + tilt; H4: nacelle tilt).
   Eigen::Isometry3d effector(const Eigen::VectorXd& X) const {
+    if (h4) return h4->baseTEffector(H4Pose(X));
     Eigen::Isometry3d T = mechanism().poseToTransform(X);
     if (mechanism().motionType() == MotionType::Translation) {
       const Eigen::Vector3d omega = tilt_per_m * Eigen::Vector3d::UnitZ().cross(X.head<3>() - level_pose);
@@ -49,6 +63,10 @@ struct DefectiveRobot {
 
   // Encoder readings at pose X; empty when unreachable.
   Eigen::VectorXd joints(const Eigen::VectorXd& X) const {
+    if (h4) {
+      const std::optional<H4Joints> q = h4->joints(H4Pose(X));
+      return q ? Eigen::VectorXd(*q) : Eigen::VectorXd();
+    }
     const Eigen::Isometry3d T = mechanism().poseToTransform(X);
     if (mechanism().motionType() == MotionType::Translation) {
       const IkmResult ikm = mechanism().inverseKinematics(geometry.values(), T);
@@ -81,8 +99,15 @@ struct DefectiveRobot {
     return q;
   }
 
-  // The pose whose readings are q (Newton with a central-difference Jacobian).
+  // The pose whose readings are q (Newton with a central-difference Jacobian; the H4's own FKM
+  // from the centre of its protocol grid).
   Eigen::VectorXd fkm(const Eigen::VectorXd& q) const {
+    if (h4) {
+      const Eigen::Vector3d centre = H4ProtocolGrid{}.centre;
+      const std::optional<H4Pose> X = h4->pose(H4Joints(q), H4Pose(centre[0], centre[1], centre[2], 0.0));
+      if (!X) throw std::runtime_error("true robot: FKM left the workspace");
+      return *X;
+    }
     const Mechanism& m = mechanism();
     Eigen::VectorXd X = m.referencePose(geometry.values());
     for (int it = 0; it < 50; ++it) {
@@ -104,12 +129,23 @@ struct DefectiveRobot {
   }
 };
 
+// An H4 drawn as makeTrueGeometry(nominal, sizes, seed) (h4_true_robot.hpp: bit-identical for a
+// seed) with its camera and target mountings; its geometry is the model-12 part of that draw.
+inline TrueRobot makeTrueH4(const H4ErrorSizes& sizes, std::uint64_t seed, const Eigen::Isometry3d& base_T_camera,
+                            const Eigen::Isometry3d& marker_T_effector) {
+  TrueRobot robot;
+  robot.geometry_model = makeRegisteredModel(familyWithDefects(SimulatedDefects::H4Parallelograms).truth_model);
+  robot.geometry = h4Model12Parameters(drawModel12Values(H4Model12Values{}, sizes, seed));
+  robot.h4.emplace(makeTrueGeometry(H4Model12Values{}, sizes, seed), base_T_camera, marker_T_effector);
+  return robot;
+}
+
 // A Delta whose legs differ (`metre` / `radian` per leg on every per-leg parameter when
 // `legs_differ`, else only the common-geometry errors of that size) and whose plate tilts by κ.
-inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double tilt_per_m = 0.0116,
-                                         double metre = 1e-3, double radian = 0.5 * kCampaignDeg) {
+inline TrueRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double tilt_per_m = 0.0116, double metre = 1e-3,
+                                    double radian = 0.5 * kCampaignDeg) {
   const MechanismFamily& delta = familyWithDefects(SimulatedDefects::PlateTilt);
-  DefectiveRobot robot;
+  TrueRobot robot;
   robot.geometry_model = makeRegisteredModel(delta.truth_model);
   const ParameterSet common = perturbedBy(makeRegisteredModel(delta.models.front()).nominal, seed, metre, radian);
   robot.geometry =
@@ -121,9 +157,9 @@ inline DefectiveRobot makeDefectiveDelta(unsigned seed, bool legs_differ, double
 // A hexapod with `metre` (1 mm) errors on every joint centre and length, encoder gains
 // 1 ± 2·10⁻³ and 0.3 mm joint eccentricities. The eccentricity is perpendicular to the leg,
 // so it changes the leg length by only ε²/(2ρ) (0.1 µm for 0.3 mm: doc/mechanisms.md).
-inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e-3, double eccentricity = 0.3e-3,
-                                           double metre = 1e-3) {
-  DefectiveRobot robot;
+inline TrueRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e-3, double eccentricity = 0.3e-3,
+                                      double metre = 1e-3) {
+  TrueRobot robot;
   robot.geometry_model = makeRegisteredModel(familyWithDefects(SimulatedDefects::GainsAndEccentricity).truth_model);
   robot.geometry = perturbedBy(robot.geometry_model.nominal, seed, metre, 0.0);
   std::mt19937 rng(seed + 7);
@@ -138,9 +174,9 @@ inline DefectiveRobot makeDefectiveHexapod(unsigned seed, double gain_error = 2e
 // readings, |c_i| up to 0.1 /m on prismatic and extensible legs (10 µm at 10 mm from home) and
 // 0.02 /rad on revolute ones (0.2 mrad at 0.1 rad), and, on a translation platform, the Delta's
 // plate tilt κ about its home.
-inline DefectiveRobot makeDefectiveDescribed(const RegisteredModel& model, unsigned seed, bool defects = true,
-                                             double metre = 0.5e-3, double radian = 0.3 * kCampaignDeg) {
-  DefectiveRobot robot;
+inline TrueRobot makeDefectiveDescribed(const RegisteredModel& model, unsigned seed, bool defects = true,
+                                        double metre = 0.5e-3, double radian = 0.3 * kCampaignDeg) {
+  TrueRobot robot;
   robot.geometry_model = model;
   robot.geometry = perturbedBy(model.nominal, seed, metre, radian);
   if (!defects) return robot;
@@ -161,7 +197,7 @@ inline DefectiveRobot makeDefectiveDescribed(const RegisteredModel& model, unsig
 // Measured campaign of a defective robot at the protocol poses (+ `extra` random ones), their
 // positions spread `spread` times as far from the reference pose (a protocol over more of the
 // workspace; orientations unchanged).
-inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std::string& model_name, unsigned seed,
+inline Campaign simulateDefectiveCampaign(const TrueRobot& robot, const std::string& model_name, unsigned seed,
                                           double noise_t = 0.2e-3, double noise_r = 0.03 * kCampaignDeg, int extra = 0,
                                           double spread = 1.0) {
   Campaign c = simulateCampaign(model_name, seed, 0.0, 0.0, extra);  // mountings, protocol (+ extra)
@@ -188,12 +224,33 @@ inline Campaign simulateDefectiveCampaign(const DefectiveRobot& robot, const std
   return c;
 }
 
+// The poses X (the robot's pose coordinates) a campaign measures: the H4's 81 of paper §6 (its
+// protocol grid, h4_true_robot.hpp), the others' protocolPoses() at their true geometry.
+inline std::vector<Eigen::VectorXd> protocolCoordinates(const TrueRobot& robot) {
+  std::vector<Eigen::VectorXd> poses;
+  if (robot.h4) {
+    for (const H4Pose& X : protocolPoses(H4ProtocolGrid{})) poses.emplace_back(X);
+    return poses;
+  }
+  const Mechanism& m = robot.mechanism();
+  for (const Eigen::Isometry3d& bTe : protocolPoses(m, robot.geometry.values()))
+    poses.push_back(m.transformToPose(bTe));
+  return poses;
+}
+
 // The two straight lines of criterion V3 (paper §6.1) through the reference pose, as the
 // benchmark and the mechanism demo record them: from −(a, ±a, dz) to +(a, ±a, dz) in `points`
 // poses; `reach` scales the half-extents (Delta 120 / 50 mm, hexapod 40 / 25 mm, scaled as the
 // protocol with protocolScale()).
-inline std::array<std::vector<Eigen::VectorXd>, 2> straightLinePoses(const DefectiveRobot& robot, int points,
+inline std::array<std::vector<Eigen::VectorXd>, 2> straightLinePoses(const TrueRobot& robot, int points,
                                                                      double reach = 1.0) {
+  if (robot.h4) {  // the lines of paper §6.1 through the H4's protocol grid (`reach` unused)
+    std::array<std::vector<Eigen::VectorXd>, 2> lines;
+    const std::array<std::vector<H4Pose>, 2> motions = straightLineMotions(H4ProtocolGrid{}, points);
+    for (std::size_t line = 0; line < 2; ++line)
+      for (const H4Pose& X : motions[line]) lines[line].emplace_back(X);
+    return lines;
+  }
   const bool translation = robot.mechanism().motionType() == MotionType::Translation;
   const Eigen::VectorXd ref = robot.mechanism().referencePose(robot.geometry.values());
   const double size = reach * protocolScale(robot.mechanism(), robot.geometry.values(), ref);
@@ -217,7 +274,7 @@ inline std::array<std::vector<Eigen::VectorXd>, 2> straightLinePoses(const Defec
 // model's reference pose commanded through its IKM at `geometric`, reached by the true robot;
 // the 3-D side-length errors [m] (frame-invariant: the model's base frame is a gauge). Throws
 // when a corner is unreachable for the model.
-inline std::array<double, 4> positioningTestSides(const DefectiveRobot& robot, const Mechanism& model,
+inline std::array<double, 4> positioningTestSides(const TrueRobot& robot, const Mechanism& model,
                                                   const Eigen::VectorXd& geometric, double side = 0.1) {
   const double corners[5][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {-1, -1}};
   const Eigen::VectorXd centre = model.referencePose(geometric);
