@@ -1,6 +1,8 @@
 // accuracy.json (accuracy_report.hpp).
 #include "accuracy_report.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 namespace {
 

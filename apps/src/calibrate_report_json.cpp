@@ -5,6 +5,7 @@
 #include "report_json.hpp"
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 
 namespace mire::app {
 namespace {

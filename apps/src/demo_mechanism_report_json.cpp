@@ -5,6 +5,8 @@
 #include "demo_mechanism.hpp"
 #include "demo_report_parts.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 namespace {
 

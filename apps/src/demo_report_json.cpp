@@ -5,6 +5,8 @@
 #include "demo_report_parts.hpp"
 #include "report_json.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 namespace {
 

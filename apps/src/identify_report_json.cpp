@@ -3,6 +3,8 @@
 // the identifiability and the Monte-Carlo study. SI units throughout (m, rad).
 #include "identify_report.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 namespace {
 

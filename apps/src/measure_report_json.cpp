@@ -3,6 +3,8 @@
 
 #include "mire/support/statistics.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 
 void writeMeasureReportJson(const std::filesystem::path& path, const MeasureReportData& data) {

@@ -6,6 +6,8 @@
 #include "mire/pipeline/camera_plan.hpp"
 #include "report_json.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 namespace {
 

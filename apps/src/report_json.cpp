@@ -6,6 +6,7 @@
 #include "mire/support/atomic_file.hpp"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 namespace mire::app {

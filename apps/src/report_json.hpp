@@ -6,15 +6,13 @@
 // non-finite value is written as null with its reason in the sibling key "<key>_null_reason",
 // and a non-finite number that reaches the file any other way fails the command (nothing
 // written).
-#include <CLI/CLI.hpp>
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "demo.hpp"
 #include "mire/calibration/calibrate.hpp"
 #include "mire/calibration/model_check.hpp"
 #include "mire/mechanism/experiment_design.hpp"
@@ -22,7 +20,16 @@
 #include "mire/pipeline/camera_plan.hpp"
 #include "output_paths.hpp"
 
+// Declared only: CLI11 and the demo's types (demo.hpp, which brings the simulator's headers) cost
+// seconds of compile time in every file that includes this one (doc/install.md, "Build time").
+namespace CLI {
+class App;
+}
+
 namespace mire::app {
+
+struct DemoOptions;
+struct DemoResults;
 
 using Json = nlohmann::ordered_json;
 

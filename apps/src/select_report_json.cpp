@@ -4,6 +4,8 @@
 // covariance comes from `mire identify`).
 #include "report_json.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace mire::app {
 namespace {
 

@@ -1,5 +1,6 @@
 #include "validate.hpp"
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Eigenvalues>
 
 #include <sys/stat.h>

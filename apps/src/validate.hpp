@@ -8,13 +8,17 @@
 #include "mire/metrology/target.hpp"
 #include "mire/pipeline/image_check.hpp"
 
-#include <CLI/CLI.hpp>
-
 #include <cstddef>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+// Declared only: the checks' users that register no option need not parse CLI11
+// (doc/install.md, "Build time").
+namespace CLI {
+class Validator;
+}
 
 namespace mire::app {
 

@@ -4,6 +4,7 @@
 // noise. The figures against those of the true attained poses, the noise-only warnings, and bad
 // input named.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
