@@ -18,9 +18,7 @@ using K = GoughStewartSymmetricKinematics;
 // at centre + sign·(that half-angle).
 double halfAngleDeg(const std::array<double, 6>& angles_deg, const std::array<double, 6>& centres,
                     const std::array<double, 6>& signs, const char* which) {
-  const auto offset = [&](std::size_t i) {
-    return std::remainder(angles_deg[i] - centres[i], 360.0) * signs[i];
-  };
+  const auto offset = [&](std::size_t i) { return std::remainder(angles_deg[i] - centres[i], 360.0) * signs[i]; };
   const double half = offset(0);
   for (std::size_t i = 1; i < 6; ++i)
     if (std::abs(offset(i) - half) > 1e-9)
@@ -34,8 +32,7 @@ double halfAngleDeg(const std::array<double, 6>& angles_deg, const std::array<do
 ParameterSet goughStewartSymmetricParameters(const GoughStewartNominal& n) {
   constexpr double kDeg = support::kPi / 180.0;
   const double beta_b = halfAngleDeg(n.base_angles_deg, K::kBaseCentreDeg, K::kBaseSign, "base") * kDeg;
-  const double beta_p =
-      halfAngleDeg(n.platform_angles_deg, K::kPlatformCentreDeg, K::kPlatformSign, "platform") * kDeg;
+  const double beta_p = halfAngleDeg(n.platform_angles_deg, K::kPlatformCentreDeg, K::kPlatformSign, "platform") * kDeg;
   const double ab = n.base_angles_deg[0] * kDeg, ap = n.platform_angles_deg[0] * kDeg;
   const Eigen::Vector3d leg(n.platform_radius * std::cos(ap) - n.base_radius * std::cos(ab),
                             n.platform_radius * std::sin(ap) - n.base_radius * std::sin(ab), n.home_height);
