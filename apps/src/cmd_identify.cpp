@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "identify_checks.hpp"
 #include "identify_hand_eye.hpp"
+#include "identify_legs.hpp"
 #include "identify_report.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
@@ -48,6 +49,7 @@ using support::kDegreesPerRadian;
 struct IdentifyArguments {
   std::string poses, joints, covariances, nominal, model, variant, lines, output, report, shared;
   std::string robot_poses, mounting, robot_sigma;  // hand-eye (identify_hand_eye.hpp)
+  std::string observations, legs;                  // leg observations (identify_legs.hpp)
   std::vector<std::string> fix, priors, mc;
   bool robust = false, unweighted = false, independent_poses = false;
   int mc_repeats = 100, threads = 2;
@@ -471,7 +473,11 @@ Runner addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArguments>();
   CLI::App* cmd = app.add_subcommand(
       "identify", "identify a mechanism's geometry (H4, Delta, Gough-Stewart) from poses.csv and joints.csv");
-  cmd->add_option("--poses", args->poses, "measured target poses (poses.csv, doc/file-formats.md)")->required();
+  cmd->add_option("--poses", args->poses,
+                  "measured target poses (poses.csv, doc/file-formats.md); required but with --observations legs");
+  cmd->add_option("--observations", args->observations,
+                  "target (default), legs or both: what the camera measured (doc/legs.md)");
+  cmd->add_option("--legs", args->legs, "the legs' measured axes (legs.csv, doc/file-formats.md)");
   cmd->add_option("--joints", args->joints,
                   "encoder readings (joints.csv: pose_id,q1_<rad|m>..qN_<rad|m> per the mechanism)");
   CLI::Option* robot = cmd->add_option(
@@ -522,6 +528,17 @@ Runner addIdentifyCommand(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "identified parameters (YAML, SI, with sigma_<name>)")->required();
   cmd->add_option("--report", args->report, "folder for report.html, report.md, its PNG charts and report.json");
   return [args, cmd] {
+    if (!args->observations.empty() && args->observations != "target") {
+      for (const char* other : {"--robot-poses", "--variant", "--prior", "--lines", "--mc", "--shared-term", "--report",
+                                "--robust", "--unweighted", "--mounting"})
+        if (cmd->count(other) > 0)
+          throw UsageError(std::string(other) + " does not apply to --observations " + args->observations);
+      if (args->joints.empty()) throw UsageError("--observations " + args->observations + " needs --joints");
+      return runLegIdentify({args->observations, args->legs, args->joints, args->poses, args->covariances, args->model,
+                             args->nominal, args->output, args->fix});
+    }
+    if (!args->legs.empty()) throw UsageError("--legs needs --observations legs or both");
+    if (args->poses.empty()) throw UsageError("--poses is required (poses.csv), but with --observations legs");
     if (!args->robot_poses.empty()) {
       for (const char* other : {"--joints", "--model", "--variant", "--nominal", "--fix", "--prior", "--lines", "--mc",
                                 "--shared-term", "--report", "--robust", "--unweighted"})

@@ -417,6 +417,10 @@ void optionCases(std::vector<Case>& c) {
       {"VariantWrongModel", "--model h4-31c --variant A", "--variant A"},
       {"ModelUnknown", "--model h5", "--model 'h5'"},
       {"UnweightedWithCovariances", "--unweighted --pose-covariances " + std::string("/dev/null"), "--unweighted"},
+      {"ObservationsUnknown", "--observations feet --legs /dev/null", "--observations"},
+      {"LegsWithoutObservations", "--legs /dev/null", "--legs needs --observations"},
+      {"ObservationsLegsWithoutLegs", "--observations legs", "needs --legs"},
+      {"ObservationsBothWithReport", "--observations both --legs /dev/null --report /tmp/x", "--report does not apply"},
   };
   for (const auto& [name, extra, message] : identify) {
     const std::string x = extra;
@@ -623,6 +627,14 @@ void csvCases(std::vector<Case>& c) {
   add(c, "PosesMissingColumn",
       [](Env e) { return identify(e, e.edit(e.f.campaign / "poses.csv", "poses.csv", "tz_m", "tzz_m"), e.joints_csv()); },
       1, {"poses.csv", "tz_m"});
+  add(c, "LegsCsvLegOutOfRange",
+      [](Env e) {
+        return identifyDefault(e, "--observations legs --model gough-stewart --legs " +
+                                      e.write("legs.csv",
+                                              "pose_id,leg,dx,dy,dz,mx_m,my_m,mz_m,c11,c12,c13,c14,c22,c23,c24,c33,c34,"
+                                              "c44\n1,9,0,0,1,0.1,0.2,0,1e-6,0,0,0,1e-6,0,0,1e-6,0,1e-6\n"));
+      },
+      1, {"legs.csv:2", "leg 9"});
   add(c, "PosesEmptyFile", [](Env e) { return identify(e, e.write("poses.csv", ""), e.joints_csv()); }, 1, {"poses.csv"});
   add(c, "PosesHeaderOnly",
       [](Env e) {

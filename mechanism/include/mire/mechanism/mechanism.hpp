@@ -46,6 +46,14 @@ struct IkmResult {
   bool withinStroke() const { return out_of_stroke_joints.empty(); }
 };
 
+// One leg the camera can see as a rod (doc/legs.md): the axis segment of the cylinder, in the base
+// frame [m]. Hexapod (extensible legs): base joint → platform joint; Delta and H4: forearm, elbow →
+// effector attachment; described legs: the rod's joint on the actuator side → platform joint.
+struct LegSegment {
+  Eigen::Vector3d from = Eigen::Vector3d::Zero();
+  Eigen::Vector3d to = Eigen::Vector3d::Zero();
+};
+
 struct FkmOptions {
   int max_iterations = 50;
   double joint_tolerance = 1e-10;  // converged when every |q(X) − q̄| is below this [rad or m]
@@ -113,6 +121,15 @@ class Mechanism {
                                                                  const PoseVector& cTm,
                                                                  const Eigen::VectorXd& measured_joints,
                                                                  const Eigen::MatrixXd& whitening) const = 0;
+
+  // The legs whose axes a camera can observe (doc/legs.md), and their segments at the effector
+  // transform bTe for these parameters, legCount() entries in joint order. A mechanism without
+  // observable legs has none; an unreachable pose returns an empty list.
+  virtual int legCount() const { return 0; }
+  virtual std::vector<LegSegment> legSegments(const Eigen::VectorXd& /*geometric*/,
+                                              const Eigen::Isometry3d& /*bTe*/) const {
+    return {};
+  }
 
   virtual std::unique_ptr<Mechanism> clone() const = 0;
 };

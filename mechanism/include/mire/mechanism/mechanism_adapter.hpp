@@ -46,6 +46,15 @@ template <class K>
 struct HasStroke<K, std::void_t<decltype(std::declval<const K&>().inStroke(static_cast<const double*>(nullptr), 0, 0.0))>>
     : std::true_type {};
 
+// Kinematics with observable legs: bool legSegments(const double* g, const Eigen::Isometry3d& bTe,
+// std::vector<LegSegment>* out) (false where the pose is unreachable), and kLegs.
+template <class K, class = void>
+struct HasLegs : std::false_type {};
+template <class K>
+struct HasLegs<K, std::void_t<decltype(std::declval<const K&>().legSegments(
+                      static_cast<const double*>(nullptr), std::declval<const Eigen::Isometry3d&>(),
+                      static_cast<std::vector<LegSegment>*>(nullptr)))>> : std::true_type {};
+
 inline std::vector<int> unreachableList(int mask, int joints) {
   std::vector<int> list;
   for (int i = 0; i < joints; ++i)
@@ -262,6 +271,21 @@ class MechanismAdapter final : public Mechanism {
         return make<4>(std::move(functor));
     }
     throw std::logic_error("unknown external form");
+  }
+
+  int legCount() const override {
+    if constexpr (detail::HasLegs<K>::value)
+      return K::kJoints;
+    else
+      return 0;
+  }
+  std::vector<LegSegment> legSegments(const Eigen::VectorXd& geometric, const Eigen::Isometry3d& bTe) const override {
+    std::vector<LegSegment> out;
+    if constexpr (detail::HasLegs<K>::value) {
+      checkSize(geometric, K::kGeometric, "geometric parameter vector");
+      if (!kinematics_.legSegments(geometric.data(), bTe, &out)) out.clear();
+    }
+    return out;
   }
 
   std::unique_ptr<Mechanism> clone() const override { return std::make_unique<MechanismAdapter<K>>(*this); }

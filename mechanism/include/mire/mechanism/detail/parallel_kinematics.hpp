@@ -73,6 +73,20 @@ struct DeltaKinematics : TranslationPoseConvention<DeltaKinematics> {
     }
     return mask;
   }
+
+  // Forearm i: elbow B_i = P_i + L·(cos φ_i·u_i − sin φ_i·z_B) → plate joint A_i = X + r·u_i.
+  bool legSegments(const double* g, const Eigen::Isometry3d& bTe, std::vector<LegSegment>* out) const {
+    const Eigen::Vector3d t = bTe.translation();
+    double q[3];
+    if (inverseKinematics(g, static_cast<const double*>(nullptr), t.data(), q) != 0) return false;
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d u(std::cos(g[4 + i]), std::sin(g[4 + i]), 0.0);
+      const double phi = q[i] + g[7 + i];
+      const Eigen::Vector3d elbow = g[0] * u + g[2] * (std::cos(phi) * u - std::sin(phi) * Eigen::Vector3d::UnitZ());
+      out->push_back({elbow, t + g[1] * u});
+    }
+    return true;
+  }
 };
 
 // Model `delta-legs`: per leg i (8 values from 8·i): px py pz psi beta L l q0.
@@ -145,6 +159,14 @@ struct GoughStewartKinematics {
       joints[i] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g[36 + i];
     }
     return 0;
+  }
+
+  // Leg i: base joint b_i → platform joint t + R·p_i.
+  bool legSegments(const double* g, const Eigen::Isometry3d& bTe, std::vector<LegSegment>* out) const {
+    for (int i = 0; i < 6; ++i)
+      out->push_back(
+          {Eigen::Map<const Eigen::Vector3d>(g + 3 * i), bTe * Eigen::Map<const Eigen::Vector3d>(g + 18 + 3 * i)});
+    return true;
   }
 };
 
