@@ -72,6 +72,27 @@ TEST(LegSegments, HexapodLegsJoinTheJointsAtTheEncodersLength) {
   }
 }
 
+// The symmetric layout's legs at its nominal are the 42-parameter hexapod's at its nominal (the
+// same joints), and their lengths are what its IKM reads plus rho0.
+TEST(LegSegments, SymmetricHexapodLegsAreTheNominalHexapods) {
+  const RegisteredModel symmetric = makeRegisteredModel("gough-stewart-symmetric");
+  const RegisteredModel full = makeRegisteredModel("gough-stewart");
+  const Eigen::VectorXd g = symmetric.nominal.values();
+  Eigen::Isometry3d bTe = Eigen::Isometry3d::Identity();
+  bTe.translation() = Eigen::Vector3d(0.01, -0.02, 0.41);
+  bTe.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const std::vector<LegSegment> a = symmetric.mechanism->legSegments(g, bTe);
+  const std::vector<LegSegment> b = full.mechanism->legSegments(full.nominal.values(), bTe);
+  ASSERT_EQ(a.size(), 6u);
+  ASSERT_EQ(b.size(), 6u);
+  const IkmResult ikm = symmetric.mechanism->inverseKinematics(g, bTe);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_LT((a[i].from - b[i].from).norm(), 1e-12) << i;
+    EXPECT_LT((a[i].to - b[i].to).norm(), 1e-12) << i;
+    EXPECT_NEAR((a[i].to - a[i].from).norm(), ikm.joints[static_cast<Eigen::Index>(i)] + g[4], 1e-12) << i;
+  }
+}
+
 TEST(LegSegments, DeltaForearmsHaveTheForearmLengthAndStartAtTheElbows) {
   const datasets::Campaign c = datasets::simulateCampaign("delta", 1);
   const Mechanism& m = *c.model.mechanism;

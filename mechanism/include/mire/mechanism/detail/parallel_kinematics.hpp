@@ -189,24 +189,41 @@ struct GoughStewartSymmetricKinematics : GoughStewartKinematics {
     const double rho = q + g[kRho0];
     return rho >= leg_min && rho <= leg_max;
   }
+  // Leg i's base joint b_i and platform joint p_i (x, y; z = 0) from the layout.
   template <class T>
-  int inverseKinematics(const T* g, const T* R, const T* t, T* joints) const {
+  static void joints(const T* g, std::size_t i, T* b, T* p) {
     using std::cos;
     using std::sin;
-    using std::sqrt;
     constexpr double kDeg = support::kPi / 180.0;
+    const T base_angle = kBaseCentreDeg[i] * kDeg + kBaseSign[i] * g[1];
+    const T platform_angle = kPlatformCentreDeg[i] * kDeg + kPlatformSign[i] * g[3];
+    b[0] = g[0] * cos(base_angle);
+    b[1] = g[0] * sin(base_angle);
+    p[0] = g[2] * cos(platform_angle);
+    p[1] = g[2] * sin(platform_angle);
+  }
+  template <class T>
+  int inverseKinematics(const T* g, const T* R, const T* t, T* q) const {
+    using std::sqrt;
     for (std::size_t i = 0; i < 6; ++i) {
-      const T base_angle = kBaseCentreDeg[i] * kDeg + kBaseSign[i] * g[1];
-      const T platform_angle = kPlatformCentreDeg[i] * kDeg + kPlatformSign[i] * g[3];
-      const T p[2] = {g[2] * cos(platform_angle), g[2] * sin(platform_angle)};
-      const T b[2] = {g[0] * cos(base_angle), g[0] * sin(base_angle)};
+      T b[2], p[2];
+      joints(g, i, b, p);
       T d[3];
       for (int k = 0; k < 3; ++k) d[k] = t[k] + R[k] * p[0] + R[3 + k] * p[1];
       d[0] -= b[0];
       d[1] -= b[1];
-      joints[i] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g[kRho0];
+      q[i] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g[kRho0];
     }
     return 0;
+  }
+  // Leg i: base joint b_i → platform joint t + R·p_i (the layout's, not the 42 values').
+  bool legSegments(const double* g, const Eigen::Isometry3d& bTe, std::vector<LegSegment>* out) const {
+    for (std::size_t i = 0; i < 6; ++i) {
+      double b[2], p[2];
+      joints(g, i, b, p);
+      out->push_back({Eigen::Vector3d(b[0], b[1], 0.0), bTe * Eigen::Vector3d(p[0], p[1], 0.0)});
+    }
+    return true;
   }
 };
 
