@@ -2,6 +2,7 @@
 // before a campaign is recorded, and what a campaign on it can identify (doc/mechanisms.md,
 // "Checking a description"). Glue only: the checks are pipeline::checkMechanism.
 #include "commands.hpp"
+#include "model_choice.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
@@ -32,14 +33,7 @@ pipeline::ModelChoice chooseModel(const CheckArguments& args) {
   checkCommandPaths(paths);
   // A description that cannot be read is bad input (exit 1, file:line: key), not a usage error.
   if (mech::isDescriptionFile(args.model)) mech::readMechanismDescription(args.model);
-  pipeline::ModelChoice choice;
-  try {
-    choice = pipeline::chooseModel(args.model, "");
-  } catch (const std::invalid_argument& error) {
-    throw UsageError(error.what());
-  }
-  pipeline::applyNominal(choice, args.nominal);
-  return choice;
+  return chooseCommandModel(args.model, "", "", args.nominal);
 }
 
 std::string vectorText(const Eigen::VectorXd& values) {

@@ -7,6 +7,7 @@
 #include "identify_hand_eye.hpp"
 #include "identify_legs.hpp"
 #include "identify_report.hpp"
+#include "model_choice.hpp"
 #include "output_paths.hpp"
 #include "plan_inputs.hpp"
 #include "report_json.hpp"
@@ -141,18 +142,8 @@ CommandPaths checkPaths(const IdentifyArguments& args, const pipeline::PoseSetFi
   return paths;
 }
 
-// The model the user chose (--model, --variant) with its nominal geometry (--nominal; the H4
-// models' default is datasets/specs/h4_nominal.yaml, the others' built in).
 pipeline::ModelChoice chooseModel(const IdentifyArguments& args) {
-  pipeline::ModelChoice choice;
-  try {
-    choice = pipeline::chooseModel(args.model, args.variant);
-    if (!args.mounting.empty()) pipeline::applyMounting(choice, args.mounting);
-  } catch (const std::invalid_argument& error) {  // names the option at fault
-    throw UsageError(error.what());
-  }
-  pipeline::applyNominal(choice, args.nominal);
-  return choice;
+  return chooseCommandModel(args.model, args.variant, args.mounting, args.nominal);
 }
 
 // Everything identify reads: the observations (with the shared calibration term and the

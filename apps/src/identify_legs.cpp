@@ -2,11 +2,13 @@
 #include "identify_legs.hpp"
 
 #include "commands.hpp"
+#include "model_choice.hpp"
 #include "output_paths.hpp"
 #include "validate.hpp"
 
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/legs_csv.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/pipeline/identify_legs.hpp"
 #include "mire/pipeline/pose_set.hpp"
 
@@ -22,6 +24,14 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
+
+// The table's models whose legs the camera can observe, for messages.
+std::string modelsWithLegs() {
+  std::string list;
+  for (const mech::ModelInfo& info : mech::registeredModels())
+    if (mech::makeRegisteredModel(info.name).mechanism->legCount() > 0) list += (list.empty() ? "" : ", ") + info.name;
+  return list;
+}
 
 // Legs only: the poses are the joints' rows (no target measurement).
 std::vector<mech::PoseObservation> posesFromJoints(const LegIdentifyArguments& args,
@@ -79,17 +89,11 @@ int runLegIdentify(const LegIdentifyArguments& args) {
   if (!args.nominal.empty()) paths.input_files.push_back({args.nominal, "--nominal"});
   paths.output_files = {{args.output, "-o"}};
   checkCommandPaths(paths);
-  pipeline::ModelChoice choice;
-  try {
-    choice = pipeline::chooseModel(args.model, "");
-  } catch (const std::invalid_argument& error) {
-    throw UsageError(error.what());
-  }
-  pipeline::applyNominal(choice, args.nominal);
+  const pipeline::ModelChoice choice = chooseCommandModel(args.model, "", "", args.nominal);
   const mech::RegisteredModel model = choice.registered();
   if (model.mechanism->legCount() == 0)
-    throw UsageError("--observations " + args.observations + ": model " + choice.label() +
-                     " has no observable legs (gough-stewart, gough-stewart-gains, delta)");
+    throw UsageError("--observations " + args.observations + ": model " + choice.label() + " has no observable legs (" +
+                     modelsWithLegs() + ")");
   const std::vector<mech::LegObservation> legs = mech::readLegsCsv(args.legs, model.mechanism->legCount());
   std::vector<mech::PoseObservation> poses;
   if (observations == mech::Observations::Legs) {
