@@ -1,6 +1,4 @@
-// Model `gough-stewart-symmetric`: the hexapod's symmetric layout (doc/mechanisms.md).
-#include "mire/mechanism/gough_stewart_symmetric.hpp"
-
+// The symmetric hexapod's factory (detail/parallel_kinematics.hpp, doc/mechanisms.md).
 #include <cmath>
 #include <stdexcept>
 

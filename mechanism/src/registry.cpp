@@ -9,9 +9,9 @@
 
 #include "mire/mechanism/delta.hpp"
 #include "mire/mechanism/described.hpp"
+#include "mire/mechanism/detail/parallel_kinematics.hpp"
 #include "mire/mechanism/gough_stewart.hpp"
 #include "mire/mechanism/gough_stewart_gains.hpp"
-#include "mire/mechanism/gough_stewart_symmetric.hpp"
 
 namespace mire::mechanism {
 

@@ -7,10 +7,12 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "mire/mechanism/detail/h4_kinematics.hpp"
+#include "mire/mechanism/gough_stewart.hpp"
 #include "mire/mechanism/mechanism.hpp"
 #include "mire/support/constants.hpp"
 
@@ -170,7 +172,7 @@ struct GoughStewartKinematics {
   }
 };
 
-// Model `gough-stewart-symmetric` (gough_stewart_symmetric.hpp): the Gough–Stewart legs above with
+// Model `gough-stewart-symmetric` (doc/mechanisms.md): the Gough–Stewart legs above with
 // the joints placed by the 3-fold symmetric layout of the nominal hexapod, g = (rb, beta_b, rp, beta_p, rho0):
 //   b_i = rb·(cos(c_i + σ_i·beta_b), sin(…), 0),  p_i = rp·(cos(d_i + τ_i·beta_p), sin(…), 0),
 //   q̄_i = ‖t + R·p_i − b_i‖ − rho0,
@@ -226,5 +228,11 @@ struct GoughStewartSymmetricKinematics : GoughStewartKinematics {
     return true;
   }
 };
+
+// Its factory and nominal (gough_stewart_symmetric.cpp): the hexapod as a controller with a
+// symmetric geometry sees it, the nominal's layout required (pairs about 0/120/240° on the base,
+// 60/180/300° on the platform, equal half-angles; std::invalid_argument otherwise).
+ParameterSet goughStewartSymmetricParameters(const GoughStewartNominal& nominal = {});
+std::unique_ptr<Mechanism> makeGoughStewartSymmetricMechanism(const GoughStewartNominal& nominal = {});
 
 }  // namespace mire::mechanism
