@@ -57,6 +57,7 @@ int runCommand(const std::string& command);
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -96,6 +97,16 @@ std::string runtimeErrorOf(const Work& work) {
     return error.what();
   }
   return "";
+}
+
+// The message `f` throws (any std::exception), or "(no error)".
+inline std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
 }
 
 // Runs `mire <args>` with its output in dir/stdout.txt and dir/stderr.txt; returns the exit code.

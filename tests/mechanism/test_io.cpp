@@ -18,15 +18,6 @@ const char* kHeader =
     "pose_id,images_used,images_total,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad,sigma_tx_mm,sigma_ty_mm,sigma_tz_mm,"
     "sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px,extra\n";
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 TEST(PosesCsv, ReadsColumnsAndDiagonalCovariance) {
   test::TempDir dir;
   test::writeText(dir.path() / "poses.csv", std::string(kHeader) +
@@ -69,15 +60,15 @@ TEST(PosesCsv, ErrorsNameFileAndLine) {
   test::writeText(p, std::string(kHeader) +
                          "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
                          "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
-  std::string e = errorOf([&] { readPosesCsv(p); });
+  std::string e = test::errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("poses.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("duplicate pose_id 'a'"), std::string::npos) << e;
   test::writeText(p, std::string(kHeader) + "a,10,10,0.1,nan,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
-  e = errorOf([&] { readPosesCsv(p); });
+  e = test::errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("poses.csv:2"), std::string::npos) << e;
   EXPECT_NE(e.find("ty_m"), std::string::npos) << e;
   test::writeText(p, "pose_id,tx_m\na,1\n");
-  e = errorOf([&] { readPosesCsv(p); });
+  e = test::errorOf([&] { readPosesCsv(p); });
   EXPECT_NE(e.find("missing column"), std::string::npos) << e;
 }
 
@@ -88,7 +79,7 @@ TEST(Observations, PoseWithoutJointsIsAnError) {
                       "a,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n"
                       "b,10,10,0.1,0.2,0.8,0.01,0.02,0.03,0.2,0.2,0.4,0.03,0.03,0.06,0.1,0\n");
   test::writeText(dir.path() / "joints.csv", "pose_id,q1_rad,q2_rad,q3_rad,q4_rad\na,0.1,0.2,0.3,0.4\nz,0,0,0,0\n");
-  const std::string e = errorOf([&] { readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv"); });
+  const std::string e = test::errorOf([&] { readObservations(dir.path() / "poses.csv", dir.path() / "joints.csv"); });
   EXPECT_NE(e.find("poses.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("pose 'b' has no joints"), std::string::npos) << e;
   test::writeText(dir.path() / "joints.csv",
@@ -130,7 +121,7 @@ TEST(JointsAndLines, RoundTrip) {
   ASSERT_EQ(lines.size(), 2U);
   EXPECT_EQ(lines[1].joints[2], q[1]);
   test::writeText(dir.path() / "bad.csv", "line_id,q1_rad,q2_rad,q3_rad,q4_rad\n1,0,0,0,0\n1,0,0,0,0\n");
-  EXPECT_NE(errorOf([&] { readLinesCsv(dir.path() / "bad.csv"); }).find("at least 3"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { readLinesCsv(dir.path() / "bad.csv"); }).find("at least 3"), std::string::npos);
 }
 
 TEST(ParameterFile, WriteReadRoundTripAndErrors) {
@@ -150,23 +141,23 @@ TEST(ParameterFile, WriteReadRoundTripAndErrors) {
   EXPECT_EQ(back.values(), parameters.values());
 
   test::writeText(path, "R: 0.22\nfoo: 1\n");
-  std::string e = errorOf([&] {
+  std::string e = test::errorOf([&] {
     ParameterSet p = h4Model12Parameters(H4Nominal{});
     applyParameterFile(readParameterFile(path), p);
   });
   EXPECT_NE(e.find("p.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("unknown parameter name 'foo'"), std::string::npos) << e;
   test::writeText(path, "R: 0.22\nL: .nan\n");
-  e = errorOf([&] {
+  e = test::errorOf([&] {
     ParameterSet p = h4Model12Parameters(H4Nominal{});
     applyParameterFile(readParameterFile(path), p);
   });
   EXPECT_NE(e.find("p.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("not a finite number"), std::string::npos) << e;
   test::writeText(path, "R: 0.22\nR: 0.23\n");
-  EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("p.yaml:2: key 'R' appears twice"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { readParameterFile(path); }).find("p.yaml:2: key 'R' appears twice"), std::string::npos);
   test::writeText(path, "just text\n");
-  EXPECT_NE(errorOf([&] { readParameterFile(path); }).find("p.yaml:1"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { readParameterFile(path); }).find("p.yaml:1"), std::string::npos);
 }
 
 TEST(ParameterFile, DefaultNominalFileHoldsTheBriefValues) {

@@ -9,15 +9,6 @@
 namespace mire::mechanism {
 namespace {
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 const char* kHeader = "pose_id,leg,dx,dy,dz,mx_m,my_m,mz_m,c11,c12,c13,c14,c22,c23,c24,c33,c34,c44\n";
 
 TEST(LegsCsv, RoundTripsLinesAndCovariances) {
@@ -43,25 +34,25 @@ TEST(LegsCsv, ErrorsNameFileAndLine) {
   const auto p = dir.path() / "legs.csv";
   const std::string row = ",0,0,1,0.1,0.2,0,1e-6,0,0,0,1e-6,0,0,1e-6,0,1e-6\n";
   test::writeText(p, std::string(kHeader) + "a,1" + row + "a,7" + row);
-  std::string e = errorOf([&] { readLegsCsv(p, 6); });
+  std::string e = test::errorOf([&] { readLegsCsv(p, 6); });
   EXPECT_NE(e.find("legs.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("not a leg number 1..6"), std::string::npos) << e;
   test::writeText(p, std::string(kHeader) + "a,1" + row + "a,1" + row);
-  e = errorOf([&] { readLegsCsv(p, 6); });
+  e = test::errorOf([&] { readLegsCsv(p, 6); });
   EXPECT_NE(e.find("legs.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("appears twice"), std::string::npos) << e;
   test::writeText(p, std::string(kHeader) + "a,1,0,0,2,0.1,0.2,0,1e-6,0,0,0,1e-6,0,0,1e-6,0,1e-6\n");
-  e = errorOf([&] { readLegsCsv(p, 6); });
+  e = test::errorOf([&] { readLegsCsv(p, 6); });
   EXPECT_NE(e.find("legs.csv:2"), std::string::npos) << e;
   EXPECT_NE(e.find("length 2"), std::string::npos) << e;
   test::writeText(p, std::string(kHeader) + "a,1,0,0,1,0.1,0.2,0.3,1e-6,0,0,0,1e-6,0,0,1e-6,0,1e-6\n");
-  e = errorOf([&] { readLegsCsv(p, 6); });
+  e = test::errorOf([&] { readLegsCsv(p, 6); });
   EXPECT_NE(e.find("not perpendicular"), std::string::npos) << e;
   test::writeText(p, std::string(kHeader) + "a,1,0,0,1,0.1,0.2,0,1e-6,0,0,0,-1e-6,0,0,1e-6,0,1e-6\n");
-  e = errorOf([&] { readLegsCsv(p, 6); });
+  e = test::errorOf([&] { readLegsCsv(p, 6); });
   EXPECT_NE(e.find("not positive definite"), std::string::npos) << e;
   test::writeText(p, "pose_id,leg\na,1\n");
-  e = errorOf([&] { readLegsCsv(p, 6); });
+  e = test::errorOf([&] { readLegsCsv(p, 6); });
   EXPECT_NE(e.find("legs.csv"), std::string::npos) << e;
   EXPECT_NE(e.find("dx"), std::string::npos) << e;
 }
