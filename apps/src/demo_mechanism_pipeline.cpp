@@ -10,6 +10,7 @@
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/io.hpp"
+#include "mire/mechanism/model_selection.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/pipeline/closed_loop.hpp"

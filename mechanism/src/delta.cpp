@@ -100,11 +100,8 @@ ParameterSet goughStewartParameters(const GoughStewartNominal& n) {
 }
 
 std::unique_ptr<Mechanism> makeGoughStewartMechanism(const GoughStewartNominal& nominal) {
-  GoughStewartKinematics k;
-  k.home_height = nominal.home_height;
-  k.leg_min = nominal.leg_min;
-  k.leg_max = nominal.leg_max;
-  return std::make_unique<MechanismAdapter<GoughStewartKinematics>>(k, goughStewartParameters(nominal));
+  return std::make_unique<MechanismAdapter<GoughStewartKinematics>>(hexapodKinematics<GoughStewartKinematics>(nominal),
+                                                                    goughStewartParameters(nominal));
 }
 
 }  // namespace mire::mechanism

@@ -17,11 +17,8 @@ ParameterSet goughStewartGainsParameters(const GoughStewartNominal& nominal) {
 }
 
 std::unique_ptr<Mechanism> makeGoughStewartGainsMechanism(const GoughStewartNominal& nominal) {
-  GoughStewartGainsKinematics k;
-  k.home_height = nominal.home_height;
-  k.leg_min = nominal.leg_min;
-  k.leg_max = nominal.leg_max;
-  return std::make_unique<MechanismAdapter<GoughStewartGainsKinematics>>(k, goughStewartGainsParameters(nominal));
+  return std::make_unique<MechanismAdapter<GoughStewartGainsKinematics>>(
+      hexapodKinematics<GoughStewartGainsKinematics>(nominal), goughStewartGainsParameters(nominal));
 }
 
 }  // namespace mire::mechanism

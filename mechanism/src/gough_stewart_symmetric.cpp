@@ -44,11 +44,7 @@ ParameterSet goughStewartSymmetricParameters(const GoughStewartNominal& n) {
 }
 
 std::unique_ptr<Mechanism> makeGoughStewartSymmetricMechanism(const GoughStewartNominal& nominal) {
-  K k;
-  k.home_height = nominal.home_height;
-  k.leg_min = nominal.leg_min;
-  k.leg_max = nominal.leg_max;
-  return std::make_unique<MechanismAdapter<K>>(k, goughStewartSymmetricParameters(nominal));
+  return std::make_unique<MechanismAdapter<K>>(hexapodKinematics<K>(nominal), goughStewartSymmetricParameters(nominal));
 }
 
 }  // namespace mire::mechanism

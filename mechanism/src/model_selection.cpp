@@ -197,6 +197,16 @@ std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text
   return out;
 }
 
+std::vector<std::string> selectionModelNames(const MechanismFamily& family) {
+  if (family.selection.empty()) return family.models;
+  std::vector<std::string> names;
+  for (const std::string& item : split(family.selection)) {
+    const std::string name = item.substr(0, item.find(':'));  // `model:letter` or `model`
+    if (name.size() != 1 && (names.empty() || names.back() != name)) names.push_back(name);
+  }
+  return names;
+}
+
 std::string defaultSelectionModels(int joint_count, Unit unit) {
   for (const MechanismFamily& family : mechanismFamilies()) {
     const RegisteredModel simplest = makeRegisteredModel(family.models.front());

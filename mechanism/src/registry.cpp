@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <sstream>
 #include <stdexcept>
 
 #include "mire/mechanism/delta.hpp"
@@ -209,17 +208,6 @@ const ModelInfo& modelOfVariant(char letter) {
 }
 
 std::string registeredModelList() { return nameList(registeredModels()); }
-
-std::vector<std::string> selectionModelNames(const MechanismFamily& family) {
-  if (family.selection.empty()) return family.models;  // a described robot: its one model
-  std::vector<std::string> names;
-  std::istringstream items(family.selection);
-  for (std::string item; std::getline(items, item, ',');) {
-    const std::string name = item.substr(0, item.find(':'));
-    if (name.size() > 1) names.push_back(name);  // a lone letter is a variant of the model before it
-  }
-  return names;
-}
 
 std::string variantOwnerList() {
   std::string list;

@@ -29,6 +29,9 @@ struct SelectionCandidate {
 // Throws std::invalid_argument naming the bad item.
 std::vector<SelectionCandidate> parseSelectionCandidates(const std::string& text,
                                                          const std::function<DesignModel(const std::string&)>& make);
+// The model names of a family's `selection` (registry.hpp) in its order, each once, its variant
+// letters dropped; a described robot's family, which has no selection: its model.
+std::vector<std::string> selectionModelNames(const MechanismFamily& family);
 // The default list for a mechanism with `joint_count` joints of `unit`: the selection of the
 // table's family whose simplest model has such joints (registry.hpp).
 std::string defaultSelectionModels(int joint_count, Unit unit);

@@ -83,9 +83,6 @@ const MechanismFamily& mechanismFamily(const std::string& name);
 // description is its only model and its truth, with BentReadings defects. Throws as
 // mechanismFamily, or naming the description file's line and key.
 MechanismFamily mechanismFamilyOf(const std::string& name_or_file);
-// The model names of a family's `selection`, in its order (variant letters dropped); a described
-// robot's family, which has no selection: its model.
-std::vector<std::string> selectionModelNames(const MechanismFamily& family);
 const MechanismFamily& familyWithDefects(SimulatedDefects defects);
 
 // Throws as modelInfo(). The H4 models take their

@@ -229,6 +229,17 @@ struct GoughStewartSymmetricKinematics : GoughStewartKinematics {
   }
 };
 
+// A Gough–Stewart kinematics K (GoughStewartKinematics or derived) at the nominal's home height
+// and leg strokes, for the hexapod models' factories.
+template <class K>
+K hexapodKinematics(const GoughStewartNominal& nominal) {
+  K k;
+  k.home_height = nominal.home_height;
+  k.leg_min = nominal.leg_min;
+  k.leg_max = nominal.leg_max;
+  return k;
+}
+
 // Its factory and nominal (gough_stewart_symmetric.cpp): the hexapod as a controller with a
 // symmetric geometry sees it, the nominal's layout required (pairs about 0/120/240° on the base,
 // 60/180/300° on the platform, equal half-angles; std::invalid_argument otherwise).
