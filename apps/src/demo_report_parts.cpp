@@ -150,6 +150,10 @@ void writeClosedLoopSection(const pipeline::ClosedLoopTest& t, const std::string
         "(the standard's repeatability needs a finer measurement than this camera's).\n";
 }
 
+std::string nominalController(const DemoResults& r) {
+  return r.paper ? "model 12 with the nominal parameters" : "the nominal " + r.truth_model + " geometry";
+}
+
 Json closedLoopJson(const pipeline::ClosedLoopTest& t) {
   Json out;
   out["positions"] = static_cast<int>(t.before.positions.size());

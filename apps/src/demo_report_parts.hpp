@@ -1,7 +1,7 @@
 #pragma once
-// Report pieces shared by `mire demo` (the H4) and `mire demo --mechanism` (Delta, hexapod):
-// number formatting for Markdown, the run-time table, the calibration and pose-measurement
-// sections and their report.json objects.
+// The demo's report parts (demo.hpp): number formatting for Markdown, the run-time table, the
+// calibration and pose-measurement sections and their report.json objects, the closed loop, and
+// the paper's study's sections (demo_report_paper.cpp).
 #include "demo.hpp"
 #include "mire/pipeline/closed_loop.hpp"
 #include "number_text.hpp"
@@ -37,5 +37,13 @@ void writeClosedLoopSection(const pipeline::ClosedLoopTest& test, const std::str
                             const std::string& controller, std::ostream& md);
 // {"positions", "cycles", "cube_side_m", "before": figures, "after": figures} (accuracy.json's figures).
 Json closedLoopJson(const pipeline::ClosedLoopTest& test);
+// What the uncompensated controller runs, in the closed loop's text.
+std::string nominalController(const DemoResults& r);
+
+// The paper's study (r.paper): its introduction (title, the simulated H4, run times), and its
+// identification sections (Tables 1, 3, 4, the pose-count study, plan and select, the identified
+// parameters against the truth).
+void writePaperIntroduction(const DemoOptions& options, const DemoResults& r, std::ostream& md);
+void writePaperStudy(const DemoResults& r, std::ostream& md);
 
 }  // namespace mire::app::demo_report
