@@ -13,15 +13,11 @@ namespace {
 
 namespace rp = mire::report;
 using demo_report::fixed;
-using demo_report::format;
+using demo_report::kPaperSquareAfter;
+using demo_report::kPaperSquareBefore;
+using demo_report::kPaperTable3;
 using demo_report::percent;
-
-// The paper's Table 3 V3 (m) and Table 4 side errors (mm) (Renaud et al. 2004).
-constexpr double kPaperV3[8] = {6.1e-4, 5.4e-4, 6.2e-4, 5.5e-4, 7.9e-4, 8.8e-4, 8.8e-4, 7.7e-4};
-constexpr double kPaperSquareBefore[4] = {6.8, 3.6, 3.8, 6.9};
-constexpr double kPaperSquareAfter[4] = {0.6, -0.2, 0.4, -0.4};
-
-std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
+using demo_report::sci;
 
 // Fig. 11: the mean V3 over the repeated sets per variant with the standard error of that mean
 // (σ over the sets / √sets), the paper's single value beside it.
@@ -46,7 +42,7 @@ rp::Figure variantFigure(const PaperStudy& r, double true_v3_m) {
     mire.y.push_back(v.error.empty() ? 1e3 * v.v3_mean_m : NAN);
     mire.sigma.push_back(v.error.empty() ? 1e3 * v.v3_sigma_m / root_sets : NAN);
     paper.x.push_back(static_cast<double>(i));
-    paper.y.push_back(1e3 * kPaperV3[i % 8]);
+    paper.y.push_back(1e3 * kPaperTable3[i % 8].v3);
   }
   panel.series = {mire, paper};
   panel.references = {{1e3 * true_v3_m, "the true robot's own V3", "#2ca02c", true}};

@@ -8,20 +8,6 @@
 namespace mire::app::demo_report {
 namespace {
 
-// The paper's published values (Renaud et al. 2004, Tables 1, 3, 4 and §6.2).
-struct PaperVariant {
-  double cond, v1, v2, v3;
-};
-constexpr PaperVariant kPaperTable3[8] = {{115, 1.6e-4, 1.4e-3, 6.1e-4}, {160, 5.1e-5, 1.3e-3, 5.4e-4},
-                                          {116, 1.3e-4, 1.2e-3, 6.2e-4}, {161, -2.5e-5, 1.2e-3, 5.5e-4},
-                                          {187, 2.5e-4, 9.8e-4, 7.9e-4}, {192, 2.3e-4, 8.5e-4, 8.8e-4},
-                                          {194, 1.9e-4, 7.1e-4, 8.8e-4}, {220, -3.0e-5, 6.1e-4, 7.7e-4}};
-constexpr int kPaperParameters[8] = {17, 18, 18, 19, 28, 31, 32, 36};
-constexpr double kPaperSquareBefore[4] = {6.8, 3.6, 3.8, 6.9};
-constexpr double kPaperSquareAfter[4] = {0.6, -0.2, 0.4, -0.4};
-
-std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
-
 // 3. Identification: criteria before, then Tables 1 and 3 per variant (and Fig. 11's data).
 void writeVariantSection(const PaperStudy& r, double true_v3_m, std::ostream& md) {
   md << "\n## 3. Identification\n\nBefore identification (nominal geometry, external parameters estimated from "

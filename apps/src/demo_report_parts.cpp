@@ -12,6 +12,8 @@ std::string percent(double after, double before) {
   return before > 0.0 && std::isfinite(after) ? format("%+.0f %%", 100.0 * (after - before) / before) : "n/a";
 }
 
+std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
+
 void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md) {
   double total = 0.0;
   md << "## Run time\n\n| stage | seconds |\n| --- | ---: |\n";

@@ -16,6 +16,20 @@ namespace mire::app::demo_report {
 using app::fixed;
 using app::format;
 std::string percent(double after, double before);  // signed change, "n/a" when undefined
+std::string sci(double value);                     // "%.2e", "n/a" when not finite
+
+// The paper's published values (Renaud et al. 2004): Table 3 per variant A–H (cond, V1 and V2 in
+// rad, V3 in m), the variants' parameter counts (Table 2), Table 4's square side errors (mm).
+struct PaperVariant {
+  double cond, v1, v2, v3;
+};
+inline constexpr PaperVariant kPaperTable3[8] = {{115, 1.6e-4, 1.4e-3, 6.1e-4}, {160, 5.1e-5, 1.3e-3, 5.4e-4},
+                                                 {116, 1.3e-4, 1.2e-3, 6.2e-4}, {161, -2.5e-5, 1.2e-3, 5.5e-4},
+                                                 {187, 2.5e-4, 9.8e-4, 7.9e-4}, {192, 2.3e-4, 8.5e-4, 8.8e-4},
+                                                 {194, 1.9e-4, 7.1e-4, 8.8e-4}, {220, -3.0e-5, 6.1e-4, 7.7e-4}};
+inline constexpr int kPaperParameters[8] = {17, 18, 18, 19, 28, 31, 32, 36};
+inline constexpr double kPaperSquareBefore[4] = {6.8, 3.6, 3.8, 6.9};
+inline constexpr double kPaperSquareAfter[4] = {0.6, -0.2, 0.4, -0.4};
 
 void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md);
 // "## 1. Camera calibration": views, RMS, projection uncertainty, estimate / σ / truth / error/σ.
