@@ -2,7 +2,7 @@
 // What a user applies from the end-to-end σ studies (doc/studies/, the chain studies): the camera-
 // frame position `mire fkm --frame camera` predicts from the true joints with the identified
 // model, against the true position, and its error over the σ `fkm` prints (the parameters'
-// covariance propagated; benchmarks/bench_chain.cpp, benchmarks/bench_chain_mechanisms.cpp).
+// covariance propagated; benchmarks/bench_chain.cpp).
 #include "chain_statistics.hpp"
 
 #include "mire/mechanism/prediction.hpp"

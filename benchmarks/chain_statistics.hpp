@@ -1,6 +1,6 @@
 #pragma once
 // Small statistics of the end-to-end σ studies (doc/studies/, the chain studies:
-// benchmarks/bench_chain.cpp, benchmarks/bench_chain_mechanisms.cpp): samples of error/σ per
+// benchmarks/bench_chain.cpp): samples of error/σ per
 // name gathered over chains, their spread, the Mahalanobis χ² of a whole error vector, and the
 // process CPU time the studies report per stage.
 #include <Eigen/Cholesky>

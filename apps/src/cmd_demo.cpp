@@ -1,6 +1,5 @@
 #include "commands.hpp"
 #include "demo.hpp"
-#include "demo_mechanism.hpp"
 #include "output_paths.hpp"
 #include "report_json.hpp"
 #include "validate.hpp"
@@ -14,9 +13,21 @@
 namespace mire::app {
 namespace {
 
-// The mechanism demo's summary: per model, V3 and the positioning test before -> after.
-int printMechanismDemo(const MechanismDemoResults& results, const std::filesystem::path& output) {
+// The summary: V3 and the square test (the paper's study), or per model V3 and the positioning
+// test, before -> after; then the pose precision.
+int printDemo(const DemoResults& results, const std::filesystem::path& output) {
   std::cout << "mire demo: report written to " << (output / "report.md").string() << "\n";
+  if (results.paper) {
+    const PaperStudy& r = *results.paper;
+    std::cout << "  V3 straightness: " << 1e3 * r.nominal_v3_m << " mm (nominal) -> ";
+    for (const auto& row : r.pose_counts)
+      if (row.size == 15) std::cout << 1e3 * row.v3_mean << " mm (15 poses, mean)";
+    std::cout << "\n  square side errors (mm), nominal:";
+    for (const double e : r.square_before_mm) std::cout << " " << e;
+    std::cout << "; identified:";
+    for (const double e : r.square_after_mm) std::cout << " " << e;
+    std::cout << "\n";
+  }
   for (const auto& m : results.models)
     std::cout << "  " << m.model << ": V3 " << 1e3 * m.v3_before_m << " mm (nominal) -> " << 1e3 * m.v3_after_m
               << " mm; square side RMS " << m.square_rms_before_mm << " mm -> " << m.square_rms_after_mm << " mm\n";
@@ -25,7 +36,21 @@ int printMechanismDemo(const MechanismDemoResults& results, const std::filesyste
   return static_cast<int>(kOk);
 }
 
+// The families the camera on the effector runs with, for the message that refuses the others.
+std::string familiesWithoutPaperVariants() {
+  std::string list;
+  for (const mechanism::MechanismFamily& family : mechanism::mechanismFamilies())
+    if (!pipeline::takesPaperVariants(family)) list += (list.empty() ? "" : ", ") + family.name;
+  return list;
+}
+
 }  // namespace
+
+DemoResults runDemo(const DemoOptions& options) {
+  DemoResults results = pipeline::runDemoStages(options);
+  results.files = writeDemoReport(options, results);
+  return results;
+}
 
 Runner addDemoCommand(CLI::App& app) {
   auto options = std::make_shared<DemoOptions>();
@@ -58,32 +83,20 @@ Runner addDemoCommand(CLI::App& app) {
       ->capture_default_str();
   return [options, demo] {
     options->command_line = commandLineOf(*demo);
-    // The H4 demo runs the paper's variants, whose mounting assumes the camera fixed (paper §4),
-    // as `mire identify` and `mire select` refuse them.
-    if (cameraOnEffector(options->mounting) && options->mechanism == mechanism::mechanismFamilies().front().name)
+    // The paper's study identifies the paper's variants, whose mounting assumes the camera fixed
+    // (paper §4), as `mire identify` and `mire select` refuse them.
+    if (cameraOnEffector(options->mounting) && !mechanism::isDescriptionFile(options->mechanism) &&
+        pipeline::takesPaperVariants(mechanism::mechanismFamily(options->mechanism)))
       throw UsageError(
           "--mounting camera-on-effector: the H4 demo identifies the paper's variants, which assume the "
-          "camera fixed (paper §4); the camera on the effector runs with --mechanism delta, gough-stewart "
-          "or a description file");
+          "camera fixed (paper §4); the camera on the effector runs with --mechanism " +
+          familiesWithoutPaperVariants() + " or a description file");
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
     // A description file is read before the simulation starts too.
     CommandPaths paths{{}, {}, {}, {{options->output, "-o"}}};
     if (mechanism::isDescriptionFile(options->mechanism)) paths.input_files = {{options->mechanism, "--mechanism"}};
     checkCommandPaths(paths);
-    if (options->mechanism != mechanism::mechanismFamilies().front().name)
-      return printMechanismDemo(runMechanismDemo(*options), options->output);
-    const DemoResults results = runDemo(*options);
-    std::cout << "mire demo: report written to " << (options->output / "report.md").string() << "\n";
-    std::cout << "  V3 straightness: " << 1e3 * results.nominal_v3_m << " mm (nominal) -> ";
-    for (const auto& row : results.pose_counts)
-      if (row.size == 15) std::cout << 1e3 * row.v3_mean << " mm (15 poses, mean)";
-    std::cout << "\n  square side errors (mm), nominal:";
-    for (const double e : results.square_before_mm) std::cout << " " << e;
-    std::cout << "; identified:";
-    for (const double e : results.square_after_mm) std::cout << " " << e;
-    std::cout << "\n  pose precision (median σ): " << results.measurement.median_sigma_mm.transpose() << " mm, "
-              << results.measurement.median_sigma_deg.transpose() << " deg\n";
-    return static_cast<int>(kOk);
+    return printDemo(runDemo(*options), options->output);
   };
 }
 

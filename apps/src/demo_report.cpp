@@ -1,182 +1,187 @@
-// The demo's report: Markdown with mire's numbers beside the paper's (Tables 1, 3, 4, the
-// pose-count study of §6.2, Fig. 11) linking the figures as SVG files; report.html and report.json.
+// The demo's report (doc/simulation.md, doc/demo-mechanisms.md): report.md with the calibration and
+// the pose measurement against truth, then the paper's study (demo_report_paper.cpp) or each model's
+// identification (parameters against the truth in its gauge) with V3 and the positioning test
+// before and after, the closed loop; the figures as SVG files; report.html and report.json.
 #include "demo.hpp"
 #include "demo_report_html.hpp"
 #include "demo_report_parts.hpp"
 #include "report_json.hpp"
 
+#include "mire/mechanism/registry.hpp"
 #include "mire/support/atomic_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 namespace mire::app {
-namespace {
 
-// The paper's published values (Renaud et al. 2004, Tables 1, 3, 4 and §6.2).
-struct PaperVariant {
-  double cond, v1, v2, v3;
-};
-constexpr PaperVariant kPaperTable3[8] = {{115, 1.6e-4, 1.4e-3, 6.1e-4}, {160, 5.1e-5, 1.3e-3, 5.4e-4},
-                                          {116, 1.3e-4, 1.2e-3, 6.2e-4}, {161, -2.5e-5, 1.2e-3, 5.5e-4},
-                                          {187, 2.5e-4, 9.8e-4, 7.9e-4}, {192, 2.3e-4, 8.5e-4, 8.8e-4},
-                                          {194, 1.9e-4, 7.1e-4, 8.8e-4}, {220, -3.0e-5, 6.1e-4, 7.7e-4}};
-constexpr int kPaperParameters[8] = {17, 18, 18, 19, 28, 31, 32, 36};
-constexpr double kPaperSquareBefore[4] = {6.8, 3.6, 3.8, 6.9};
-constexpr double kPaperSquareAfter[4] = {0.6, -0.2, 0.4, -0.4};
+namespace {
 
 using demo_report::fixed;
 using demo_report::format;
 using demo_report::percent;
-std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
+
+mechanism::MechanismFamily family(const std::string& name) { return mechanism::mechanismFamilyOf(name); }
+
+// The encoder noise the campaign adds follows the joints' unit (mechanism_image_campaign.hpp).
+bool revoluteJoints(const std::string& name) {
+  return mechanism::makeRegisteredModel(family(name).truth_model).mechanism->jointUnits().front() ==
+         mechanism::Unit::Radian;
+}
 
 void writeIntroduction(const DemoOptions& options, const DemoResults& r, std::ostream& md) {
-  const StageTiming* slowest = nullptr;
-  for (const auto& t : r.timings)
-    if (slowest == nullptr || t.seconds > slowest->seconds) slowest = &t;
-  md << "# mire demo: the H4 experiment of Renaud et al. (2004), in simulation\n\n"
-     << "A simulated H4 (mire's reference nominal geometry, doc/mechanisms.md, with manufacturing errors of "
-        "the paper's magnitude, 1σ 5 mm on "
-        "lengths, 2° on pivot angles, 5° on encoder offsets, and defects model 12 cannot represent: per-leg lengths, "
-        "non-coplanar pivots, tilted axes, imperfect parallelograms) carries a "
-        "chessboard seen by the reference camera (1024×768, 3.8 mm lens, strong barrel distortion). mire calibrated "
-        "the camera from images, measured the 81 poses from images, and identified the robot from `poses.csv` + "
-        "`joints.csv`. The simulator's truth is used only to score.\n\n"
-     << "Run: " << (options.quick ? "`--quick` (fewer images and repeats)" : "full") << ", seed " << options.seed
-     << ".\n\n";
+  md << "# mire demo --mechanism " << r.mechanism << ": the " << family(r.mechanism).title
+     << " from images to an identified robot, in simulation\n\n"
+     << "The simulated robot is " << family(r.mechanism).simulated_robot
+     << ". It carries the H4 demo's chessboard (12 × 9 corners of 16 mm) and is seen by the H4 demo's reference "
+        "camera (1024×768, 3.8 mm lens, strong barrel distortion), rendered by the same renderer; encoder noise "
+     << (revoluteJoints(r.mechanism) ? "2·10⁻⁵ rad" : "1 µm") << ". "
+     << (r.mounting == "camera-on-effector"
+             ? "Mounting: **camera on the effector** (`--mounting camera-on-effector`): the camera rides on the "
+               "effector and looks at the board fixed in the workspace, cTm = cTe·eTb(X)·bTm; the mounting "
+               "identified is eTc and bTm. "
+             : "Mounting: camera fixed, the board on the effector, cTm = cTb·bTe(X)·eTm. ")
+     << "mire calibrated the camera from images, measured every pose from images (`poses.csv` with its "
+        "covariance and shared-term side files) and identified the robot from `poses.csv` + `joints.csv` exactly "
+        "as `mire identify --model NAME` does. The simulator's truth (`campaign/truth/`) is used only to score.\n\n"
+     << "Run: " << (options.quick ? "`--quick` (fewer images)" : "full") << ", seed " << options.seed << ".\n\n";
   demo_report::writeRunTimeTable(r.timings, md);
-  if (slowest != nullptr) md << "Dominated by: " << slowest->name << ".\n\n";
 }
 
-// 2. Measurement.
 void writeMeasurementSection(const DemoResults& r, std::ostream& md) {
-  const auto& m = r.measurement;
-  md << "\n## 2. Pose measurement (`poses.csv`), paper §5: about 0.2 mm and 0.03° per component\n\n"
-     << m.measured << " of " << m.total << " poses measured. Predicted σ (median over poses, pixel noise and "
-     << "intrinsics uncertainty combined) against the actual error to truth:\n\n";
-  demo_report::writePoseMeasurementTable(m, md, "| paper | 0.2 | 0.2 | 0.2 | 0.03 | 0.03 | 0.03 |");
+  const pipeline::MeasurementScore& m = r.measurement;
+  // The paper's study compares with the paper's figure (§5).
+  md << "\n## 2. Pose measurement (`poses.csv`)" << (r.paper ? ", paper §5: about 0.2 mm and 0.03° per component" : "")
+     << "\n\n"
+     << m.measured << " of " << m.total << " poses measured. Predicted σ (median over poses"
+     << (r.paper ? ", pixel noise and intrinsics uncertainty combined" : "") << ") against the actual "
+     << "error to truth:\n\n";
+  demo_report::writePoseMeasurementTable(m, md, r.paper ? "| paper | 0.2 | 0.2 | 0.2 | 0.03 | 0.03 | 0.03 |" : "");
 }
 
-// 3. Identification: criteria before, then Tables 1 and 3 per variant (and Fig. 11's data).
-void writeVariantSection(const DemoResults& r, std::ostream& md) {
-  md << "\n## 3. Identification\n\nBefore identification (nominal geometry, external parameters estimated from "
-        "the data): V1 = "
-     << sci(r.nominal_v1_rad) << " rad, V2 = " << sci(r.nominal_v2_rad)
-     << " rad, V3 = " << fixed(1e3 * r.nominal_v3_m, 3) << " mm. The true robot's own straightness along the "
-     << "recorded lines (the floor for V3): " << fixed(1e3 * r.true_v3_m, 3) << " mm.\n\n";
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& name : names) out += (out.empty() ? "`" : ", `") + name + "`";
+  return out.empty() ? "none" : out;
+}
 
-  md << "### Table 1 and Table 3: condition number and criteria per variant\n\n"
-     << "One random set of 71 poses identifies every variant; the other poses validate (V1, V2); V3 from the two "
-        "recorded straight lines through each model's numerical FKM. cond = condition number of the "
-        "identification Jacobian with columns scaled to unit norm. Paper values in brackets (its Table 1 gives "
-        "257 for model 12 and 421 / 1900 for model 31 without / with d, on 100 random poses).\n\n"
-     << "| variant | parameters | cond | V1 (rad) | V2 (rad) | V3 (mm) | mean V3 over " << r.variant_sets
-     << " sets (mm) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
-  for (std::size_t i = 0; i < r.variants.size(); ++i) {
-    const auto& v = r.variants[i];
-    const auto& p = kPaperTable3[i % 8];
-    if (!v.error.empty()) {
-      md << "| " << v.letter << " | failed: " << v.error << " | | | | | |\n";
-      continue;
-    }
-    md << "| " << v.letter << " | " << v.free_parameters << " [" << kPaperParameters[i % 8] << "] | "
-       << fixed(v.cond, 0) << " [" << p.cond << "] | " << sci(v.v1_rad) << " [" << sci(p.v1) << "] | " << sci(v.v2_rad)
-       << " [" << sci(p.v2) << "] | " << fixed(1e3 * v.v3_m, 3) << " [" << fixed(1e3 * p.v3, 2) << "] | "
-       << fixed(1e3 * v.v3_mean_m, 3) << " |\n";
+void writeModelSummary(const DemoModelScore& s, const std::string& truth_model, std::ostream& md) {
+  const bool rad = s.joint_unit == "rad";
+  const double scale = rad ? 180.0 / 3.14159265358979323846 : 1e3;
+  const std::string unit = rad ? "°" : "mm";
+  md << "\n### `" << s.model << "` (`" << s.file << "`)\n\n"
+     << s.free_parameters << " free parameters (rank " << s.rank << " before the gauge was fixed); gauge held at its "
+     << "data-initialised values: " << joinNames(s.gauge) << ". Joint residual RMS "
+     << fixed(scale * s.rms_joint_before, 4) << " " << unit << " (nominal geometry) → "
+     << fixed(scale * s.rms_joint_after, 4) << " " << unit << "; χ²/dof " << fixed(s.chi2_per_dof, 2)
+     << "; printed σ: " << s.sigma_method << ". Identification " << fixed(s.seconds, 2)
+     << " s (with the shared term's refits).\n";
+  if (!s.has_truth) {
+    md << "\nThe simulator's truth is not written in this model's parameters (its geometry is `" << truth_model
+       << "`'s): no parameter truth; judged by V3 and the positioning test below.\n";
+    return;
   }
-  md << "\n![V3 per variant](fig11_v3_per_variant.svg)\n";
-}
-
-// The pose-count study of §6.2 (and its figure's data).
-void writePoseCountSection(const DemoResults& r, std::ostream& md) {
-  md << "\n### Pose-count study (paper §6.2): model 12 (variant D), " << r.pose_count_repeats
-     << " random subsets per size, the other poses validate\n\n"
-     << "| poses | runs ok | V1 mean (rad) | V2 mean ± σ (rad) | V2 vs nominal | V3 mean ± σ (mm) | V3 vs nominal | "
-        "parameter σ / σ(6 poses) (median) |\n| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
-  for (const auto& row : r.pose_counts) {
-    md << "| " << row.size << " | " << row.runs_ok << " | " << sci(row.v1_mean) << " | " << sci(row.v2_mean) << " ± "
-       << sci(row.v2_sigma) << " | " << percent(row.v2_mean, r.nominal_v2_rad) << " | " << fixed(1e3 * row.v3_mean, 3)
-       << " ± " << fixed(1e3 * row.v3_sigma, 3) << " | " << percent(row.v3_mean, r.nominal_v3_m) << " | "
-       << fixed(row.median_parameter_sigma_ratio, 2) << " |\n";
-  }
-  md << "\nPaper, 15 poses: V2 −98 %, V3 −68 % (1.8 mm → 0.56 mm); parameter σ divided by about 3 from 6 to 15 "
-        "poses, then about −30 % to 71.\n\n![pose-count study](pose_count_study.svg)\n";
-}
-
-// What `mire plan` and `mire select` say about this campaign (doc/plan-and-select.md).
-void writeExperimentDesignSection(const DemoResults& r, std::ostream& md) {
-  const DemoExperimentDesign& d = r.design;
-  md << "\n### Planned poses and the recommended model (`mire plan`, `mire select`)\n\n"
-     << "`mire plan --model h4-12 --count 15` over " << d.plan_candidates
-     << " candidate poses of the protocol volume: the median σ of the geometric parameters from 15 planned poses is "
-     << fixed(d.plan_sigma_ratio, 2)
-     << " × that from 15 random poses of the same candidates (paper §6.2 draws them "
-        "at random); predicted positioning σ after identification "
-     << fixed(1e3 * d.plan_position_sigma_m, 3) << " mm (planned) vs " << fixed(1e3 * d.random_position_sigma_m, 3)
-     << " mm (random).\n\n`mire select` on the measured poses, the eight variants of Table 3, " << d.folds
-     << "-fold cross-validated joint residual (the simplest model within one standard error of the best is "
-        "recommended; the paper chose D by hand, §7):\n\n```\n"
-     << d.selection_table << "```\n\nrecommended: **" << d.recommended << "**\n";
-}
-
-void writeIdentifiedSection(const DemoResults& r, std::ostream& md) {
-  md << "\n### Identified parameters against the simulator's truth (variant D, all poses)\n\n"
-     << "χ²/dof of the weighted fit " << fixed(r.chi2_per_dof, 2) << ", outlier poses: " << r.outlier_count
-     << "; printed σ: " << r.sigma_method << " (doc/uncertainty.md). Truth: the true robot's model-12 part "
-     << "(its unmodelled defects have no model-12 counterpart, so error/σ also shows that model error).\n\n"
+  md << "\nEvery free parameter against the truth in the identification's gauge (error/σ RMS "
+     << fixed(s.error_over_sigma_rms, 2) << ", max " << fixed(s.error_over_sigma_max, 2)
+     << "; the unmodelled defects bias the estimates beyond their σ where they project on a parameter):\n\n"
      << "| parameter | unit | identified | σ | truth | error / σ |\n| --- | --- | ---: | ---: | ---: | ---: |\n";
-  for (const auto& p : r.identified)
+  for (const auto& p : s.identified)
     md << "| " << p.name << " | " << p.unit << " | " << format("%.5f", p.estimate) << " | " << format("%.2g", p.sigma)
        << " | " << format("%.5f", p.truth) << " | " << fixed((p.estimate - p.truth) / p.sigma, 2) << " |\n";
 }
 
-void writeSquareSection(const DemoResults& r, std::ostream& md) {
-  md << "\n### Table 4: square test (100 mm square at constant z, side error in mm)\n\n"
-     << "The controller runs model 12 with the nominal, then the identified (variant D, all poses) parameters; "
-        "the simulated true robot draws the square.\n\n| | side 1 | side 2 | side 3 | side 4 |\n"
-        "| --- | ---: | ---: | ---: | ---: |\n| mire, nominal parameters |";
-  for (const double e : r.square_before_mm) md << " " << fixed(e, 2) << " |";
-  md << "\n| mire, identified parameters |";
-  for (const double e : r.square_after_mm) md << " " << fixed(e, 2) << " |";
-  md << "\n| paper, initial parameters (trace 1) |";
-  for (const double e : kPaperSquareBefore) md << " " << fixed(e, 1) << " |";
-  md << "\n| paper, identified parameters (trace 3) |";
-  for (const double e : kPaperSquareAfter) md << " " << fixed(e, 1) << " |";
-  md << "\n\nThe measured version of this test, with its σ, is the closed loop below (report.html draws it).\n\nFiles: "
-        "`camera.yaml`, `poses.csv`, `poses_covariance.csv`, "
-        "`identified_D.yaml`; the simulated campaign under `campaign/` (its truth under `campaign/truth/`).\n";
+void writeCriteriaSection(const DemoResults& r, std::ostream& md) {
+  md << "\n## 4. V3 and the positioning test, before and after identification\n\n"
+     << "V3 (paper eq. 29): straightness of two recorded straight-line motions rebuilt with the model's FKM (the "
+        "true robot's own: "
+     << fixed(1e3 * r.true_v3_m, 4) << " mm). Positioning test: a "
+     << fixed(r.models.empty() ? 100.0 : r.models.front().square_side_mm, 0)
+     << " mm square at the workspace centre commanded through the model's IKM and "
+        "reached by the true robot, RMS of the 3-D side-length errors. Paper (H4): V3 −68 %.\n\n"
+     << "| model | V3 nominal (mm) | V3 identified (mm) | change | square RMS nominal (mm) | square RMS identified "
+        "(mm) | change |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+  for (const auto& s : r.models)
+    md << "| " << s.model << " | " << fixed(1e3 * s.v3_before_m, 4) << " | " << fixed(1e3 * s.v3_after_m, 4) << " | "
+       << percent(s.v3_after_m, s.v3_before_m) << " | " << fixed(s.square_rms_before_mm, 4) << " | "
+       << fixed(s.square_rms_after_mm, 4) << " | " << percent(s.square_rms_after_mm, s.square_rms_before_mm) << " |\n";
+  md << "\nSide-length errors (mm):\n\n| model | parameters | side 1 | side 2 | side 3 | side 4 |\n"
+        "| --- | --- | ---: | ---: | ---: | ---: |\n";
+  for (const auto& s : r.models) {
+    md << "| " << s.model << " | nominal |";
+    for (const double e : s.square_before_mm) md << " " << fixed(e, 4) << " |";
+    md << "\n| " << s.model << " | identified |";
+    for (const double e : s.square_after_mm) md << " " << fixed(e, 4) << " |";
+    md << "\n";
+  }
+}
+
+void writeModelSections(const DemoResults& r, std::ostream& md) {
+  md << "\n## 3. Identification (`mire identify --model NAME` on `poses.csv` + `joints.csv`)\n";
+  for (const auto& s : r.models) {
+    writeModelSummary(s, r.truth_model, md);
+    if (s.has_truth) md << "\n![parameter errors](parameter_errors_" << s.model << ".svg)\n";
+  }
+  writeCriteriaSection(r, md);
+}
+
+// The paper's study nests it in its identification section (the paper's last step).
+void writeClosedLoop(const DemoResults& r, std::ostream& md) {
+  if (r.closed_loop)
+    demo_report::writeClosedLoopSection(*r.closed_loop,
+                                        r.paper ? "### Closing the loop: ISO 9283 before and after compensation"
+                                                : "## 5. Closing the loop: ISO 9283 before and after compensation",
+                                        demo_report::nominalController(r), md);
+  else
+    md << "\n## 5. Closing the loop\n\nNot run with the camera on the effector: the ISO 9283 test reads the "
+          "attained poses through a fixed camera and the identified camera-fixed mounting (doc/accuracy.md, "
+          "\"Closing the loop\").\n";
+}
+
+// The in-process run's equivalent command (report.json's provenance).
+std::vector<std::string> equivalentCommand(const DemoOptions& options) {
+  std::vector<std::string> command{"mire", "demo"};
+  if (options.mechanism != DemoOptions{}.mechanism) command.insert(command.end(), {"--mechanism", options.mechanism});
+  command.insert(command.end(), {"--output", options.output.string()});
+  if (options.mounting != "camera-fixed") command.insert(command.end(), {"--mounting", options.mounting});
+  if (options.quick) command.emplace_back("--quick");
+  command.insert(command.end(), {"--seed", std::to_string(options.seed)});
+  return command;
 }
 
 }  // namespace
 
-// The report section by section, then the figures, then report.md.
 std::vector<std::string> writeDemoReport(const DemoOptions& options, const DemoResults& r) {
   std::ostringstream md;
-  writeIntroduction(options, r, md);
+  if (r.paper)
+    demo_report::writePaperIntroduction(options, r, md);
+  else
+    writeIntroduction(options, r, md);
   demo_report::writeCalibrationSection(r.calibration, md);
   writeMeasurementSection(r, md);
-  writeVariantSection(r, md);
-  writePoseCountSection(r, md);
-  writeExperimentDesignSection(r, md);
-  writeIdentifiedSection(r, md);
-  writeSquareSection(r, md);
-  if (r.closed_loop)
-    demo_report::writeClosedLoopSection(*r.closed_loop, "### Closing the loop: ISO 9283 before and after compensation",
-                                        "model 12 with the nominal parameters", md);
+  if (r.paper)
+    demo_report::writePaperStudy(r, md);  // its files close its square test
+  else
+    writeModelSections(r, md);
+  writeClosedLoop(r, md);
+  if (!r.paper) {
+    md << "\nFiles: `camera.yaml`, `poses.csv` (+ `poses_covariance.csv`, `poses_shared.csv`)";
+    for (const auto& s : r.models) md << ", `" << s.file << "`";
+    md << "; the simulated campaign under `campaign/` (its truth under `campaign/truth/`).\n";
+  }
   const std::vector<std::string> figures = writeSvgFiles(options.output, demoFigures(r));
   support::writeFileAtomically(options.output / "report.md", md.str());
+
   std::vector<std::string> files{"report.md", "report.html", "report.json"};
   files.insert(files.end(), figures.begin(), figures.end());
-  files.insert(files.end(), {"camera.yaml", "poses.csv", "poses_covariance.csv", "identified_D.yaml"});
+  files.insert(files.end(), {"camera.yaml", "poses.csv", "poses_covariance.csv"});
+  if (r.paper) files.push_back(r.paper->file);
+  for (const auto& s : r.models) files.push_back(s.file);
   DemoResults with_files = r;
   with_files.files = files;
   ReportProvenance provenance{options.command_line, {}, {{options.output, "--output"}}};
-  if (provenance.command_line.empty()) {  // run in-process: the equivalent command
-    provenance.command_line = {"mire", "demo", "--output", options.output.string()};
-    if (options.quick) provenance.command_line.emplace_back("--quick");
-    provenance.command_line.insert(provenance.command_line.end(), {"--seed", std::to_string(options.seed)});
-  }
+  if (provenance.command_line.empty()) provenance.command_line = equivalentCommand(options);
   writeDemoReportJson(options.output / "report.json", provenance, options, with_files);
   writeDemoReportHtml(options.output / "report.html", provenance, options, with_files);
   return files;

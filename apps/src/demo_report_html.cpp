@@ -1,11 +1,14 @@
-// report.html of `mire demo` (demo_report_html.hpp): the paper's experiment in simulation, the
-// result first (straightness and the closed loop, with their spread), then calibration, pose
-// measurement, Tables 1 and 3 with Fig. 11 (mean V3 per variant ± its standard error beside the
-// paper's), the pose-count study (§6.2, mean ± σ over the subsets), plan and select, the variant-D
-// parameters against truth, the square test (Table 4) and the closed loop.
+// report.html of `mire demo` (demo_report_html.hpp): the result first (the paper's straightness,
+// or each model's joint residual, V3 and positioning before and after; the closed loop with its
+// σ), then the calibration and the pose measurement against truth, the paper's study
+// (demo_report_html_paper.cpp) or each model's parameters against the truth in its gauge (error/σ
+// with the band an honest σ predicts) and the criteria tables in the mechanism's own joint unit,
+// and the closed loop.
 #include "demo_report_html.hpp"
 #include "demo_report_parts.hpp"
 #include "report_html.hpp"
+
+#include "mire/mechanism/registry.hpp"
 
 #include <cmath>
 
@@ -14,206 +17,132 @@ namespace {
 
 namespace rp = mire::report;
 using demo_report::fixed;
-using demo_report::format;
 using demo_report::percent;
 
-// The paper's Table 3 V3 (m) and Table 4 side errors (mm) (Renaud et al. 2004).
-constexpr double kPaperV3[8] = {6.1e-4, 5.4e-4, 6.2e-4, 5.5e-4, 7.9e-4, 8.8e-4, 8.8e-4, 7.7e-4};
-constexpr double kPaperSquareBefore[4] = {6.8, 3.6, 3.8, 6.9};
-constexpr double kPaperSquareAfter[4] = {0.6, -0.2, 0.4, -0.4};
-
-std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
-
-// Fig. 11: the mean V3 over the repeated sets per variant with the standard error of that mean
-// (σ over the sets / √sets), the paper's single value beside it.
-rp::Figure variantFigure(const DemoResults& r) {
-  rp::Panel panel;
-  panel.x = rp::makeAxis("variant (paper Table 2)", "");
-  // mire's V3 (0.01–0.1 mm) and the paper's (0.5–0.9 mm) differ by up to two decades: a log axis
-  // keeps mire's bars and their error bars readable (V3 is a distance, never negative).
-  panel.y = rp::makeAxis("straightness V3", "mm", rp::Scale::log10);
-  rp::Series mire, paper;
-  mire.label = "mire: mean over " + std::to_string(r.variant_sets) + " sets \xC2\xB1 standard error";
-  mire.mark = rp::Mark::bars;
-  mire.colour = "#1f77b4";
-  paper.label = "paper, Table 3";
-  paper.mark = rp::Mark::points;
-  paper.colour = "#d62728";
-  const double root_sets = std::sqrt(static_cast<double>(std::max(1, r.variant_sets)));
-  for (std::size_t i = 0; i < r.variants.size(); ++i) {
-    const auto& v = r.variants[i];
-    panel.categories.emplace_back(1, v.letter);
-    mire.x.push_back(static_cast<double>(i));
-    mire.y.push_back(v.error.empty() ? 1e3 * v.v3_mean_m : NAN);
-    mire.sigma.push_back(v.error.empty() ? 1e3 * v.v3_sigma_m / root_sets : NAN);
-    paper.x.push_back(static_cast<double>(i));
-    paper.y.push_back(1e3 * kPaperV3[i % 8]);
-  }
-  panel.series = {mire, paper};
-  panel.references = {{1e3 * r.true_v3_m, "the true robot's own V3", "#2ca02c", true}};
-  rp::Figure figure;
-  figure.panels = {panel};
-  figure.panel_width = 700.0;
-  figure.panel_height = 300.0;
-  return figure;
+// The joint unit's display scale and name: degrees for a revolute joint, mm for a prismatic one.
+std::pair<double, std::string> jointDisplay(const DemoModelScore& s) {
+  if (s.joint_unit == "rad") return {180.0 / 3.14159265358979323846, "deg"};
+  return {1e3, "mm"};
 }
 
-// §6.2: V2 (mrad) and V3 (mm) against the number of poses, mean ± σ over the random subsets, one
-// panel per unit, with the nominal geometry's value as a dashed line.
-rp::Figure poseCountFigure(const DemoResults& r) {
-  rp::Figure figure;
-  figure.columns = 2;
-  figure.panel_width = 390.0;
-  figure.panel_height = 290.0;
-  for (int part = 0; part < 2; ++part) {
-    rp::Panel panel;
-    panel.title = part == 0 ? "RMS joint residual V2" : "straightness V3";
-    panel.x = rp::makeAxis("poses used for identification", "");
-    panel.y = rp::makeAxis(part == 0 ? "V2" : "V3", part == 0 ? "mrad" : "mm", rp::Scale::log10);
-    rp::Series series;
-    series.label = "mean \xC2\xB1 1\xCF\x83 over " + std::to_string(r.pose_count_repeats) + " subsets";
-    series.colour = "#1f77b4";
-    for (const auto& row : r.pose_counts) {
-      series.x.push_back(row.size);
-      series.y.push_back(1e3 * (part == 0 ? row.v2_mean : row.v3_mean));
-      series.sigma.push_back(1e3 * (part == 0 ? row.v2_sigma : row.v3_sigma));
-    }
-    if (part == 1) series.label.clear();  // one legend
-    panel.series = {series};
-    panel.references = {
-        {1e3 * (part == 0 ? r.nominal_v2_rad : r.nominal_v3_m), part == 0 ? "nominal geometry" : "", "#d62728", true}};
-    figure.panels.push_back(panel);
-  }
-  return figure;
-}
-
-std::string leadText(const DemoResults& r) {
-  std::string text = "Identified H4 (model 12, variant D): straightness V3 ";
-  for (const auto& row : r.pose_counts)
-    if (row.size == 15)
-      text += rp::withSigma(1e3 * row.v3_mean, 1e3 * row.v3_sigma, 3) +
-              " mm from 15 poses (mean \xC2\xB1 1\xCF\x83 over " + std::to_string(r.pose_count_repeats) + " subsets), ";
-  text += fixed(1e3 * r.nominal_v3_m, 3) + " mm with the nominal geometry (" +
-          percent(r.pose_counts.empty() ? NAN : r.pose_counts.back().v3_mean, r.nominal_v3_m) + " with " +
-          (r.pose_counts.empty() ? std::string("n/a") : std::to_string(r.pose_counts.back().size)) +
-          " poses; the true robot's own: " + fixed(1e3 * r.true_v3_m, 3) + " mm).";
-  if (r.closed_loop) {
-    double before = 0.0, after = 0.0, variance = 0.0;
-    const auto& b = r.closed_loop->before.positions;
-    const auto& a = r.closed_loop->after.positions;
-    for (const auto& p : b) before += p.ap_p;
-    for (const auto& p : a) after += p.ap_p, variance += p.sigma_ap_p * p.sigma_ap_p;
-    const double nb = std::max<double>(1.0, static_cast<double>(b.size())),
-                 na = std::max<double>(1.0, static_cast<double>(a.size()));
-    text += " Closed loop (ISO 9283): mean AP_p " + fixed(1e3 * before / nb, 3) + " mm before, " +
-            rp::withSigma(1e3 * after / na, 1e3 * std::sqrt(variance) / na, 3) + " mm after compensation.";
+std::string modelsLead(const DemoResults& r) {
+  std::string text;
+  for (const auto& s : r.models) {
+    const auto [scale, unit] = jointDisplay(s);
+    text += (text.empty() ? "" : " ") + s.model + ": joint residual RMS " + fixed(scale * s.rms_joint_before, 4) +
+            " \xE2\x86\x92 " + fixed(scale * s.rms_joint_after, 4) + " " + unit + ", V3 " +
+            fixed(1e3 * s.v3_before_m, 3) + " \xE2\x86\x92 " + fixed(1e3 * s.v3_after_m, 3) + " mm, square RMS " +
+            fixed(s.square_rms_before_mm, 3) + " \xE2\x86\x92 " + fixed(s.square_rms_after_mm, 3) + " mm (" +
+            percent(s.square_rms_after_mm, s.square_rms_before_mm) + ").";
   }
   return text;
 }
 
-void addVariants(rp::HtmlReport& page, const DemoResults& r) {
-  page.section("3. Identification: Tables 1 and 3, Fig. 11");
-  page.paragraph(
-      "Before identification (nominal geometry, external parameters from the data): V1 = " + sci(r.nominal_v1_rad) +
-      " rad, V2 = " + sci(r.nominal_v2_rad) + " rad, V3 = " + fixed(1e3 * r.nominal_v3_m, 3) +
-      " mm. One random set of 71 poses identifies every variant; the "
-      "other poses validate (V1, V2); cond is that of the identification Jacobian with unit-norm columns.");
-  std::vector<std::vector<std::string>> rows;
-  for (std::size_t i = 0; i < r.variants.size(); ++i) {
-    const auto& v = r.variants[i];
-    if (!v.error.empty()) {
-      rows.push_back({std::string(1, v.letter), "failed: " + v.error, "", "", "", "", ""});
-      continue;
-    }
-    rows.push_back({std::string(1, v.letter), std::to_string(v.free_parameters), fixed(v.cond, 0), sci(v.v1_rad),
-                    sci(v.v2_rad), fixed(1e3 * v.v3_m, 3),
-                    rp::withSigma(1e3 * v.v3_mean_m, 1e3 * v.v3_sigma_m / std::sqrt(std::max(1, r.variant_sets)), 3)});
-  }
-  page.table({"variant", "parameters", "cond", "V1 (rad)", "V2 (rad)", "V3 (mm)", "mean V3 \xC2\xB1 s.e. (mm)"}, rows);
-  const NamedFigure figure = demoFigures(r).front();
-  page.figure(figure.figure, figure.caption);
+// The closed loop's mean AP_p before and after (with its σ), after the lead's first sentence.
+std::string closedLoopLead(const pipeline::ClosedLoopTest& t) {
+  double before = 0.0, after = 0.0, variance = 0.0;
+  for (const auto& p : t.before.positions) before += p.ap_p;
+  for (const auto& p : t.after.positions) after += p.ap_p, variance += p.sigma_ap_p * p.sigma_ap_p;
+  const double nb = std::max<double>(1.0, static_cast<double>(t.before.positions.size())),
+               na = std::max<double>(1.0, static_cast<double>(t.after.positions.size()));
+  return " Closed loop (ISO 9283): mean AP_p " + fixed(1e3 * before / nb, 3) + " mm before, " +
+         rp::withSigma(1e3 * after / na, 1e3 * std::sqrt(variance) / na, 3) + " mm after compensation.";
 }
 
-void addPoseCounts(rp::HtmlReport& page, const DemoResults& r) {
-  page.subsection("Pose-count study (paper §6.2), variant D");
+void addModel(rp::HtmlReport& page, const DemoModelScore& s, const std::string& truth_model) {
+  const auto [scale, unit] = jointDisplay(s);
+  page.subsection(s.model + " (" + s.file + ")");
+  std::string gauge;
+  for (const auto& name : s.gauge) gauge += (gauge.empty() ? "" : ", ") + name;
+  page.keyValues({{"free parameters", std::to_string(s.free_parameters) + " (rank " + std::to_string(s.rank) +
+                                          " before the gauge was fixed)"},
+                  {"gauge (held at data-initialised values)", gauge.empty() ? "none" : gauge},
+                  {"joint residual RMS (" + unit + ")", fixed(scale * s.rms_joint_before, 4) + " nominal \xE2\x86\x92 " +
+                                                            fixed(scale * s.rms_joint_after, 4) + " identified"},
+                  {"\xCF\x87\xC2\xB2/dof", fixed(s.chi2_per_dof, 2)},
+                  {"\xCF\x83 method", s.sigma_method}});
+  if (!s.has_truth) {
+    page.paragraph("The simulator's truth is not written in this model's parameters (its geometry is " + truth_model +
+                   "'s): judged by V3 and the positioning test below.");
+    return;
+  }
+  page.paragraph("Every free parameter against the truth in the identification's gauge: error/\xCF\x83 RMS " +
+                 fixed(s.error_over_sigma_rms, 2) + ", max " + fixed(s.error_over_sigma_max, 2) + ".");
+  demo_html::addParameterScores(page, s.identified,
+                                demo_html::parameterScoreFigure(s.identified, s.model, "parameter_errors.svg"));
+}
+
+void addCriteria(rp::HtmlReport& page, const DemoResults& r) {
+  const double side = r.models.empty() ? 100.0 : r.models.front().square_side_mm;
+  page.section("4. V3 and the positioning test, before and after identification");
+  page.paragraph(
+      "V3 (paper eq. 29): straightness of two recorded straight-line motions rebuilt with the model's FKM "
+      "(the true robot's own: " +
+      fixed(1e3 * r.true_v3_m, 4) + " mm). Positioning test: a " + fixed(side, 0) +
+      " mm square commanded through the model's IKM and reached by the true robot, without measurement "
+      "(no \xCF\x83; the measured test with its \xCF\x83 is the closed loop below).");
   std::vector<std::vector<std::string>> rows;
-  for (const auto& row : r.pose_counts)
-    rows.push_back({std::to_string(row.size), std::to_string(row.runs_ok),
-                    rp::withSigma(1e3 * row.v2_mean, 1e3 * row.v2_sigma, 3), percent(row.v2_mean, r.nominal_v2_rad),
-                    rp::withSigma(1e3 * row.v3_mean, 1e3 * row.v3_sigma, 3), percent(row.v3_mean, r.nominal_v3_m),
-                    fixed(row.median_parameter_sigma_ratio, 2)});
-  page.table({"poses", "runs ok", "V2 \xC2\xB1 1\xCF\x83 (mrad)", "V2 vs nominal", "V3 \xC2\xB1 1\xCF\x83 (mm)",
-              "V3 vs nominal", "parameter \xCF\x83 / \xCF\x83(6 poses)"},
+  for (const auto& s : r.models)
+    rows.push_back({s.model, fixed(1e3 * s.v3_before_m, 4), fixed(1e3 * s.v3_after_m, 4),
+                    percent(s.v3_after_m, s.v3_before_m), fixed(s.square_rms_before_mm, 4),
+                    fixed(s.square_rms_after_mm, 4), percent(s.square_rms_after_mm, s.square_rms_before_mm)});
+  page.table({"model", "V3 nominal (mm)", "V3 identified (mm)", "change", "square RMS nominal (mm)",
+              "square RMS identified (mm)", "change"},
              rows);
-  const NamedFigure figure = demoFigures(r).back();
-  page.figure(figure.figure, figure.caption);
-}
-
-void addDesign(rp::HtmlReport& page, const DemoResults& r) {
-  const DemoExperimentDesign& d = r.design;
-  page.subsection("Planned poses and the recommended model (mire plan, mire select)");
-  page.keyValues({{"plan: median geometric \xCF\x83, 15 planned / 15 random poses", fixed(d.plan_sigma_ratio, 2)},
-                  {"predicted positioning \xCF\x83 after identification",
-                   fixed(1e3 * d.plan_position_sigma_m, 3) + " mm planned, " +
-                       fixed(1e3 * d.random_position_sigma_m, 3) + " mm random"},
-                  {"select: recommended (" + std::to_string(d.folds) + "-fold cross-validation)", d.recommended}});
-  page.preformatted(d.selection_table);
-}
-
-void addSquare(rp::HtmlReport& page, const DemoResults& r) {
-  page.subsection("Table 4: square test (100 mm square at constant z, signed side error in mm)");
-  std::vector<std::string> before{"mire, nominal parameters"}, after{"mire, identified parameters"},
-      paper_before{"paper, initial parameters"}, paper_after{"paper, identified parameters"};
-  for (int k = 0; k < 4; ++k) {
-    before.push_back(fixed(r.square_before_mm[k], 2)), after.push_back(fixed(r.square_after_mm[k], 2));
-    paper_before.push_back(fixed(kPaperSquareBefore[k], 1)), paper_after.push_back(fixed(kPaperSquareAfter[k], 1));
+  std::vector<std::vector<std::string>> sides;
+  for (const auto& s : r.models) {
+    std::vector<std::string> nominal{s.model + ", nominal"}, identified{s.model + ", identified"};
+    for (const double e : s.square_before_mm) nominal.push_back(fixed(e, 4));
+    for (const double e : s.square_after_mm) identified.push_back(fixed(e, 4));
+    sides.push_back(nominal), sides.push_back(identified);
   }
-  page.table({"", "side 1", "side 2", "side 3", "side 4"}, {before, after, paper_before, paper_after});
-  page.paragraph(
-      "The simulated true robot draws the square without measurement (no \xCF\x83 to give); the "
-      "measured version of this test, with its \xCF\x83, is the closed loop below.");
+  page.table({"signed side-length error (mm)", "side 1", "side 2", "side 3", "side 4"}, sides);
+}
+
+void addModels(rp::HtmlReport& page, const DemoResults& r) {
+  page.section("3. Identification (mire identify --model NAME)");
+  for (const auto& s : r.models) addModel(page, s, r.truth_model);
+  addCriteria(page, r);
+}
+
+std::string modelsTitle(const DemoResults& r) {
+  return "mire demo --mechanism " + r.mechanism + ": the " + mechanism::mechanismFamilyOf(r.mechanism).title +
+         " in simulation";
+}
+
+std::string modelsIntroduction(const DemoOptions& options, const DemoResults& r) {
+  return "The simulated robot is " + mechanism::mechanismFamilyOf(r.mechanism).simulated_robot +
+         ". The H4 demo's camera and chessboard; mire calibrated the camera and measured every pose from "
+         "images, then identified the robot from poses.csv + joints.csv as mire identify --model NAME does. "
+         "The simulator's truth (campaign/truth/) only scores. Run: " +
+         (options.quick ? std::string("--quick") : std::string("full")) + ", seed " + std::to_string(options.seed) + ".";
 }
 
 }  // namespace
 
 std::vector<NamedFigure> demoFigures(const DemoResults& r) {
-  return {{"fig11_v3_per_variant.svg", variantFigure(r),
-           "Fig. 11: straightness V3 per identified variant, the mean over " + std::to_string(r.variant_sets) +
-               " random 71-pose sets with the standard error of that mean (\xCF\x83 over the sets / "
-               "\xE2\x88\x9Asets), the paper's value beside it and the true robot's own straightness (the floor no "
-               "model can go below)."},
-          {"pose_count_study.svg", poseCountFigure(r),
-           "V2 and V3 against the number of poses identifying variant D, mean \xC2\xB1 1\xCF\x83 over the random "
-           "subsets (the other poses validate), each on its own unit's axis; dashed: the nominal geometry. Paper, 15 "
-           "poses: V2 \xE2\x88\x92"
-           "98 %, V3 \xE2\x88\x92"
-           "68 % (1.8 mm \xE2\x86\x92 0.56 mm)."}};
+  std::vector<NamedFigure> figures = r.paper ? demo_html::paperFigures(r) : std::vector<NamedFigure>{};
+  for (const auto& s : r.models)
+    if (s.has_truth)
+      figures.push_back(demo_html::parameterScoreFigure(s.identified, s.model, "parameter_errors_" + s.model + ".svg"));
+  return figures;
 }
 
 void writeDemoReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
                          const DemoOptions& options, const DemoResults& r) {
-  rp::HtmlReport page("mire demo: the H4 experiment of Renaud et al. (2004), in simulation");
-  page.lead(leadText(r));
-  page.paragraph(std::string("A simulated H4 with manufacturing errors of the paper's magnitude and defects model 12 "
-                             "cannot represent, seen by the reference camera (1024\xC3\x97"
-                             "768, 3.8 mm lens). mire "
-                             "calibrated the camera and measured the poses from images and identified the robot from "
-                             "poses.csv + joints.csv; the simulator's truth only scores. Run: ") +
-                 (options.quick ? "--quick" : "full") + ", seed " + std::to_string(options.seed) + ".");
+  rp::HtmlReport page(r.paper ? demo_html::paperTitle() : modelsTitle(r));
+  page.lead((r.paper ? demo_html::paperLead(r) : modelsLead(r)) + (r.closed_loop ? closedLoopLead(*r.closed_loop) : ""));
+  page.paragraph(r.paper ? demo_html::paperIntroduction(options) : modelsIntroduction(options, r));
   demo_html::addCalibration(page, r.calibration);
   demo_html::addMeasurement(page, r.measurement);
-  addVariants(page, r);
-  addPoseCounts(page, r);
-  addDesign(page, r);
-  page.subsection("Identified parameters against the simulator's truth (variant D, all poses)");
-  page.paragraph("\xCF\x87\xC2\xB2/dof " + fixed(r.chi2_per_dof, 2) +
-                 ", outlier poses: " + std::to_string(r.outlier_count) + "; \xCF\x83: " + r.sigma_method + ".");
-  demo_html::addParameterScores(page, r.identified,
-                                demo_html::parameterScoreFigure(r.identified, "variant D", "parameter_errors.svg"));
-  addSquare(page, r);
+  if (r.paper)
+    demo_html::addPaperStudy(page, r);
+  else
+    addModels(page, r);
   if (r.closed_loop) {
-    page.section("4. Closing the loop: ISO 9283 before and after compensation");
-    demo_html::addClosedLoop(page, *r.closed_loop, "model 12 with the nominal parameters");
+    // The paper's study has no section for V3 and the positioning test (its square test is in 3).
+    page.section(std::string(r.paper ? "4" : "5") + ". Closing the loop: ISO 9283 before and after compensation");
+    demo_html::addClosedLoop(page, *r.closed_loop, demo_report::nominalController(r));
   }
   page.section("Run time");
   demo_html::addRunTimes(page, r.timings);

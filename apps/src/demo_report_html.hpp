@@ -1,14 +1,13 @@
 #pragma once
-// report.html of the demos (doc/plots.md): `mire demo` (the H4, demo_report_html.cpp) and
-// `mire demo --mechanism` (demo_mechanism_report_html.cpp), with the sections both share
-// (demo_report_html_parts.cpp): the calibration and the pose measurement against the simulator's
-// truth, identified parameters' error/σ, the closed loop, the run times.
+// report.html of `mire demo` (doc/plots.md, demo_report_html.cpp), with its parts: the paper's
+// study (demo_report_html_paper.cpp) and the sections every demo has (demo_report_html_parts.cpp):
+// the calibration and the pose measurement against the simulator's truth, identified parameters'
+// error/σ, the closed loop, the run times.
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "demo.hpp"
-#include "demo_mechanism.hpp"
 #include "mire/pipeline/closed_loop.hpp"
 #include "mire/report/html.hpp"
 #include "report_html.hpp"
@@ -30,19 +29,24 @@ NamedFigure parameterScoreFigure(const std::vector<DemoParameterScore>& scores, 
 void addClosedLoop(report::HtmlReport& page, const pipeline::ClosedLoopTest& test, const std::string& controller);
 void addRunTimes(report::HtmlReport& page, const std::vector<StageTiming>& timings);
 
+// The paper's study (results.paper): the page's title, lead and introduction, its identification
+// sections (Tables 1 and 3 with Fig. 11, the pose-count study, plan and select, the identified
+// parameters, the square test), and its figures (fig11_v3_per_variant.svg, pose_count_study.svg).
+std::string paperTitle();
+std::string paperLead(const DemoResults& results);
+std::string paperIntroduction(const DemoOptions& options);
+void addPaperStudy(report::HtmlReport& page, const DemoResults& results);
+std::vector<NamedFigure> paperFigures(const DemoResults& results);
+
 }  // namespace mire::app::demo_html
 
 namespace mire::app {
 
-// The figures the demos' report.md links as SVG files (and report.html shows): the H4 demo's
-// fig11_v3_per_variant.svg and pose_count_study.svg; the mechanism demo's parameter_errors.svg
-// (one per model with a truth: parameter_errors_<model>.svg).
+// The figures report.md links as SVG files (and report.html shows): the paper's study's, and
+// parameter_errors_<model>.svg for each model with a truth.
 std::vector<NamedFigure> demoFigures(const DemoResults& results);
-std::vector<NamedFigure> mechanismDemoFigures(const MechanismDemoResults& results);
 
 void writeDemoReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
                          const DemoOptions& options, const DemoResults& results);
-void writeMechanismDemoReportHtml(const std::filesystem::path& path, const ReportProvenance& provenance,
-                                  const DemoOptions& options, const MechanismDemoResults& results);
 
 }  // namespace mire::app

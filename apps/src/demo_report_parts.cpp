@@ -12,6 +12,8 @@ std::string percent(double after, double before) {
   return before > 0.0 && std::isfinite(after) ? format("%+.0f %%", 100.0 * (after - before) / before) : "n/a";
 }
 
+std::string sci(double value) { return std::isfinite(value) ? format("%.2e", value) : "n/a"; }
+
 void writeRunTimeTable(const std::vector<StageTiming>& timings, std::ostream& md) {
   double total = 0.0;
   md << "## Run time\n\n| stage | seconds |\n| --- | ---: |\n";
@@ -148,6 +150,10 @@ void writeClosedLoopSection(const pipeline::ClosedLoopTest& t, const std::string
      << percent(after, before)
      << "). RP_l at or below the noise-only p95 is the camera's, not the robot's "
         "(the standard's repeatability needs a finer measurement than this camera's).\n";
+}
+
+std::string nominalController(const DemoResults& r) {
+  return r.paper ? "model 12 with the nominal parameters" : "the nominal " + r.truth_model + " geometry";
 }
 
 Json closedLoopJson(const pipeline::ClosedLoopTest& t) {

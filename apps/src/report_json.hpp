@@ -20,16 +20,13 @@
 #include "mire/pipeline/camera_plan.hpp"
 #include "output_paths.hpp"
 
-// Declared only: CLI11 and the demo's types (demo.hpp, which brings the simulator's headers) cost
-// seconds of compile time in every file that includes this one (doc/install.md, "Build time").
+// Declared only: CLI11 costs seconds of compile time in every file that includes this one
+// (doc/install.md, "Build time"). The demo's report.json is declared in demo.hpp.
 namespace CLI {
 class App;
 }
 
 namespace mire::app {
-
-struct DemoOptions;
-struct DemoResults;
 
 using Json = nlohmann::ordered_json;
 
@@ -88,9 +85,5 @@ void writePlanReportJson(const std::filesystem::path& path, const PlanReportSett
 void writeSelectReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
                            const mechanism::SelectionResult& result, mechanism::Unit joint_unit, int folds,
                            unsigned seed);
-
-// The demo's report.json: its results without the run times (never the same twice).
-void writeDemoReportJson(const std::filesystem::path& path, const ReportProvenance& provenance,
-                         const DemoOptions& options, const DemoResults& results);
 
 }  // namespace mire::app

@@ -1,7 +1,7 @@
 // End to end: `mire demo --mechanism delta|gough-stewart --quick` on a simulated robot
 // with unmodelled defects. Every number asserted came out of the pipeline (images -> camera.yaml ->
 // poses.csv -> identification); the simulator's truth only scores.
-#include "demo_mechanism.hpp"
+#include "demo.hpp"
 #include "test_support.hpp"
 
 #include <cmath>
@@ -10,18 +10,18 @@
 
 namespace {
 
-mire::app::MechanismDemoResults runQuick(const std::string& mechanism, const std::filesystem::path& output,
-                                         const std::string& mounting = "camera-fixed") {
+mire::app::DemoResults runQuick(const std::string& mechanism, const std::filesystem::path& output,
+                                const std::string& mounting = "camera-fixed") {
   mire::app::DemoOptions options;
   options.output = output;
   options.quick = true;
   options.mechanism = mechanism;
   options.mounting = mounting;
-  return mire::app::runMechanismDemo(options);
+  return mire::app::runDemo(options);
 }
 
 // Calibration from images near the truth, every pose measured with honest σ.
-void expectImagesMeasured(const mire::app::MechanismDemoResults& r, int poses) {
+void expectImagesMeasured(const mire::app::DemoResults& r, int poses) {
   ASSERT_GE(r.calibration.estimate.size(), 4u);
   for (int k = 0; k < 4; ++k)
     EXPECT_NEAR(r.calibration.estimate[k], r.calibration.truth[k], 1.0) << r.calibration.names[k];
@@ -30,7 +30,7 @@ void expectImagesMeasured(const mire::app::MechanismDemoResults& r, int poses) {
   EXPECT_LT(r.measurement.normalized_error_std, 1.5);
 }
 
-const mire::app::MechanismModelScore& model(const mire::app::MechanismDemoResults& r, const std::string& name) {
+const mire::app::DemoModelScore& model(const mire::app::DemoResults& r, const std::string& name) {
   for (const auto& m : r.models)
     if (m.model == name) return m;
   throw std::runtime_error("no model " + name);
@@ -39,7 +39,7 @@ const mire::app::MechanismModelScore& model(const mire::app::MechanismDemoResult
 // Closing the loop (ISO 9283, 5 positions x 30 cycles, read through the identified mounting):
 // the identified model's commands divide the nominal controller's mean AP_p by `factor` and
 // bring it under `after_limit`.
-void expectLoopClosed(const mire::app::MechanismDemoResults& r, double factor, double after_limit) {
+void expectLoopClosed(const mire::app::DemoResults& r, double factor, double after_limit) {
   ASSERT_TRUE(r.closed_loop.has_value());
   ASSERT_EQ(r.closed_loop->before.positions.size(), 5u);
   ASSERT_EQ(r.closed_loop->after.positions.size(), 5u);

@@ -1,4 +1,4 @@
-// The mechanism campaign's switches for the end-to-end σ study (benchmarks/bench_chain_mechanisms.cpp):
+// The mechanism campaign's switches for the end-to-end σ study (benchmarks/bench_chain.cpp):
 // the robot's own seed, the true robot without its unmodelled defects, identical Delta legs, and the
 // camera placement; the defaults stay the demo's. The H4 through the same generator.
 #include <gtest/gtest.h>

@@ -4,20 +4,21 @@
 #include <string>
 #include <vector>
 
-#include "demo.hpp"
+#include "demo_stages.hpp"
 #include "mire/mechanism/experiment_design.hpp"
 #include "mire/mechanism/model_selection.hpp"
 
-namespace mire::app {
+namespace mire::pipeline::demo {
 
 namespace {
 
 namespace mech = mire::mechanism;
 
-// 15 poses planned among the protocol volume's candidates (model 12, D criterion) against
+// 15 poses planned among the protocol volume's candidates (the truth model, D criterion) against
 // random sets of 15 from the same candidates, as `mire plan --count 15` reports them.
-void planStudy(const DemoOptions& options, const mech::H4Nominal& nominal, DemoExperimentDesign& out) {
-  const mech::DesignModel model = mech::makeDesignModel(mech::modelOfVariant('D').name, nominal);
+void planStudy(const DemoOptions& options, const std::string& model_name, const mech::H4Nominal& nominal,
+               DemoExperimentDesign& out) {
+  const mech::DesignModel model = mech::makeDesignModel(model_name, nominal);
   const mech::Mechanism& m = *model.registered.mechanism;
   const Eigen::VectorXd geometry = model.registered.nominal.values();
   const mech::Workspace workspace = mech::protocolWorkspace(m, geometry);
@@ -35,11 +36,10 @@ void planStudy(const DemoOptions& options, const mech::H4Nominal& nominal, DemoE
 }
 
 // The eight variants ranked by 10-fold cross-validated joint residual on the measured poses.
-void selectStudy(const DemoOptions& options, const mech::H4Nominal& nominal,
+void selectStudy(const DemoOptions& options, const std::string& selection_models, const mech::H4Nominal& nominal,
                  const std::vector<mech::PoseObservation>& poses, DemoExperimentDesign& out) {
-  const auto candidates =
-      mech::parseSelectionCandidates(mech::mechanismFamily(mech::modelOfVariant('D').family).selection,
-                                     [&](const std::string& name) { return mech::makeDesignModel(name, nominal); });
+  const auto candidates = mech::parseSelectionCandidates(
+      selection_models, [&](const std::string& name) { return mech::makeDesignModel(name, nominal); });
   mech::SelectionOptions selection;
   selection.seed = static_cast<unsigned>(options.seed);
   out.folds = selection.folds;
@@ -50,12 +50,13 @@ void selectStudy(const DemoOptions& options, const mech::H4Nominal& nominal,
 
 }  // namespace
 
-DemoExperimentDesign experimentDesignStage(const DemoOptions& options, const mech::H4Nominal& nominal,
+DemoExperimentDesign experimentDesignStage(const DemoOptions& options, const mech::MechanismFamily& family,
+                                           const mech::H4Nominal& nominal,
                                            const std::vector<mech::PoseObservation>& poses) {
   DemoExperimentDesign out;
-  planStudy(options, nominal, out);
-  selectStudy(options, nominal, poses, out);
+  planStudy(options, family.truth_model, nominal, out);
+  selectStudy(options, family.selection, nominal, poses, out);
   return out;
 }
 
-}  // namespace mire::app
+}  // namespace mire::pipeline::demo

@@ -1,7 +1,8 @@
-// The demo's stages: simulate the campaign, then run the real pipeline on its files
-// exactly as a user would (calibrate from images, measure poses from images, identify from
-// poses.csv + joints.csv), and score against the simulator's truth only at the end.
-#include "demo.hpp"
+// The paper's study in `mire demo` (demo.hpp): on the measured poses of a robot whose truth model
+// takes the paper's variants, Tables 1 and 3 (every variant on 71 poses, the others validate),
+// Fig. 11, the pose-count study of §6.2, plan and select, the default variant on all poses
+// against the truth and the square test of Table 4. The simulator's truth only scores.
+#include "demo_stages.hpp"
 
 #include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
@@ -9,8 +10,8 @@
 #include "mire/mechanism/h4.hpp"
 #include "mire/mechanism/io.hpp"
 #include "mire/mechanism/prediction.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/variants.hpp"
-#include "mire/pipeline/closed_loop.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
 #include "mire/support/progress.hpp"
@@ -24,7 +25,7 @@
 #include <random>
 #include <stdexcept>
 
-namespace mire::app {
+namespace mire::pipeline::demo {
 namespace fs = std::filesystem;
 
 namespace {
@@ -64,7 +65,7 @@ std::array<double, 4> squareSides(const datasets::H4TrueKinematics& robot, const
 
 // error/σ of every identified parameter against the simulator's truth (scoring only).
 void scoreIdentified(const datasets::MechanismImageCampaign& campaign, const mechanism::IdentificationResult& result,
-                     DemoResults& results) {
+                     PaperStudy& results) {
   const auto& p = result.model.parameters;
   Eigen::VectorXd truth(static_cast<Eigen::Index>(p.size()));
   truth << campaign.robot.geometry.values(), result.model.external.valuesFrom(campaign.bTc, campaign.mTe);
@@ -97,11 +98,10 @@ struct IdentificationData {
 };
 
 IdentificationData identificationData(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
-                                      const fs::path& poses_csv) {
-  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(poses_csv, campaign.joints_file());
+                                      const fs::path& poses_csv, const std::string& model) {
+  PoseSetFiles files = PoseSetFiles::beside(poses_csv, campaign.joints_file());
   files.lines = campaign.lines_file();
-  pipeline::PoseSet set =
-      pipeline::readPoseSet(files, mechanism::makeH4Mechanism(mechanism::H4ModelKind::Model12)->jointColumnNames());
+  PoseSet set = readPoseSet(files, mechanism::makeRegisteredModel(model).mechanism->jointColumnNames());
   IdentificationData data;
   data.poses = std::move(set.observations.poses);
   data.shared = std::move(set.shared);
@@ -145,9 +145,9 @@ DemoVariant identifyVariant(char letter, const DemoOptions& options, const Ident
   return row;
 }
 
-// Pose-count study (paper §6.2): 6, 15, 71 poses, repeated.
+// Pose-count study (paper §6.2) of the default variant: 6, 15, 71 poses, repeated.
 void poseCountStudy(const DemoOptions& options, const IdentificationData& data,
-                    const mechanism::IdentificationModel& initial, DemoResults& results) {
+                    const mechanism::IdentificationModel& initial, PaperStudy& results) {
   results.pose_count_repeats = options.quick ? 20 : 100;
   mechanism::MonteCarloOptions study;
   study.subset_sizes = {6, 15, static_cast<int>(data.train)};
@@ -177,112 +177,64 @@ void poseCountStudy(const DemoOptions& options, const IdentificationData& data,
   }
 }
 
-// What the closing stage needs of the identification: variant D's prediction model and the
-// nominal geometry it started from (the uncompensated controller's).
-struct IdentifiedController {
-  mechanism::PredictionModel model;
-  Eigen::VectorXd nominal;
-};
+}  // namespace
 
-// Stage 4: identification of the variants, the pose-count study, V1–V3 and the square test.
-IdentifiedController identifyStage(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
-                                   const fs::path& output, DemoResults& results) {
-  const fs::path poses_csv = output / "poses.csv";
-  const IdentificationData data = identificationData(options, campaign, poses_csv);
+std::string variantLetters(const std::string& family) {
+  std::string letters;
+  for (const mechanism::ModelInfo& m : mechanism::registeredModels())
+    if (m.family == family) letters += m.variants;
+  return letters;
+}
+
+// Identification of the variants, the pose-count study, V1–V3 and the square test.
+IdentifiedController paperStudyStage(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
+                                     DemoResults& results) {
+  const mechanism::MechanismFamily family = mechanism::mechanismFamilyOf(options.mechanism);
+  const fs::path& output = options.output;
+  const IdentificationData data = identificationData(options, campaign, output / "poses.csv", family.truth_model);
   const auto& poses = data.poses;
+  PaperStudy& study = results.paper.emplace();
+  study.variant = mechanism::modelInfo(family.truth_model).default_variant;
+  const std::string variant(1, study.variant);
 
   // Before identification: nominal geometry, external parameters estimated from the data.
-  const auto initial = mechanism::makeH4VariantModel('D', data.nominal, poses, data.identification);
+  const auto initial = mechanism::makeH4VariantModel(study.variant, data.nominal, poses, data.identification);
   const auto before = mechanism::jointResidualCriteria(initial, poses);
-  results.nominal_v1_rad = before.v1_rad;
-  results.nominal_v2_rad = before.v2_rad;
-  results.nominal_v3_m = mechanism::straightnessCriterion(*initial.mechanism, initial.geometricValues(), data.lines).v3_m;
+  study.nominal_v1_rad = before.v1_rad;
+  study.nominal_v2_rad = before.v2_rad;
+  study.nominal_v3_m = mechanism::straightnessCriterion(*initial.mechanism, initial.geometricValues(), data.lines).v3_m;
   results.true_v3_m = trueStraightness(campaign, data.lines);
 
   // Table 3: every variant on one random set of 71 poses, the other poses validate.
-  results.variant_sets = options.quick ? 4 : 25;
-  const std::string letters = "ABCDEFGH";
-  support::Progress progress("identification: variants A-H", letters.size());
+  study.variant_sets = options.quick ? 4 : 25;
+  const std::string letters = variantLetters(family.name);
+  support::Progress progress(std::string("identification: variants ") + letters.front() + "-" + letters.back(),
+                             letters.size());
   for (const char letter : letters) {
-    results.variants.push_back(identifyVariant(letter, options, data, results.variant_sets));
+    study.variants.push_back(identifyVariant(letter, options, data, study.variant_sets));
     progress.advance();
   }
   progress.finish();
-  poseCountStudy(options, data, initial, results);
-  results.design = experimentDesignStage(options, data.nominal, poses);
+  poseCountStudy(options, data, initial, study);
+  study.design = experimentDesignStage(options, family, data.nominal, poses);
 
-  // Square test (paper §6.4): the controller runs model 12 with nominal, then identified (D,
-  // all poses) parameters; the TRUE robot draws the square.
-  // Variant D on all poses, as `mire identify` runs it.
-  pipeline::IdentifyOptions identify_options;
+  // Square test (paper §6.4): the controller runs the model with nominal, then identified (the
+  // default variant, all poses) parameters; the TRUE robot draws the square.
+  // The default variant on all poses, as `mire identify` runs it.
+  IdentifyOptions identify_options;
   identify_options.fit = data.identification;
-  const pipeline::ModelChoice variant_d = pipeline::chooseModel("", "D", data.nominal);
-  const auto identified_d = pipeline::identify(variant_d, poses, data.shared, identify_options).result;
-  scoreIdentified(campaign, identified_d, results);
-  mechanism::writeParameterFile(output / "identified_D.yaml", identified_d.model.parameters, identified_d.sigma,
-                                {{"model", variant_d.model}, {"variant", "D"}},
-                                "H4 model 12, variant D, identified by mire demo");
-  const auto& model = *identified_d.model.mechanism;
-  results.square_before_mm = squareSides(*campaign.robot.h4, model, initial.geometricValues());
-  results.square_after_mm = squareSides(*campaign.robot.h4, model, identified_d.model.geometricValues());
+  const ModelChoice choice = chooseModel("", variant, data.nominal);
+  const auto identified = identify(choice, poses, data.shared, identify_options).result;
+  scoreIdentified(campaign, identified, study);
+  study.file = "identified_" + variant + ".yaml";
+  mechanism::writeParameterFile(output / study.file, identified.model.parameters, identified.sigma,
+                                {{"model", choice.model}, {"variant", variant}},
+                                family.title + " model 12, variant " + variant + ", identified by mire demo");
+  const auto& model = *identified.model.mechanism;
+  study.square_before_mm = squareSides(*campaign.robot.h4, model, initial.geometricValues());
+  study.square_after_mm = squareSides(*campaign.robot.h4, model, identified.model.geometricValues());
 
-  return {mechanism::predictionModelFrom(variant_d.model, identified_d), initial.geometricValues()};
+  return {mechanism::predictionModelFrom(choice.model, identified), initial.geometricValues(), "variant " + variant};
 }
 
-// Stage 5, closing the loop: the ISO 9283 test with the nominal, then the identified model's
-// commands, measured through the calibrated camera.
-pipeline::ClosedLoopTest closedLoopStage(const DemoOptions& options, const datasets::MechanismImageCampaign& campaign,
-                                         const calibration::Camera& camera, const metrology::Target& target,
-                                         const IdentifiedController& identified) {
-  datasets::Iso9283Spec iso = datasets::iso9283SpecFor(campaign.robot);
-  iso.seed = options.seed;
-  iso.joint_repeatability = datasets::MechanismImageCampaignSpec::reference("h4").encoder_noise_rad;
-  return pipeline::closedLoopTest(identified.model, identified.nominal, datasets::reachOf(campaign.robot), campaign.bTc,
-                                  campaign.mTe, iso, pipeline::calibratedCameraReading(campaign.camera, camera, target));
-}
-
-}  // namespace
-
-DemoResults runDemo(const DemoOptions& options) {
-  DemoResults results;
-  const fs::path& output = options.output;
-  fs::create_directories(output);
-  const auto stage = [&](const std::string& name, const auto& work) { timedStage(results.timings, name, work); };
-
-  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference("h4");
-  spec.seed = options.seed;
-  if (options.quick) {
-    spec.calibration_views = 15;
-    spec.images_per_pose = 3;
-    spec.line_points = 10;
-  }
-  std::optional<datasets::MechanismImageCampaign> campaign;
-  stage("simulate the campaign (render images, record joints)", [&] {
-    std::optional<support::Progress> progress;
-    campaign =
-        datasets::generateMechanismImageCampaign(spec, output / "campaign", [&](std::size_t done, std::size_t total) {
-          if (!progress) progress.emplace("simulation: rendering", total);
-          progress->advance(done > 0 ? 1 : 0);
-        });
-  });
-  const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
-  calibration::Camera camera;
-  stage("calibrate the camera from images", [&] {
-    camera =
-        pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
-  });
-  stage("measure 81 target poses from images", [&] {
-    pipeline::measureStage(
-        campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
-        output / "poses.csv", results.measurement);
-  });
-  std::optional<IdentifiedController> identified;
-  stage("identify (variants A-H, pose-count study, plan and select, V1-V3, square test)",
-        [&] { identified = identifyStage(options, *campaign, output, results); });
-  stage("close the loop (variant D commands, ISO 9283 before / after)",
-        [&] { results.closed_loop = closedLoopStage(options, *campaign, camera, target, *identified); });
-  results.files = writeDemoReport(options, results);
-  return results;
-}
-
-}  // namespace mire::app
+}  // namespace mire::pipeline::demo

@@ -1,10 +1,9 @@
-// The mechanism demo's stages (doc/demo-mechanisms.md): simulate the campaign of a true Delta or
-// hexapod with unmodelled defects, then run the H4 demo's calibration and measurement stages on
-// its images and identify each model from poses.csv + joints.csv through the library calls
-// `mire identify --model NAME` makes; the truth scores only at the end.
-#include "demo_mechanism.hpp"
+// The identification part of `mire demo` on a robot whose models do not take the paper's variants
+// (doc/demo-mechanisms.md): each model of the family's selection identified from poses.csv +
+// joints.csv through the library calls `mire identify --model NAME` makes, written as it writes
+// them, then scored (V3, the positioning test, the parameters against the truth in the gauge).
+#include "demo_stages.hpp"
 
-#include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/described.hpp"
@@ -13,10 +12,8 @@
 #include "mire/mechanism/model_selection.hpp"
 #include "mire/mechanism/prediction.hpp"
 #include "mire/mechanism/translating_target.hpp"
-#include "mire/pipeline/closed_loop.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/pipeline/pose_set.hpp"
-#include "mire/pipeline/scored_stages.hpp"
 #include "mire/support/atomic_file.hpp"
 #include "mire/support/progress.hpp"
 #include "mire/support/side_files.hpp"
@@ -27,7 +24,7 @@
 #include <optional>
 #include <stdexcept>
 
-namespace mire::app {
+namespace mire::pipeline::demo {
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
@@ -36,7 +33,7 @@ namespace {
 // Every free parameter with its σ and (when the truth has the model's parameters) error/σ
 // against the truth in the gauge (display and SI units; truth NaN without).
 void scoreParameters(const mech::IdentificationResult& result, const std::optional<mech::ParameterSet>& truth,
-                     MechanismModelScore& score) {
+                     DemoModelScore& score) {
   const mech::ParameterSet& p = result.model.parameters;
   score.covariance = result.covariance;
   double sum = 0.0;
@@ -99,18 +96,18 @@ std::string modelLabel(const std::string& name) {
 
 // One model: identified and written as identified_<model>.yaml (+ its covariance side file,
 // for `mire fkm` / `mire ikm`), then scored.
-MechanismModelScore identifyModel(const std::string& name, const datasets::MechanismImageCampaign& campaign,
-                                  const pipeline::PoseSet& data, const fs::path& output) {
+DemoModelScore identifyModel(const std::string& name, const datasets::MechanismImageCampaign& campaign,
+                             const PoseSet& data, const fs::path& output) {
   const Stopwatch watch;
   const std::vector<mech::PoseObservation>& poses = data.observations.poses;
-  pipeline::ModelChoice choice = pipeline::chooseModel(name, "");
-  pipeline::applyMounting(choice, campaign.camera_on_effector ? "camera-on-effector" : "camera-fixed");
-  const pipeline::Identification identification = pipeline::identify(choice, poses, data.shared);
-  const pipeline::InitialModel& initial = identification.initial;
+  ModelChoice choice = chooseModel(name, "");
+  applyMounting(choice, campaign.camera_on_effector ? "camera-on-effector" : "camera-fixed");
+  const Identification identification = identify(choice, poses, data.shared);
+  const InitialModel& initial = identification.initial;
   const mech::IdentificationResult& result = identification.result;
   const auto& orientation_covariance = identification.mean_orientation_covariance;
   const bool described = mech::isDescriptionFile(name);
-  MechanismModelScore score;
+  DemoModelScore score;
   score.model = modelLabel(name);
   score.seconds = watch.seconds();
   score.file = "identified_" + score.model + ".yaml";
@@ -137,8 +134,7 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
   score.chi2_per_dof = result.chi2 / std::max(1, result.dof);
   score.sigma_method = result.covariance_method;
   score.has_truth = described || name == campaign.robot.geometry_model.name;
-  scoreParameters(
-      result, score.has_truth ? std::optional(pipeline::truthInGauge(campaign, initial, poses)) : std::nullopt, score);
+  scoreParameters(result, score.has_truth ? std::optional(truthInGauge(campaign, initial, poses)) : std::nullopt, score);
   const Eigen::VectorXd nominal = initial.model.geometricValues(), identified = result.model.geometricValues();
   const auto lines = data.lineJoints();
   score.v3_before_m = straightnessOf(model, nominal, lines);
@@ -152,80 +148,29 @@ MechanismModelScore identifyModel(const std::string& name, const datasets::Mecha
   return score;
 }
 
-datasets::MechanismImageCampaignSpec campaignSpec(const DemoOptions& options) {
-  datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
-  spec.seed = options.seed;
-  spec.camera_on_effector = options.mounting == "camera-on-effector";
-  if (options.quick) {  // as the H4 demo's --quick
-    spec.calibration_views = 15;
-    spec.images_per_pose = 3;
-    spec.line_points = 10;
-  }
-  return spec;
-}
-
 }  // namespace
 
-// Stages: simulate, calibrate, measure, identify each model (Delta: the simple and the per-leg
-// model; hexapod: the 42-parameter model and the one with encoder scales), then the report.
-MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
-  MechanismDemoResults results;
-  results.mechanism = options.mechanism;
+std::optional<IdentifiedController> modelStages(const DemoOptions& options,
+                                                const datasets::MechanismImageCampaign& campaign, DemoResults& results) {
   const fs::path& output = options.output;
-  fs::create_directories(output);
   const auto stage = [&](const std::string& name, const auto& work) { timedStage(results.timings, name, work); };
-  std::optional<datasets::MechanismImageCampaign> campaign;
-  stage("simulate the campaign (render images, record joints)", [&] {
-    std::optional<support::Progress> progress;
-    campaign = datasets::generateMechanismImageCampaign(campaignSpec(options), output / "campaign",
-                                                        [&](std::size_t done, std::size_t total) {
-                                                          if (!progress)
-                                                            progress.emplace("simulation: rendering", total);
-                                                          progress->advance(done > 0 ? 1 : 0);
-                                                        });
-  });
-  results.truth_model = campaign->robot.geometry_model.name;
-  const metrology::Target target = metrology::Target::fromFile(campaign->target_file());
-  calibration::Camera camera;
-  stage("calibrate the camera from images", [&] {
-    camera =
-        pipeline::calibrateStage(campaign->calibration_images(), campaign->camera, target, output, results.calibration);
-  });
-  stage("measure " + std::to_string(campaign->pose_ids.size()) + " target poses from images", [&] {
-    pipeline::measureStage(
-        campaign->pose_images(), [&](const std::string& id) { return campaign->trueCameraTMarker(id); }, camera, target,
-        output / "poses.csv", results.measurement);
-  });
-  pipeline::PoseSetFiles files = pipeline::PoseSetFiles::beside(output / "poses.csv", campaign->joints_file());
-  files.lines = campaign->lines_file();
-  const pipeline::PoseSet data = pipeline::readPoseSet(files, campaign->robot.mechanism().jointColumnNames());
-  results.true_v3_m = trueStraightness(campaign->robot, data.lineJoints());
+  PoseSetFiles files = PoseSetFiles::beside(output / "poses.csv", campaign.joints_file());
+  files.lines = campaign.lines_file();
+  const PoseSet data = readPoseSet(files, campaign.robot.mechanism().jointColumnNames());
+  results.true_v3_m = trueStraightness(campaign.robot, data.lineJoints());
   for (const auto& name : mechanism::selectionModelNames(mechanism::mechanismFamilyOf(options.mechanism)))
     stage("identify " + modelLabel(name) + " (shared term, V3, positioning test)",
-          [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
-  results.mounting = options.mounting;
+          [&] { results.models.push_back(identifyModel(name, campaign, data, output)); });
   // The ISO 9283 test reads the attained poses through a fixed camera and the identified mounting
   // (closed_loop.hpp); an identification with the camera on the effector has no such mounting.
-  if (!campaign->camera_on_effector)
-    stage("close the loop (" + modelLabel(results.truth_model) + " commands, ISO 9283 before / after)", [&] {
-      // The file a user hands to `mire compensate`, and the geometry the uncompensated controller runs.
-      // The model of the true robot's kind (a described robot: its description).
-      const auto truth = std::find_if(results.models.begin(), results.models.end(),
-                                      [](const MechanismModelScore& m) { return m.has_truth; });
-      if (truth == results.models.end()) throw std::logic_error("demo: no identified model of the true robot's kind");
-      const mech::LoadedPredictionModel identified = mech::loadPredictionModel(output / truth->file);
-      datasets::Iso9283Spec spec = datasets::iso9283SpecFor(campaign->robot);
-      spec.seed = options.seed;
-      const datasets::MechanismImageCampaignSpec campaign_spec = campaignSpec(options);
-      spec.joint_repeatability = campaign->robot.mechanism().jointUnits().front() == mech::Unit::Radian
-                                     ? campaign_spec.encoder_noise_rad
-                                     : campaign_spec.encoder_noise_m;
-      results.closed_loop = pipeline::closedLoopTest(
-          identified.model, campaign->robot.geometry_model.nominal.values(), datasets::reachOf(campaign->robot),
-          campaign->bTc, campaign->mTe, spec, pipeline::calibratedCameraReading(campaign->camera, camera, target));
-    });
-  results.files = writeMechanismDemoReport(options, results);
-  return results;
+  if (campaign.camera_on_effector) return std::nullopt;
+  // The file a user hands to `mire compensate`, and the geometry the uncompensated controller runs.
+  // The model of the true robot's kind (a described robot: its description).
+  const auto truth =
+      std::find_if(results.models.begin(), results.models.end(), [](const DemoModelScore& m) { return m.has_truth; });
+  if (truth == results.models.end()) throw std::logic_error("demo: no identified model of the true robot's kind");
+  return IdentifiedController{mech::loadPredictionModel(output / truth->file).model,
+                              campaign.robot.geometry_model.nominal.values(), modelLabel(results.truth_model)};
 }
 
-}  // namespace mire::app
+}  // namespace mire::pipeline::demo

@@ -1,5 +1,5 @@
-// Honest σ end to end on the Delta and the Gough–Stewart
-// (doc/studies/2026-11-24-chain-study-delta-gough-stewart.md), run by hand. Each chain renders
+// bench_chain's study of the Delta and the Gough–Stewart (chain_study.hpp;
+// doc/studies/2026-11-24-chain-study-delta-gough-stewart.md). Each chain renders
 // a new campaign of `mire demo --mechanism` (new calibration images, pose images and encoder
 // noise) of a true robot that is exactly of the identified model (no plate tilt; unit encoder
 // gains and no eccentricity), seen by the demo's camera placed anew (a few cm, a few degrees),
@@ -10,8 +10,6 @@
 // (the truth known): the fit's term from the true pose errors, and from the pose errors the
 // detector's true feature errors cause, split into a per-feature constant, an image field and
 // the rest (doc/studies/2026-11-25-delta-gauge-120-chains.md).
-// Usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains=20] [images_per_pose=10]
-//        [work_dir] [first_chain=0]
 // delta: legs that differ, model `delta-legs` (the mounting values are the gauge on most chains);
 // delta-same-legs: identical legs, model `delta` (6 free mounting values); gough-stewart: model
 // `gough-stewart`. The shared term is computed twice: as `mire identify` does (its refits
@@ -20,9 +18,11 @@
 // Even chains: the demo's robot (robot seed 2004); odd chains: a different random robot each.
 #include "chain_prediction.hpp"
 #include "chain_statistics.hpp"
+#include "chain_study.hpp"
 
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/parameter_set.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/mechanism/translating_target.hpp"
 #include "mire/metrology/pose_estimation.hpp"
 #include "mire/metrology/target.hpp"
@@ -46,10 +46,9 @@
 #include <string>
 #include <vector>
 
+namespace mire::bench {
 namespace {
 
-using namespace mire;
-using namespace mire::bench;
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
@@ -368,7 +367,7 @@ void scorePredictions(const datasets::MechanismImageCampaign& campaign, const st
     joints.push_back(truth.inverseKinematics(campaign.robot.geometry.values(), bTe).joints);
     cTm.push_back(campaign.bTc.inverse() * bTe * campaign.mTe.inverse());
   }
-  bench::scorePredictions(mech::predictionModelFrom(model, result), joints, cTm, study.prediction);
+  mire::bench::scorePredictions(mech::predictionModelFrom(model, result), joints, cTm, study.prediction);
 }
 
 // The fit's own term of the σ² with the shared term (free parameter f): the rest of the
@@ -608,39 +607,22 @@ void printTimes(const Study& s) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const std::string mechanism = argc > 1 ? argv[1] : "";  // or delta-same-legs (the `delta` model)
-  const int chains = argc > 2 ? std::atoi(argv[2]) : 20;
-  const int images = argc > 3 ? std::atoi(argv[3]) : 10;
-  const fs::path work = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path() / ("mire_bench_chain_" + mechanism);
-  const int first_chain = argc > 5 ? std::atoi(argv[5]) : 0;
-  if ((mechanism != "delta" && mechanism != "delta-same-legs" && mechanism != "gough-stewart") || chains < 2 ||
-      images < 1 || first_chain < 0) {
-    std::fprintf(stderr,
-                 "usage: bench_chain_mechanisms <delta|delta-same-legs|gough-stewart> [chains>=2] "
-                 "[images_per_pose>=1] [work_dir] [first_chain>=0]\n");
-    return 2;
-  }
+int runMechanismChainStudy(const ChainRun& run) {
   Study study;
-  study.mechanism = mechanism;
-  // The true robot's exact model: the Delta's legs differ (delta-legs) or not (delta).
-  study.model = mechanism == "delta" ? "delta-legs" : mechanism == "delta-same-legs" ? "delta" : "gough-stewart";
+  study.mechanism = run.mechanism;
+  // The true robot's exact model: its family's truth model (the Delta's legs differ: delta-legs),
+  // or the `delta` model for identical legs.
+  study.model =
+      run.mechanism == "delta-same-legs" ? std::string("delta") : mech::mechanismFamily(run.mechanism).truth_model;
   std::printf(
       "%s: %d chains, %d images per pose, a true robot exactly of model %s (no unmodelled defects), robot seed "
       "2004 on even chains, a new one on odd chains, the camera placement moved per chain; work dir %s\n",
-      mechanism.c_str(), chains, images, study.model.c_str(), work.string().c_str());
-  for (int chain = first_chain; study.chains < chains && chain < first_chain + 2 * chains; ++chain) {
-    try {
-      runChain(chain, images, work, study);
-    } catch (const std::exception& e) {
-      ++study.failed;
-      std::printf("chain %2d failed: %s\n", chain, e.what());
-      fs::remove_all(work / ("chain" + std::to_string(chain)));
-    }
-  }
-  if (study.chains < 2) return 1;
+      run.mechanism.c_str(), run.chains, run.images_per_pose, study.model.c_str(), run.work.string().c_str());
+  if (runChains(run, study, [&](int chain) { runChain(chain, run.images_per_pose, run.work, study); }) < 2) return 1;
   printStages(study);
   printIdentification(study);
   printTimes(study);
   return 0;
 }
+
+}  // namespace mire::bench
