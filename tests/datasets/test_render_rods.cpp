@@ -101,7 +101,8 @@ TEST(RenderRods, SilhouetteEdgesLieOnTheProjectedApparentContours) {
     ASSERT_GT(right - left, 6.0);
     ASSERT_NEAR(image.at<float>(v, m), level, 1e-3) << "row " << v;
     double left_sum = 0.0, right_sum = 0.0;
-    for (int i = m; i >= static_cast<int>(left) - 3; --i) left_sum += (background - image.at<float>(v, i)) / (background - level);
+    for (int i = m; i >= static_cast<int>(left) - 3; --i)
+      left_sum += (background - image.at<float>(v, i)) / (background - level);
     for (int i = m; i <= static_cast<int>(right) + 3; ++i)
       right_sum += (background - image.at<float>(v, i)) / (background - level);
     for (const double error : {m + 0.5 - left_sum - left, m - 0.5 + right_sum - right}) {
