@@ -5,6 +5,7 @@
 #include "report_json.hpp"
 #include "validate.hpp"
 
+#include "mire/datasets/campaign_legs.hpp"
 #include "mire/mechanism/registry.hpp"
 
 #include <algorithm>
@@ -22,6 +23,7 @@ int printMechanismDemo(const MechanismDemoResults& results, const std::filesyste
               << " mm; square side RMS " << m.square_rms_before_mm << " mm -> " << m.square_rms_after_mm << " mm\n";
   std::cout << "  pose precision (median σ): " << results.measurement.median_sigma_mm.transpose() << " mm, "
             << results.measurement.median_sigma_deg.transpose() << " deg\n";
+  if (results.legs) std::cout << legsDemoSummary(*results.legs) << "  (" << (output / "legs.md").string() << ")\n";
   return static_cast<int>(kOk);
 }
 
@@ -56,6 +58,9 @@ Runner addDemoCommand(CLI::App& app) {
                    "camera-fixed, or camera-on-effector: the camera rides on the effector and looks at the board fixed "
                    "in the workspace (Delta, hexapod, described robots; not the H4)")
       ->capture_default_str();
+  demo->add_flag("--legs", options->legs,
+                 "gough-stewart, delta: draw the legs as rods and identify from the legs only, the target only and "
+                 "both (legs.md; doc/legs.md)");
   return [options, demo] {
     options->command_line = commandLineOf(*demo);
     // The H4 demo runs the paper's variants, whose mounting assumes the camera fixed (paper §4),
@@ -65,6 +70,9 @@ Runner addDemoCommand(CLI::App& app) {
           "--mounting camera-on-effector: the H4 demo identifies the paper's variants, which assume the "
           "camera fixed (paper §4); the camera on the effector runs with --mechanism delta, gough-stewart "
           "or a description file");
+    if (options->legs && (cameraOnEffector(options->mounting) || mechanism::isDescriptionFile(options->mechanism) ||
+                          !datasets::campaignDrawsLegs(options->mechanism)))
+      throw UsageError("--legs: the hexapod (gough-stewart) and the Delta (delta) with the camera fixed only");
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
     // A description file is read before the simulation starts too.
     CommandPaths paths{{}, {}, {}, {{options->output, "-o"}}};

@@ -34,6 +34,7 @@ struct DemoOptions {
   // camera-fixed, or camera-on-effector (doc/demo-mechanisms.md; the mechanism demos only: the H4 demo's
   // variants assume the camera fixed, paper §4).
   std::string mounting = "camera-fixed";
+  bool legs = false;                      // the legs drawn and identified from (demo_legs.hpp; gough-stewart, delta)
   std::vector<std::string> command_line;  // as parsed (report.json); empty when run in-process
 };
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "demo.hpp"
+#include "demo_legs.hpp"
 #include "report_json.hpp"
 
 namespace mire::app {
@@ -52,7 +53,8 @@ struct MechanismDemoResults {
   // The ISO 9283 test of the true robot before / after compensation with the truth's model
   // (closed_loop.hpp); not run with the camera on the effector (its reading is the fixed camera's).
   std::optional<pipeline::ClosedLoopTest> closed_loop;
-  std::vector<std::string> files;  // written, relative to the output folder
+  std::vector<std::string> files;       // written, relative to the output folder
+  std::optional<LegsDemoSection> legs;  // with DemoOptions::legs (legs.md)
 };
 
 // Runs the demo of options.mechanism into options.output.

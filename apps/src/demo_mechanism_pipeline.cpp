@@ -156,6 +156,7 @@ datasets::MechanismImageCampaignSpec campaignSpec(const DemoOptions& options) {
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   spec.seed = options.seed;
   spec.camera_on_effector = options.mounting == "camera-on-effector";
+  if (options.legs) spec.leg_radius_m = 8e-3;
   if (options.quick) {  // as the H4 demo's --quick
     spec.calibration_views = 15;
     spec.images_per_pose = 3;
@@ -203,6 +204,15 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
   for (const auto& name : mechanism::selectionModelNames(mechanism::mechanismFamilyOf(options.mechanism)))
     stage("identify " + modelLabel(name) + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
+  if (options.legs)
+    stage("identify from the legs, the target and both", [&] {
+      const fs::path legs_csv = output / "legs_simulated.csv";
+      writeSimulatedLegLines(*campaign, options.seed, legs_csv);
+      results.legs = runLegsDemo(*campaign, data, legs_csv,
+                                 "SIMULATED, not measured: truth/legs.csv with doc/legs.md's representative line "
+                                 "errors (legs_simulated.csv)");
+      support::writeFileAtomically(output / "legs.md", legsDemoMarkdown(*results.legs));
+    });
   results.mounting = options.mounting;
   // The ISO 9283 test reads the attained poses through a fixed camera and the identified mounting
   // (closed_loop.hpp); an identification with the camera on the effector has no such mounting.

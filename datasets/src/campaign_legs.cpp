@@ -27,7 +27,8 @@ void requireLegs(const TrueRobot& robot) {
 // p_i hold R − r), both moved out by the nominal r along p_i's azimuth.
 std::vector<LegSegment> deltaForearms(const TrueRobot& robot, const Eigen::VectorXd& X) {
   const Eigen::Vector3d t = X.head<3>();
-  const IkmResult ikm = robot.mechanism().inverseKinematics(robot.geometry.values(), robot.mechanism().poseToTransform(X));
+  const IkmResult ikm =
+      robot.mechanism().inverseKinematics(robot.geometry.values(), robot.mechanism().poseToTransform(X));
   if (!ikm.reachable()) throw std::runtime_error("legs as rods: the Delta's pose is unreachable");
   const double plate_radius = DeltaNominal{}.r;
   std::vector<LegSegment> legs;
@@ -67,8 +68,7 @@ std::vector<LegSegment> trueLegSegments(const TrueRobot& robot, const Eigen::Vec
   return legs;
 }
 
-std::vector<Rod> legRods(const TrueRobot& robot, const Eigen::VectorXd& X, const Eigen::Isometry3d& bTc,
-                         double radius_m) {
+std::vector<Rod> legRods(const TrueRobot& robot, const Eigen::VectorXd& X, const Eigen::Isometry3d& bTc, double radius_m) {
   const Eigen::Isometry3d cTb = bTc.inverse();
   std::vector<Rod> rods;
   for (const LegSegment& leg : trueLegSegments(robot, X)) rods.push_back({cTb * leg.from, cTb * leg.to, radius_m});
@@ -85,8 +85,7 @@ Eigen::Isometry3d rulerBaseTCamera(const Eigen::Isometry3d& bTc, std::uint64_t s
   return ruler;
 }
 
-std::string legsYaml(const std::string& model, double radius_m, const Eigen::Isometry3d& approximate_bTc,
-                     int search_px) {
+std::string legsYaml(const std::string& model, double radius_m, const Eigen::Isometry3d& approximate_bTc, int search_px) {
   const Eigen::Vector3d t = approximate_bTc.translation() * 1e3;
   const Eigen::AngleAxisd turn(approximate_bTc.linear());
   const Eigen::Vector3d r = turn.axis() * turn.angle() / kCampaignDeg;

@@ -32,8 +32,8 @@ TEST(CampaignLegs, HexapodRodsHaveTheLengthsItsEncodersRead) {
     const std::vector<LegSegment> legs = trueLegSegments(robot, poses[j]);
     ASSERT_EQ(legs.size(), 6u);
     for (int i = 0; i < 6; ++i) {
-      const double rho = q[i] / robot.encoder_gain[static_cast<std::size_t>(i)] +
-                         robot.geometry.value("rho0" + std::to_string(i + 1));
+      const double rho =
+          q[i] / robot.encoder_gain[static_cast<std::size_t>(i)] + robot.geometry.value("rho0" + std::to_string(i + 1));
       EXPECT_NEAR((legs[static_cast<std::size_t>(i)].to - legs[static_cast<std::size_t>(i)].from).norm(), rho, 1e-12);
     }
   }

@@ -35,16 +35,14 @@ std::string legsModel(const TrueRobot& robot);
 std::vector<mechanism::LegSegment> trueLegSegments(const TrueRobot& robot, const Eigen::VectorXd& X);
 
 // The rods of radius `radius_m` along trueLegSegments(robot, X), in the camera frame of bTc.
-std::vector<Rod> legRods(const TrueRobot& robot, const Eigen::VectorXd& X, const Eigen::Isometry3d& bTc,
-                         double radius_m);
+std::vector<Rod> legRods(const TrueRobot& robot, const Eigen::VectorXd& X, const Eigen::Isometry3d& bTc, double radius_m);
 
 // The camera placement as a user measures it with a ruler: bTc moved by 5 mm and turned by 1°,
 // in directions drawn from `seed`.
 Eigen::Isometry3d rulerBaseTCamera(const Eigen::Isometry3d& bTc, std::uint64_t seed);
 
 // legs.yaml: model, radius_mm, base_T_camera (t_mm, r_deg: rotation vector in degrees), search_px.
-std::string legsYaml(const std::string& model, double radius_m, const Eigen::Isometry3d& approximate_bTc,
-                     int search_px);
+std::string legsYaml(const std::string& model, double radius_m, const Eigen::Isometry3d& approximate_bTc, int search_px);
 
 // truth/legs.csv: every leg at every pose, the covariance 1e-24 on its diagonal (exact; the
 // format needs a positive definite matrix).
