@@ -3,9 +3,9 @@
 #include "demo_mechanism.hpp"
 #include "output_paths.hpp"
 #include "report_json.hpp"
+#include "simulate_campaign.hpp"
 #include "validate.hpp"
 
-#include "mire/datasets/campaign_legs.hpp"
 #include "mire/mechanism/registry.hpp"
 
 #include <algorithm>
@@ -70,9 +70,7 @@ Runner addDemoCommand(CLI::App& app) {
           "--mounting camera-on-effector: the H4 demo identifies the paper's variants, which assume the "
           "camera fixed (paper §4); the camera on the effector runs with --mechanism delta, gough-stewart "
           "or a description file");
-    if (options->legs && (cameraOnEffector(options->mounting) || mechanism::isDescriptionFile(options->mechanism) ||
-                          !datasets::campaignDrawsLegs(options->mechanism)))
-      throw UsageError("--legs: the hexapod (gough-stewart) and the Delta (delta) with the camera fixed only");
+    if (options->legs) checkLegsOption(options->mechanism, options->mounting);
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
     // A description file is read before the simulation starts too.
     CommandPaths paths{{}, {}, {}, {{options->output, "-o"}}};

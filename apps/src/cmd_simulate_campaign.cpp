@@ -40,7 +40,7 @@ struct CampaignOptions {
   std::optional<int> images_per_pose, calibration_views;
   std::string mounting = "camera-fixed";  // or camera-on-effector (doc/mechanisms.md)
   bool legs = false;                      // the legs drawn as rods (doc/legs.md)
-  double leg_radius_mm = 8.0;
+  double leg_radius_mm = 1e3 * datasets::kReferenceLegRadiusM;
 };
 
 // Bounds of the options: calibrate needs 3 usable views; beyond the upper bounds a campaign
@@ -134,10 +134,7 @@ void checkCampaignOptions(const CampaignOptions& options) {
   if (cameraOnEffector(options.mounting) && !described &&
       mechanism::mechanismFamily(options.mechanism).defects == mechanism::SimulatedDefects::H4Parallelograms)
     throw UsageError("--mounting camera-on-effector: the H4's campaign has the camera fixed only");
-  if (options.legs && (!datasets::campaignDrawsLegs(options.mechanism) || cameraOnEffector(options.mounting)))
-    throw UsageError(
-        "--legs: the legs are drawn for the hexapod (gough-stewart) and the Delta (delta) with the "
-        "camera fixed only");
+  if (options.legs) checkLegsOption(options.mechanism, options.mounting);
   if (!(options.leg_radius_mm >= kMinLegRadiusMm && options.leg_radius_mm <= kMaxLegRadiusMm))
     throw UsageError("--leg-radius-mm " + support::formatNumber(options.leg_radius_mm) + ": expected " +
                      support::formatNumber(kMinLegRadiusMm) + " to " + support::formatNumber(kMaxLegRadiusMm));
@@ -330,6 +327,13 @@ void checkCampaignMechanism(const std::string& mechanism) {
     throw UsageError("--mechanism '" + mechanism + "': unknown mechanism (valid: " + mechanism::mechanismFamilyList() +
                      "; a robot of your own: --model robot.yaml)");
   }
+}
+
+void checkLegsOption(const std::string& mechanism, const std::string& mounting) {
+  if (!datasets::campaignDrawsLegs(mechanism) || cameraOnEffector(mounting))
+    throw UsageError(
+        "--legs: the legs are drawn for the hexapod (gough-stewart) and the Delta (delta) with the "
+        "camera fixed only");
 }
 
 SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {

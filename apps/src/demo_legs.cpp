@@ -1,4 +1,4 @@
-// The legs section of the mechanism demo (demo_legs.hpp, doc/demo-mechanisms.md "Legs").
+// The legs section of the mechanism demo (demo_legs.hpp, doc/demo-mechanisms.md "The legs").
 #include "demo_legs.hpp"
 
 #include "mire/datasets/campaign_legs.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// `mire demo --mechanism gough-stewart|delta --legs` (doc/demo-mechanisms.md, "Legs"): the campaign
+// `mire demo --mechanism gough-stewart|delta --legs` (doc/demo-mechanisms.md, "The legs"): the campaign
 // rendered with the legs as rods, and the robot identified from its legs only, its target only and
 // both (pipeline::identifyWithLegs), against the truth, with V3 and the positioning test before and
 // after identification.

@@ -4,6 +4,7 @@
 // `mire identify --model NAME` makes; the truth scores only at the end.
 #include "demo_mechanism.hpp"
 
+#include "mire/datasets/campaign_legs.hpp"
 #include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_campaign.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
@@ -156,7 +157,7 @@ datasets::MechanismImageCampaignSpec campaignSpec(const DemoOptions& options) {
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   spec.seed = options.seed;
   spec.camera_on_effector = options.mounting == "camera-on-effector";
-  if (options.legs) spec.leg_radius_m = 8e-3;
+  if (options.legs) spec.leg_radius_m = datasets::kReferenceLegRadiusM;
   if (options.quick) {  // as the H4 demo's --quick
     spec.calibration_views = 15;
     spec.images_per_pose = 3;

@@ -18,6 +18,9 @@
 
 namespace mire::datasets {
 
+// The rods' radius of the demo and of `mire simulate campaign --legs` by default [m].
+constexpr double kReferenceLegRadiusM = 8e-3;
+
 // Whether a campaign of `mechanism` (a family of the table or a description file) can draw its
 // legs: the hexapod and the Delta.
 bool campaignDrawsLegs(const std::string& mechanism);
