@@ -45,17 +45,16 @@ bool insideImage(const cv::Mat& image, const Vector2d& p) {
 }
 
 // The search sites of one predicted contour: its generator (the axis moved by −r·n) projected
-// with the lens distortion, every spacing_px on the segment's middle part.
-std::vector<SearchSite> searchSites(const EdgeImage& image, const calibration::Camera& camera,
-                                    const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                                    const Eigen::Vector3d& shift, const LegContourOptions& options) {
-  Vector2d a, b;
-  if (!camera.project(from + shift, &a) || !camera.project(to + shift, &b)) return {};
-  const double usable = (1.0 - 2.0 * options.end_margin) * (b - a).norm();
-  const int count = static_cast<int>(usable / options.spacing_px) + 1;
-  std::vector<SearchSite> sites;
+// with the lens distortion, `count` of them evenly on the segment's middle part (both contours
+// share the grid, so that sites of the same index face each other); none where the band leaves
+// the image.
+std::vector<std::optional<SearchSite>> searchSites(const EdgeImage& image, const calibration::Camera& camera,
+                                                   const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                                   const Eigen::Vector3d& shift, double margin, int count,
+                                                   double search_px) {
+  std::vector<std::optional<SearchSite>> sites(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
-    const double t = options.end_margin + (1.0 - 2.0 * options.end_margin) * (i + 0.5) / count;
+    const double t = margin + (1.0 - 2.0 * margin) * (i + 0.5) / count;
     const Eigen::Vector3d point = from + t * (to - from);
     Vector2d pixel, ahead, centre;
     if (!camera.project(point + shift, &pixel) || !camera.project(point + shift + 1e-3 * (to - from), &ahead) ||
@@ -63,9 +62,9 @@ std::vector<SearchSite> searchSites(const EdgeImage& image, const calibration::C
       continue;
     Vector2d normal = Vector2d(-(ahead - pixel).y(), (ahead - pixel).x()).normalized();
     if (normal.dot(centre - pixel) < 0.0) normal = -normal;
-    const double margin = options.search_px + 6.0;  // the band and the profile fitted beyond it
-    if (insideImage(image.grey, pixel + margin * normal) && insideImage(image.grey, pixel - margin * normal))
-      sites.push_back({pixel, normal, (centre - pixel).norm()});
+    const double band = search_px + 6.0;  // the band and the profile fitted beyond it
+    if (insideImage(image.grey, pixel + band * normal) && insideImage(image.grey, pixel - band * normal))
+      sites[static_cast<std::size_t>(i)] = SearchSite{pixel, normal, (centre - pixel).norm()};
   }
   return sites;
 }
@@ -94,13 +93,6 @@ std::optional<Edge> findEdge(const EdgeImage& image, const SearchSite& site, dou
   return Edge{pixel, offset, site};
 }
 
-double medianOffset(const std::vector<Edge>& edges) {
-  std::vector<double> offsets;
-  for (const Edge& e : edges) offsets.push_back(e.offset);
-  std::nth_element(offsets.begin(), offsets.begin() + static_cast<long>(offsets.size() / 2), offsets.end());
-  return offsets[offsets.size() / 2];
-}
-
 double median(std::vector<double> values) {
   std::nth_element(values.begin(), values.begin() + static_cast<long>(values.size() / 2), values.end());
   return values[values.size() / 2];
@@ -127,6 +119,8 @@ double residual(const ContourLine& line, const Vector2d& p) {
   return std::cos(line.theta) * p.x() + std::sin(line.theta) * p.y() - line.rho;
 }
 
+constexpr double kMaxTurn = 5.0 * support::kPi / 180.0;
+
 // RANSAC on pairs (deterministic draws) for a start that ignores where the target or another leg
 // crosses, then Tukey's biweight by iteratively reweighted least squares. The covariance of
 // (θ, ρ) is σ²·(Σ w·J·Jᵀ)⁻¹ with J = ∂residual/∂(θ, ρ) and σ² the weighted residual variance.
@@ -143,6 +137,9 @@ std::optional<ContourFit> fitContour(const std::vector<Vector2d>& points, double
     if (i == j) continue;
     const Vector2d normal = Vector2d(-(points[j] - points[i]).y(), (points[j] - points[i]).x()).normalized();
     const ContourLine candidate{std::atan2(normal.y(), normal.x()), normal.dot(points[i])};
+    // A ruler's camera placement predicts the contour's direction within a degree or two: a line
+    // further off is something else's edge (the target's border, a square).
+    if (std::abs(std::cos(candidate.theta - predicted.theta)) < std::cos(kMaxTurn)) continue;
     std::size_t support = 0;
     for (const Vector2d& p : points) support += std::abs(residual(candidate, p)) < 1.0 * pixel_size ? 1 : 0;
     if (support > best) {
@@ -192,13 +189,18 @@ std::optional<ContourFit> fitContour(const std::vector<Vector2d>& points, double
 // of the contour: the image's levels at the pixel centres next to its kept edge points, by their
 // distance u to the line (an edge spread function sampled at every sub-pixel phase), fitted by the
 // silhouette's profile model (silhouette_edge.hpp) from 5 px outside to the rod's middle. Each kept
-// edge point lends the pixels within half a sample spacing along the contour. Also returns the
+// edge point lends the pixels within half a sample spacing along the contour, a profile with its
+// own levels. Also returns the
 // stretch's middle on the line [px].
-std::optional<std::pair<Vector2d, double>> silhouetteShift(const EdgeImage& image, const calibration::Camera& camera,
-                                                           const ContourLine& line, const std::vector<Edge>& kept,
-                                                           double spacing_px) {
-  std::vector<double> positions, levels;
+struct Shift {
+  Vector2d middle;  // of the stretch, on the fitted line [px]
+  SilhouetteEdge edge;
+};
+std::optional<Shift> silhouetteShift(const EdgeImage& image, const calibration::Camera& camera, const ContourLine& line,
+                                     const std::vector<Edge>& kept, double spacing_px) {
+  std::vector<std::vector<double>> positions, levels;
   Vector2d middle = Vector2d::Zero();
+  std::size_t samples = 0;
   double radius_px = 0.0;
   for (const Edge& edge : kept) {
     Vector2d normalized;
@@ -210,29 +212,32 @@ std::optional<std::pair<Vector2d, double>> silhouetteShift(const EdgeImage& imag
     radius_px += edge.site.radius_px / static_cast<double>(kept.size());
     const double inside = edge.site.radius_px;
     const double reach = std::max(inside, 5.0) + spacing_px;
+    positions.emplace_back();
+    levels.emplace_back();
     for (int y = static_cast<int>(on_line.y() - reach); y <= static_cast<int>(on_line.y() + reach) + 1; ++y)
       for (int x = static_cast<int>(on_line.x() - reach); x <= static_cast<int>(on_line.x() + reach) + 1; ++x) {
         if (x < 0 || y < 0 || x >= image.grey.cols || y >= image.grey.rows) continue;
         const Vector2d d = Vector2d(x, y) - on_line;
         const double u = d.dot(n);
         if (std::abs(d.dot(along)) > 0.5 * spacing_px || u < -5.0 || u > inside) continue;
-        positions.push_back(u);
-        levels.push_back(image.grey.at<float>(y, x));
+        positions.back().push_back(u);
+        levels.back().push_back(image.grey.at<float>(y, x));
+        ++samples;
       }
   }
-  if (positions.size() < 50) return std::nullopt;
-  const std::optional<double> shift = silhouetteEdge(positions, levels, 0.0, radius_px);
-  if (!shift) return std::nullopt;
-  return std::make_pair(middle, *shift);
+  if (samples < 50) return std::nullopt;
+  const std::optional<SilhouetteEdge> edge = silhouetteEdge(positions, levels, 0.0, radius_px);
+  if (!edge) return std::nullopt;
+  return Shift{middle, *edge};
 }
 
 // The fitted line moved onto the silhouette: its shift found on each half of the contour (the
 // gradient's offset from the silhouette changes with the rod's apparent radius along it), the
-// line through the two moved middles; `systematic` the covariance of (θ, ρ) for an error of
-// `silhouette_px` at each middle, independently.
+// line through the two moved middles; `noise` the covariance of (θ, ρ) from the two shifts' σ,
+// `systematic` for an error of `silhouette_px` at each middle, independently.
 std::optional<ContourLine> onSilhouette(const EdgeImage& image, const calibration::Camera& camera,
                                         const ContourLine& line, const std::vector<Edge>& kept, double spacing_px,
-                                        double silhouette_px, Eigen::Matrix2d* systematic) {
+                                        double silhouette_px, Eigen::Matrix2d* noise, Eigen::Matrix2d* systematic) {
   const auto half = static_cast<long>(kept.size() / 2);
   const std::vector<Edge> first(kept.begin(), kept.begin() + half), second(kept.begin() + half, kept.end());
   const auto a = silhouetteShift(image, camera, line, first, spacing_px);
@@ -240,18 +245,26 @@ std::optional<ContourLine> onSilhouette(const EdgeImage& image, const calibratio
   if (!a || !b) return std::nullopt;
   const Vector2d inward_a = first[first.size() / 2].site.inward, inward_b = second[second.size() / 2].site.inward;
   Vector2d p, q;
-  if (!camera.unproject(a->first + a->second * inward_a, &p) || !camera.unproject(b->first + b->second * inward_b, &q))
+  if (!camera.unproject(a->middle + a->edge.position * inward_a, &p) ||
+      !camera.unproject(b->middle + b->edge.position * inward_b, &q))
     return std::nullopt;
   const Vector2d normal = Vector2d(-(q - p).y(), (q - p).x()).normalized();
   ContourLine moved{std::atan2(normal.y(), normal.x()), normal.dot(p)};
   if (std::cos(moved.theta - line.theta) < 0.0) moved = {moved.theta + support::kPi, -moved.rho};
-  // θ from the two middles' difference, ρ at their midpoint moved to the origin (∂ρ/∂θ = t·m).
-  const double sigma = silhouette_px / camera.fx();
+  // Errors e_a, e_b [normalised] at the two middles: θ moves by (e_b − e_a)/|q − p|, ρ at their
+  // midpoint by (e_a + e_b)/2, and ρ at the origin by that plus (t·midpoint)·δθ.
   const Vector2d mid = 0.5 * (p + q), tangent(-std::sin(moved.theta), std::cos(moved.theta));
-  Eigen::Matrix2d jacobian;
-  jacobian << 1.0, 0.0, tangent.dot(mid), 1.0;
-  const Eigen::Vector2d variance(2.0 * sigma * sigma / (q - p).squaredNorm(), 0.5 * sigma * sigma);
-  *systematic = jacobian * variance.asDiagonal() * jacobian.transpose();
+  Eigen::Matrix2d to_line;
+  to_line << -1.0 / (q - p).norm(), 1.0 / (q - p).norm(), 0.5, 0.5;
+  Eigen::Matrix2d to_origin;
+  to_origin << 1.0, 0.0, tangent.dot(mid), 1.0;
+  const Eigen::Matrix2d jacobian = to_origin * to_line;
+  const auto covariance = [&](double sigma_a, double sigma_b) {
+    const Eigen::Vector2d variance(sigma_a * sigma_a, sigma_b * sigma_b);
+    return Eigen::Matrix2d(jacobian * variance.asDiagonal() * jacobian.transpose() / (camera.fx() * camera.fx()));
+  };
+  *noise = covariance(a->edge.sigma, b->edge.sigma);
+  *systematic = covariance(silhouette_px, silhouette_px);
   return moved;
 }
 
@@ -277,30 +290,44 @@ LegContours measureLegContours(const EdgeImage& image, const calibration::Camera
     result.error = e.what();
     return result;
   }
-  std::array<std::vector<SearchSite>, 2> sites;
+  // The sites: every spacing_px along the longer projected contour, the rod's ends left out
+  // (end_margin of the segment, at least 3 radii: the end caps, the joints).
+  Vector2d a, b;
+  if (!camera.project(from, &a) || !camera.project(to, &b)) {
+    result.error = "the leg is behind the camera";
+    return result;
+  }
+  const double margin = std::max(options.end_margin, 3.0 * radius / (to - from).norm());
+  const int count = static_cast<int>((1.0 - 2.0 * margin) * (b - a).norm() / options.spacing_px) + 1;
+  std::array<std::vector<std::optional<SearchSite>>, 2> sites;
   for (int k = 0; k < 2; ++k) {
-    sites[k] = searchSites(image, camera, from, to, -radius * predicted[k].planeNormal(), options);
-    if (static_cast<int>(sites[k].size()) < options.min_edge_points) {
-      result.error = "the leg is outside the image or too short in it (" + std::to_string(sites[k].size()) +
+    sites[k] =
+        searchSites(image, camera, from, to, -radius * predicted[k].planeNormal(), margin, count, options.search_px);
+    const auto inside = std::count_if(sites[k].begin(), sites[k].end(), [](const auto& s) { return s.has_value(); });
+    if (inside < options.min_edge_points) {
+      result.error = "the leg is outside the image or too short in it (" + std::to_string(inside) +
                      " search sites on a contour, at least " + std::to_string(options.min_edge_points) + " needed)";
       return result;
     }
   }
-  // Both polarities: with the wrong one each contour's search finds the other contour (a rod's
-  // width inwards), with the right one the two offsets cancel up to the prediction's error.
+  // Both polarities, and at each pair of facing sites both edges or neither: the two edges must
+  // keep the rod's predicted apparent width (their inward offsets cancel, within a tenth of the
+  // width or 1.5 px), which the target's border, its squares and the other legs do not. With the
+  // wrong polarity each contour's search finds the other contour; the polarity with more pairs wins.
   std::array<std::vector<Edge>, 2> chosen;
-  double best = HUGE_VAL;
   for (const double sign : {1.0, -1.0}) {
     std::array<std::vector<Edge>, 2> edges;
-    for (int k = 0; k < 2; ++k)
-      for (const SearchSite& site : sites[k])
-        if (const auto edge = findEdge(image, site, options.search_px, sign)) edges[k].push_back(*edge);
-    if (edges[0].empty() || edges[1].empty()) continue;
-    const double disagreement = std::abs(medianOffset(edges[0]) + medianOffset(edges[1]));
-    if (disagreement < best) {
-      best = disagreement;
-      chosen = edges;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
+      if (!sites[0][i] || !sites[1][i]) continue;
+      const auto first = findEdge(image, *sites[0][i], options.search_px, sign);
+      const auto second = findEdge(image, *sites[1][i], options.search_px, sign);
+      if (!first || !second) continue;
+      const double width = sites[0][i]->radius_px + sites[1][i]->radius_px;
+      if (std::abs(first->offset + second->offset) > std::max(1.5, 0.1 * width)) continue;
+      edges[0].push_back(*first);
+      edges[1].push_back(*second);
     }
+    if (edges[0].size() > chosen[0].size()) chosen = edges;
   }
   for (int k = 0; k < 2; ++k) {
     std::vector<Vector2d> points;
@@ -322,13 +349,15 @@ LegContours measureLegContours(const EdgeImage& image, const calibration::Camera
         fit->inliers_px.push_back(edge.pixel);
       }
     }
-    const std::optional<ContourLine> moved =
-        onSilhouette(image, camera, fit->line, kept, options.spacing_px, options.silhouette_px, &fit->systematic);
+    Eigen::Matrix2d shift_noise;
+    const std::optional<ContourLine> moved = onSilhouette(image, camera, fit->line, kept, options.spacing_px,
+                                                          options.silhouette_px, &shift_noise, &fit->systematic);
     if (!moved) {
       result.error = "the edge profile of contour " + std::to_string(k + 1) + " does not fit a rod's silhouette";
       return result;
     }
     fit->line = *moved;
+    fit->covariance += shift_noise;
     result.contours[static_cast<std::size_t>(k)] = *fit;
   }
   result.ok = true;

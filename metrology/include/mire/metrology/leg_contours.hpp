@@ -17,9 +17,9 @@
 namespace mire::metrology {
 
 struct LegContourOptions {
-  double search_px = 25.0;  // half-width of the band searched around each predicted contour
-  double end_margin = 0.2;  // fraction of the segment left out at each end (joints, the target)
-  double spacing_px = 4.0;  // between edge samples: beyond the gradient's support, so independent
+  double search_px = 25.0;   // half-width of the band searched around each predicted contour
+  double end_margin = 0.05;  // fraction of the segment left out at each end (and at least 3 radii)
+  double spacing_px = 4.0;   // between edge samples: beyond the gradient's support, so independent
   int min_edge_points = 12;
   // The silhouette model's own error [px] on each half of a contour, which no averaging over
   // images removes: the residual measured on area-sampled renders of shaded rods (doc/legs.md).
@@ -35,7 +35,8 @@ struct EdgeImage {
 
 struct ContourFit {
   ContourLine line;
-  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  // of (θ, ρ), from the edge points' scatter
+  // Of (θ, ρ): the edge points' scatter about the line and the silhouette fit's (its shift).
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
   Eigen::Matrix2d systematic = Eigen::Matrix2d::Zero();  // of (θ, ρ), from silhouette_px (not averaged)
   int edge_points = 0;                                   // samples where an edge was found
   std::vector<Eigen::Vector2d> inliers_px;               // the edge points the fit kept (pixels)
