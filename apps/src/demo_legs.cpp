@@ -3,16 +3,16 @@
 
 #include "mire/datasets/campaign_legs.hpp"
 #include "mire/mechanism/evaluation.hpp"
+#include "mire/mechanism/io.hpp"
 #include "mire/mechanism/legs_csv.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/pipeline/identify_legs.hpp"
-
-#include <Eigen/Cholesky>
+#include "mire/pipeline/leg_measurement.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <sstream>
+#include <thread>
 
 namespace mire::app {
 namespace {
@@ -102,37 +102,23 @@ Fit withLegs(const pipeline::ModelChoice& choice, const std::vector<mech::PoseOb
   return {fit.result.model, fit.result.sigma, fit.result.free_names.size(), fit.result.chi2, fit.result.dof};
 }
 
-// doc/legs.md's representative leg-line errors for a rod seen through ten images: across the line
-// of sight 0.05 mm and 0.1 mrad, along it (the depth the apparent width gives) 1 mm and 2 mrad, in
-// the line's tangent basis.
-Eigen::Matrix4d representativeCovariance(const support::Line3d& line) {
-  const Eigen::Vector3d depth = line.closestPointToOrigin().normalized(), across = line.direction.cross(depth);
-  const auto [e1, e2] = support::lineTangentBasis(line.direction);
-  Eigen::Matrix<double, 3, 2> E;
-  E << e1, e2;
-  const Eigen::Matrix3d angle = 4e-6 * depth * depth.transpose() + 1e-8 * across * across.transpose();
-  const Eigen::Matrix3d shift = 1e-6 * depth * depth.transpose() + 2.5e-9 * across * across.transpose();
-  Eigen::Matrix4d sigma = Eigen::Matrix4d::Zero();
-  sigma.topLeftCorner<2, 2>() = E.transpose() * angle * E;
-  sigma.bottomRightCorner<2, 2>() = E.transpose() * shift * E;
-  return sigma;
-}
-
 }  // namespace
 
-void writeSimulatedLegLines(const datasets::MechanismImageCampaign& campaign, std::uint64_t seed,
-                            const std::filesystem::path& out) {
-  std::mt19937_64 rng(seed ^ 0x1E65ULL);
-  std::normal_distribution<double> normal;
-  const int leg_count = mech::makeRegisteredModel(datasets::legsModel(campaign.robot)).mechanism->legCount();
-  std::vector<mech::LegObservation> legs = mech::readLegsCsv(campaign.directory / "truth" / "legs.csv", leg_count);
-  for (mech::LegObservation& leg : legs) {
-    const Eigen::Vector4d z(normal(rng), normal(rng), normal(rng), normal(rng));
-    leg.line =
-        support::perturbLine(leg.line, Eigen::LLT<Eigen::Matrix4d>(representativeCovariance(leg.line)).matrixL() * z);
-    leg.covariance = representativeCovariance(leg.line);
+std::vector<std::string> measureCampaignLegs(const datasets::MechanismImageCampaign& campaign,
+                                             const calibration::Camera& camera, const std::filesystem::path& legs_csv) {
+  const pipeline::LegsSpec spec = pipeline::readLegsYaml(campaign.legs_file());
+  const mech::RegisteredModel model = pipeline::chooseModel(spec.model, "").registered();
+  const auto joints = mech::readJointsCsv(campaign.joints_file(), model.mechanism->jointColumnNames());
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<mech::LegObservation> legs;
+  std::vector<std::string> unmeasured;
+  for (const pipeline::PoseLegs& pose :
+       pipeline::measureLegFolders(camera, spec, joints, campaign.pose_images(), threads)) {
+    legs.insert(legs.end(), pose.legs.begin(), pose.legs.end());
+    for (const std::string& problem : pose.problems) unmeasured.push_back(pose.pose_id + ": " + problem);
   }
-  mech::writeLegsCsv(out, legs);
+  mech::writeLegsCsv(legs_csv, legs);
+  return unmeasured;
 }
 
 LegsDemoSection runLegsDemo(const datasets::MechanismImageCampaign& campaign, const pipeline::PoseSet& data,
@@ -161,7 +147,8 @@ LegsDemoSection runLegsDemo(const datasets::MechanismImageCampaign& campaign, co
 std::string legsDemoMarkdown(const LegsDemoSection& section) {
   std::ostringstream out;
   out << "## Legs: identified from the legs, the target, both\n\n"
-      << "Model `" << section.model << "`; " << section.leg_lines << " leg lines: " << section.legs << ".\n"
+      << "Model `" << section.model << "`; " << section.leg_lines << " leg lines: " << section.legs << "; "
+      << section.unmeasured.size() << " legs or poses not measured (listed below the table).\n"
       << "Lengths: "
       << (section.model == "delta" ? "L and l against the mean of the true legs' L_i, l_i" : "rho01..rho06")
       << ". V3 and the positioning test (a " << (section.rows.empty() ? 0.0 : section.rows.front().square_side_mm)
@@ -177,12 +164,15 @@ std::string legsDemoMarkdown(const LegsDemoSection& section) {
         << r.length_error_max_mm << ", " << r.length_error_over_sigma_rms << " | " << r.v3_before_mm << " → "
         << r.v3_after_mm << " | " << r.square_rms_before_mm << " → " << r.square_rms_after_mm << " |\n";
   }
+  for (const std::string& problem : section.unmeasured) out << "\n- not measured: " << problem;
+  out << "\n";
   return out.str();
 }
 
 std::string legsDemoSummary(const LegsDemoSection& section) {
   std::ostringstream out;
-  out << "  legs (" << section.legs << "):\n";
+  out << "  legs (" << section.leg_lines << " lines " << section.legs << ", " << section.unmeasured.size()
+      << " legs or poses not measured):\n";
   for (const LegsDemoRow& r : section.rows) {
     out << "    " << r.observations << ": ";
     if (!r.error.empty()) {

@@ -3,11 +3,11 @@
 // rendered with the legs as rods, and the robot identified from its legs only, its target only and
 // both (pipeline::identifyWithLegs), against the truth, with V3 and the positioning test before and
 // after identification.
-#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "mire/calibration/camera_model.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/pipeline/pose_set.hpp"
 
@@ -27,16 +27,16 @@ struct LegsDemoRow {
 
 struct LegsDemoSection {
   std::string model;  // gough-stewart, delta
-  std::string legs;   // where the leg lines come from (measured, or simulated: said so)
+  std::string legs;   // where the leg lines come from
   std::size_t leg_lines = 0;
+  std::vector<std::string> unmeasured;  // per pose with a leg not measured: why
   std::vector<LegsDemoRow> rows;
 };
 
-// Until the legs are measured in the images: the campaign's truth/legs.csv with errors drawn from
-// the representative leg-line covariance of doc/legs.md ("Precision and tests"), written to `out`
-// as legs.csv. Labelled as simulated wherever it is used.
-void writeSimulatedLegLines(const datasets::MechanismImageCampaign& campaign, std::uint64_t seed,
-                            const std::filesystem::path& out);
+// The legs measured in the campaign's pose images through the calibrated camera, as `mire measure
+// --legs` does, written to `legs_csv`; the poses where a leg was not measured, with why.
+std::vector<std::string> measureCampaignLegs(const datasets::MechanismImageCampaign& campaign,
+                                             const calibration::Camera& camera, const std::filesystem::path& legs_csv);
 
 // The three identifications of the campaign's truth-kind model with leg observations from
 // `legs_csv` (read as legs.csv), `legs_source` saying where they came from.

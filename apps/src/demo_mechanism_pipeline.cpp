@@ -206,12 +206,11 @@ MechanismDemoResults runMechanismDemo(const DemoOptions& options) {
     stage("identify " + modelLabel(name) + " (shared term, V3, positioning test)",
           [&] { results.models.push_back(identifyModel(name, *campaign, data, output)); });
   if (options.legs)
-    stage("identify from the legs, the target and both", [&] {
-      const fs::path legs_csv = output / "legs_simulated.csv";
-      writeSimulatedLegLines(*campaign, options.seed, legs_csv);
-      results.legs = runLegsDemo(*campaign, data, legs_csv,
-                                 "SIMULATED, not measured: truth/legs.csv with doc/legs.md's representative line "
-                                 "errors (legs_simulated.csv)");
+    stage("measure the legs, identify from the legs, the target and both", [&] {
+      const fs::path legs_csv = output / "legs.csv";
+      const std::vector<std::string> unmeasured = measureCampaignLegs(*campaign, camera, legs_csv);
+      results.legs = runLegsDemo(*campaign, data, legs_csv, "measured on the images (legs.csv)");
+      results.legs->unmeasured = unmeasured;
       support::writeFileAtomically(output / "legs.md", legsDemoMarkdown(*results.legs));
     });
   results.mounting = options.mounting;
