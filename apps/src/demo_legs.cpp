@@ -1,5 +1,6 @@
 // The legs section of the mechanism demo (demo_legs.hpp, doc/demo-mechanisms.md "The legs").
 #include "demo_legs.hpp"
+#include "validate.hpp"
 
 #include "mire/datasets/campaign_legs.hpp"
 #include "mire/mechanism/evaluation.hpp"
@@ -12,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <thread>
 
 namespace mire::app {
 namespace {
@@ -109,7 +109,7 @@ std::vector<std::string> measureCampaignLegs(const datasets::MechanismImageCampa
   const pipeline::LegsSpec spec = pipeline::readLegsYaml(campaign.legs_file());
   const mech::RegisteredModel model = pipeline::chooseModel(spec.model, "").registered();
   const auto joints = mech::readJointsCsv(campaign.joints_file(), model.mechanism->jointColumnNames());
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = workerThreads(0, "--threads");  // all cores
   std::vector<mech::LegObservation> legs;
   std::vector<std::string> unmeasured;
   for (const pipeline::PoseLegs& pose :
