@@ -2,6 +2,7 @@
 #include "demo.hpp"
 #include "output_paths.hpp"
 #include "report_json.hpp"
+#include "simulate_campaign.hpp"
 #include "validate.hpp"
 
 #include "mire/mechanism/registry.hpp"
@@ -33,6 +34,7 @@ int printDemo(const DemoResults& results, const std::filesystem::path& output) {
               << " mm; square side RMS " << m.square_rms_before_mm << " mm -> " << m.square_rms_after_mm << " mm\n";
   std::cout << "  pose precision (median σ): " << results.measurement.median_sigma_mm.transpose() << " mm, "
             << results.measurement.median_sigma_deg.transpose() << " deg\n";
+  if (results.legs) std::cout << pipeline::legsDemoSummary(*results.legs) << "  (" << (output / "legs.md").string() << ")\n";
   return static_cast<int>(kOk);
 }
 
@@ -81,6 +83,9 @@ Runner addDemoCommand(CLI::App& app) {
                    "camera-fixed, or camera-on-effector: the camera rides on the effector and looks at the board fixed "
                    "in the workspace (Delta, hexapod, described robots; not the H4)")
       ->capture_default_str();
+  demo->add_flag("--legs", options->legs,
+                 "gough-stewart, delta: draw the legs as rods and identify from the legs only, the target only and "
+                 "both (legs.md; doc/legs.md)");
   return [options, demo] {
     options->command_line = commandLineOf(*demo);
     // The paper's study identifies the paper's variants, whose mounting assumes the camera fixed
@@ -91,6 +96,7 @@ Runner addDemoCommand(CLI::App& app) {
           "--mounting camera-on-effector: the H4 demo identifies the paper's variants, which assume the "
           "camera fixed (paper §4); the camera on the effector runs with --mechanism " +
           familiesWithoutPaperVariants() + " or a description file");
+    if (options->legs) checkLegsOption(options->mechanism, options->mounting);
     // The output folder (report.md, report.json, ...) is checked before the simulation starts.
     // A description file is read before the simulation starts too.
     CommandPaths paths{{}, {}, {}, {{options->output, "-o"}}};

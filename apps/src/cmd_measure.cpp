@@ -3,6 +3,7 @@
 // and left out, the others are written (exit code 3 then).
 #include "commands.hpp"
 #include "detections_io.hpp"
+#include "measure_legs.hpp"
 #include "measure_report.hpp"
 #include "mire/pipeline/image_folders.hpp"
 #include "output_paths.hpp"
@@ -48,6 +49,7 @@ struct MeasureSettings {
   std::string split_moving = "fail";  // static-pose integrity: fail | keep-largest
   std::string report;                 // folder for report.html and report.json
   std::vector<std::string> command_line;
+  LegMeasureArguments legs;  // --legs: the legs' axes instead of the target (measure_legs.hpp)
 };
 
 using support::median;
@@ -93,6 +95,9 @@ void reportScreening(std::vector<metrology::MeasuredPose>* measured) {
 }
 
 int runMeasure(const MeasureSettings& settings) {
+  if (settings.target_path.empty()) throw UsageError("--target target.yaml is required (or --legs legs.yaml)");
+  if (!settings.legs.joints.empty() || !settings.legs.save_contours.empty())
+    throw UsageError("--joints and --save-leg-contours go with --legs");
   const fs::path output = settings.output_path;
   const fs::path covariance =
       settings.covariance_path.empty() ? support::covarianceSidePath(output) : fs::path(settings.covariance_path);
@@ -189,6 +194,19 @@ int runMeasure(const MeasureSettings& settings) {
   return kOk;
 }
 
+// --legs: the target's options do not apply; --joints is needed.
+LegMeasureArguments legArguments(const MeasureSettings& settings) {
+  if (!settings.target_path.empty())
+    throw UsageError("--legs measures the legs only: run measure once with --target and once with --legs");
+  if (settings.legs.joints.empty()) throw UsageError("--legs needs --joints joints.csv (the poses' joints)");
+  LegMeasureArguments args = settings.legs;
+  args.camera = settings.camera_path;
+  args.poses = settings.poses_dir;
+  args.output = settings.output_path;
+  args.threads = settings.threads;
+  return args;
+}
+
 }  // namespace
 
 Runner addMeasureCommand(CLI::App& app) {
@@ -199,11 +217,11 @@ Runner addMeasureCommand(CLI::App& app) {
       ->add_option("--camera", settings->camera_path,
                    "camera file: camera.yaml, ROS camera_info, ViSP XML or Kalibr camchain (detected from the content)")
       ->required();
-  command->add_option("--target", settings->target_path, "target.yaml")->required();
+  command->add_option("--target", settings->target_path, "target.yaml (the target poses; or --legs)");
   command
       ->add_option("--poses", settings->poses_dir, "folder holding one subfolder of images per pose (named by pose id)")
       ->required();
-  command->add_option("-o,--output", settings->output_path, "poses.csv to write")->required();
+  command->add_option("-o,--output", settings->output_path, "poses.csv to write (legs.csv with --legs)")->required();
   command->add_option("--covariance", settings->covariance_path,
                       "6x6 covariances side file (default: <output stem>_covariance.csv)");
   command->add_option("--threads", settings->threads, "worker threads (default: all cores)")
@@ -231,9 +249,14 @@ Runner addMeasureCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--report", settings->report,
                       "report folder (report.html: the precision of every pose; report.json)");
+  command->add_option("--legs", settings->legs.legs,
+                      "legs.yaml: measure the legs' axes (legs.csv) instead of the target (doc/legs.md)");
+  command->add_option("--joints", settings->legs.joints, "joints.csv of the poses (with --legs)");
+  command->add_option("--save-leg-contours", settings->legs.save_contours,
+                      "with --legs: a folder for each pose's first image with the fitted contours drawn");
   return [settings, command] {
     settings->command_line = commandLineOf(*command);
-    return runMeasure(*settings);
+    return settings->legs.legs.empty() ? runMeasure(*settings) : runLegMeasure(legArguments(*settings));
   };
 }
 

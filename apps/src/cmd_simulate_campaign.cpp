@@ -6,6 +6,7 @@
 #include "simulate_campaign.hpp"
 #include "validate.hpp"
 
+#include "mire/datasets/campaign_legs.hpp"
 #include "mire/datasets/iso9283_test.hpp"
 #include "mire/datasets/mechanism_image_campaign.hpp"
 #include "mire/mechanism/described.hpp"
@@ -13,6 +14,7 @@
 #include "mire/mechanism/registry.hpp"
 #include "mire/pipeline/identify.hpp"
 #include "mire/support/atomic_file.hpp"
+#include "mire/support/csv.hpp"
 #include "mire/support/output_transaction.hpp"
 #include "mire/support/progress.hpp"
 #include "mire/support/side_files.hpp"
@@ -37,6 +39,8 @@ struct CampaignOptions {
   std::uint64_t seed = 2004;  // the demo's
   std::optional<int> images_per_pose, calibration_views;
   std::string mounting = "camera-fixed";  // or camera-on-effector (doc/mechanisms.md)
+  bool legs = false;                      // the legs drawn as rods (doc/legs.md)
+  double leg_radius_mm = 1e3 * datasets::kReferenceLegRadiusM;
 };
 
 // Bounds of the options: calibrate needs 3 usable views; beyond the upper bounds a campaign
@@ -44,6 +48,9 @@ struct CampaignOptions {
 constexpr int kMaxImagesPerPose = 100;
 constexpr int kMinCalibrationViews = 3;
 constexpr int kMaxCalibrationViews = 500;
+// Rods thinner than 2 mm are a few pixels wide at a metre; thicker than 30 mm they hide the robot.
+constexpr double kMinLegRadiusMm = 2.0;
+constexpr double kMaxLegRadiusMm = 30.0;
 
 // The file whose presence marks a folder as a previous campaign (both generators write it).
 const char* const kCampaignMarker = "truth/robot.yaml";
@@ -62,7 +69,7 @@ bool writtenByACampaign(const fs::path& relative, bool folder) {
   if (top == "measurement") return true;  // left by an interrupted run; the generator removes it
   if (parts.size() == 1)
     return folder ? (top == "calibration" || top == "poses" || top == "truth" || top == "iso9283")
-                  : (top == "joints.csv" || top == "lines.csv" || top == "target.yaml");
+                  : (top == "joints.csv" || top == "lines.csv" || top == "target.yaml" || top == "legs.yaml");
   if (top == "truth" || top == "iso9283")
     return parts.size() == 2 && !folder && (extension == ".yaml" || extension == ".csv");
   if (top == "calibration")
@@ -127,6 +134,10 @@ void checkCampaignOptions(const CampaignOptions& options) {
   if (cameraOnEffector(options.mounting) && !described &&
       mechanism::mechanismFamily(options.mechanism).defects == mechanism::SimulatedDefects::H4Parallelograms)
     throw UsageError("--mounting camera-on-effector: the H4's campaign has the camera fixed only");
+  if (options.legs) checkLegsOption(options.mechanism, options.mounting);
+  if (!(options.leg_radius_mm >= kMinLegRadiusMm && options.leg_radius_mm <= kMaxLegRadiusMm))
+    throw UsageError("--leg-radius-mm " + support::formatNumber(options.leg_radius_mm) + ": expected " +
+                     support::formatNumber(kMinLegRadiusMm) + " to " + support::formatNumber(kMaxLegRadiusMm));
   checkRange(options.images_per_pose, 1, kMaxImagesPerPose, "--images-per-pose", " images per pose");
   checkRange(options.calibration_views, kMinCalibrationViews, kMaxCalibrationViews, "--calibration-views",
              " views (calibrate needs at least 3)");
@@ -148,6 +159,7 @@ void applyOptions(const CampaignOptions& options, datasets::MechanismImageCampai
   spec.seed = options.seed;
   if (options.images_per_pose) spec.images_per_pose = *options.images_per_pose;
   if (options.calibration_views) spec.calibration_views = *options.calibration_views;
+  if (options.legs) spec.leg_radius_m = options.leg_radius_mm * 1e-3;
 }
 
 // The true geometry in the parameters `mire identify --model <model>` writes, for comparing by
@@ -254,8 +266,13 @@ void printCampaign(const CampaignOptions& options, const WrittenCampaign& writte
             << "), " << in("lines.csv") << " (" << written.lines << " straight lines), " << in("target.yaml") << "\n"
             << "  " << in("iso9283") << ": an ISO 9283 test (5 positions x 30 cycles, nominal controller): "
             << "commanded.csv, poses.csv (measured), joints.csv (commands)\n"
-            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << next.truth_file << ")\n"
-            << "next, as on a real robot (results in the current folder):\n"
+            << "  " << in("truth") << ": for scoring only (true camera, poses, robot; " << next.truth_file
+            << (options.legs ? "; legs.csv, the legs' true axes" : "") << ")\n";
+  if (options.legs)
+    std::cout << "  " << in("legs.yaml") << ": the legs drawn as rods of radius "
+              << support::formatNumber(options.leg_radius_mm)
+              << " mm in the pose images (the model that predicts them, an approximate camera placement)\n";
+  std::cout << "next, as on a real robot (results in the current folder):\n"
             << "  mire calibrate --target " << in("target.yaml") << " --images " << in("calibration/images")
             << " -o camera.yaml\n"
             << "  mire measure --camera camera.yaml --target " << in("target.yaml") << " --poses " << in("poses")
@@ -312,6 +329,13 @@ void checkCampaignMechanism(const std::string& mechanism) {
   }
 }
 
+void checkLegsOption(const std::string& mechanism, const std::string& mounting) {
+  if (!datasets::campaignDrawsLegs(mechanism) || cameraOnEffector(mounting))
+    throw UsageError(
+        "--legs: the legs are drawn for the hexapod (gough-stewart) and the Delta (delta) with the "
+        "camera fixed only");
+}
+
 SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
   auto options = std::make_shared<CampaignOptions>();
   CLI::App* campaign = simulate.add_subcommand(
@@ -338,6 +362,13 @@ SimulateSubcommand addSimulateCampaignSubcommand(CLI::App& simulate) {
       ->add_option("--mounting", options->mounting,
                    "camera-fixed, or camera-on-effector: the camera on the effector, the target fixed (not the H4)")
       ->capture_default_str();
+  CLI::Option* legs = campaign->add_flag(
+      "--legs", options->legs,
+      "Draw the legs as rods in the pose images and write DIR/legs.yaml, DIR/truth/legs.csv (gough-stewart, delta; "
+      "camera fixed; doc/legs.md)");
+  campaign->add_option("--leg-radius-mm", options->leg_radius_mm, "The rods' radius (2 to 30 mm)")
+      ->capture_default_str()
+      ->needs(legs);
   return {campaign, [options] { return runCampaign(*options); }};
 }
 

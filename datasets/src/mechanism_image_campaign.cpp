@@ -2,6 +2,7 @@
 
 #include "mire/calibration/camera_formats.hpp"
 #include "mire/datasets/campaign_images.hpp"
+#include "mire/datasets/campaign_legs.hpp"
 #include "mire/datasets/data_dir.hpp"
 #include "mire/mechanism/described.hpp"
 #include "mire/mechanism/io.hpp"
@@ -75,6 +76,7 @@ SimulationSpec campaignSimulation(const MechanismImageCampaignSpec& spec, const 
     // Pose coordinates (x, y, z, θ): the simulator's truth records them (simulation.hpp).
     pose.has_effector = campaign.commanded[i].size() == 4;
     if (pose.has_effector) pose.effector = campaign.commanded[i];
+    if (spec.leg_radius_m) pose.rods = legRods(campaign.robot, campaign.commanded[i], campaign.bTc, *spec.leg_radius_m);
     simulation.poses.push_back(pose);
   }
   return simulation;
@@ -261,6 +263,8 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
   const Mechanism& mechanism = campaign.robot.mechanism();
   if (spec.camera_on_effector && campaign.robot.h4)
     throw std::invalid_argument("simulated H4: its campaign has the camera fixed only");
+  if (spec.leg_radius_m && (spec.camera_on_effector || !campaignDrawsLegs(spec.mechanism)))
+    throw std::invalid_argument("simulated legs: the hexapod's and the Delta's, with the camera fixed, only");
   if (spec.camera_on_effector) {
     campaign.camera_on_effector = true;
     const Eigen::Isometry3d home = campaign.robot.effector(mechanism.referencePose(campaign.robot.geometry.values()));
@@ -281,6 +285,12 @@ MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampai
   renderCampaignImages(simulation, campaign.directory, truth_dir, progress);
   writeEncoderReadings(spec, campaign);
   support::writeFileAtomically(truth_dir / "robot.yaml", truthYaml(campaign));
+  if (spec.leg_radius_m) {
+    constexpr int kSearchPx = 25;
+    support::writeFileAtomically(campaign.legs_file(), legsYaml(legsModel(campaign.robot), *spec.leg_radius_m,
+                                                                rulerBaseTCamera(campaign.bTc, spec.seed), kSearchPx));
+    writeTrueLegs(truth_dir / "legs.csv", campaign.robot, campaign.commanded, campaign.pose_ids, campaign.bTc);
+  }
   return campaign;
 }
 

@@ -1,6 +1,7 @@
 // Inverse-mapping renderer of a planar target through a distorted camera (render.hpp).
 #include "mire/datasets/render.hpp"
 
+#include "render_rods.hpp"
 #include "target_albedo.hpp"
 
 #include <opencv2/core/utility.hpp>
@@ -96,10 +97,12 @@ cv::Mat vignettingGain(const calibration::Camera& camera, const RayGrid& rays, c
 
 // The target's level seen along a ray (x, y, 1), or kOffPaper when the ray misses it. The ray
 // meets the plane z_M = 0 at (X, Y) with s·(x, y, 1) = [r1 r2 t]·(X, Y, 1):
-// (X, Y, 1)/s = [r1 r2 t]^-1 (x, y, 1), in front of the camera when 1/s > 0.
-class PlaneSampler {
+// (X, Y, 1)/s = [r1 r2 t]^-1 (x, y, 1), in front of the camera when 1/s > 0; s is the depth z.
+// With rods, the nearest surface: a rod unless the paper is hit in front of it.
+class SceneSampler {
  public:
-  PlaneSampler(const Eigen::Isometry3d& camera_T_target, const TargetAlbedo& albedo) : albedo_(albedo) {
+  SceneSampler(const Eigen::Isometry3d& camera_T_target, const TargetAlbedo& albedo, const RodScene& rods)
+      : albedo_(albedo), rods_(rods) {
     Eigen::Matrix3d plane_to_ray;
     plane_to_ray << camera_T_target.linear().col(0), camera_T_target.linear().col(1), camera_T_target.translation();
     ray_to_plane_ = plane_to_ray.inverse();
@@ -107,17 +110,21 @@ class PlaneSampler {
   float operator()(const Eigen::Vector2d& ray) const {
     if (!ray.allFinite()) return kOffPaper;
     const Eigen::Vector3d q = ray_to_plane_ * Eigen::Vector3d(ray.x(), ray.y(), 1.0);
-    if (!(q.z() > 0.0)) return kOffPaper;
-    return albedo_(q.x() / q.z(), q.y() / q.z());
+    const float paper = q.z() > 0.0 ? albedo_(q.x() / q.z(), q.y() / q.z()) : kOffPaper;
+    double rod_depth = 0.0;
+    float rod_level = 0.0f;
+    if (rods_.empty() || !rods_.nearest(ray, &rod_depth, &rod_level)) return paper;
+    return paper >= 0.0f && 1.0 / q.z() < rod_depth ? paper : rod_level;
   }
 
  private:
   Eigen::Matrix3d ray_to_plane_;
   const TargetAlbedo& albedo_;
+  const RodScene& rods_;
 };
 
 // Pass 1: one exact sample at every pixel corner ((height + 1) × (width + 1)).
-cv::Mat cornerLevels(const RayGrid& rays, const PlaneSampler& sample, int width, int height) {
+cv::Mat cornerLevels(const RayGrid& rays, const SceneSampler& sample, int width, int height) {
   cv::Mat corner_level(height + 1, width + 1, CV_32F);
   cv::parallel_for_(cv::Range(0, height + 1), [&](const cv::Range& range) {
     for (int j = range.start; j < range.end; ++j) {
@@ -156,7 +163,7 @@ cv::Mat pixelsToSupersample(const cv::Mat& corner_level, bool adaptive) {
 // pixel along it (axis-aligned: steps of 1/n), a coherent error of up to 1/(2n) px in the
 // edge's position that no corner or ellipse fit averages out (measured 0.12 px RMS on
 // corners); per-pixel jitter makes it incoherent noise. Off the paper: the background.
-float supersampledLevel(const RayGrid& rays, const PlaneSampler& sample, int i, int j, int n, float background) {
+float supersampledLevel(const RayGrid& rays, const SceneSampler& sample, int i, int j, int n, float background) {
   const Eigen::Vector2d& c00 = rays.corner(i, j);
   const Eigen::Vector2d& c10 = rays.corner(i + 1, j);
   const Eigen::Vector2d& c01 = rays.corner(i, j + 1);
@@ -214,6 +221,8 @@ Renderer::Renderer(calibration::Camera camera, metrology::Target target, RenderO
   if (options_.supersampling < 1 || options_.supersampling > 16)
     throw std::invalid_argument("supersampling must be between 1 and 16, not " + std::to_string(options_.supersampling));
   if (!(options_.blur_sigma_px >= 0.0)) throw std::invalid_argument("blur_sigma_px must be >= 0");
+  if (!(options_.rod_level >= 0.0) || !(options_.rod_shading >= 0.0 && options_.rod_shading <= 1.0))
+    throw std::invalid_argument("rod_level must be >= 0 and rod_shading in [0, 1]");
   rays_ = std::make_unique<RayGrid>(camera_);
   albedo_ = std::make_unique<TargetAlbedo>(target_, static_cast<float>(options_.dark_level),
                                            static_cast<float>(options_.light_level));
@@ -230,9 +239,10 @@ Renderer& Renderer::operator=(Renderer&&) noexcept = default;
 // Stages: exact levels at the pixel corners, the pixels that hold an edge, then every pixel
 // (pass 2: uniform pixels take their corners' level, the others are supersampled), blur,
 // vignetting and quantisation.
-Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target) const {
+Rendering Renderer::render(const Eigen::Isometry3d& camera_T_target, const std::vector<Rod>& rods) const {
   const int width = camera_.width, height = camera_.height;
-  const PlaneSampler sample(camera_T_target, *albedo_);
+  const RodScene rod_scene(rods, options_);
+  const SceneSampler sample(camera_T_target, *albedo_, rod_scene);
   const cv::Mat corner_level = cornerLevels(*rays_, sample, width, height);
   const cv::Mat supersample = pixelsToSupersample(corner_level, options_.adaptive);
   Rendering result;

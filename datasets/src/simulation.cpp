@@ -89,9 +89,11 @@ std::uint64_t noiseSeed(std::uint64_t seed, std::size_t item, std::size_t image)
 // (the PNG encoding, single-threaded in OpenCV, costs more than the render). Each
 // item's render runs serially inside its worker (nested parallel_for_); the output does not
 // depend on the schedule (per-pixel jitter, noise seeded by item and image). Returns each
-// item's feature truth; `progress` is called under a lock, one image at a time.
+// item's feature truth; `progress` is called under a lock, one image at a time. `rods`: the
+// rods seen at each item, or empty for none at all.
 std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vector<Eigen::Isometry3d>& poses,
-                                      int images_per_item, const NoiseOptions& noise, std::uint64_t seed, PngEncoding png,
+                                      const std::vector<std::vector<Rod>>& rods, int images_per_item,
+                                      const NoiseOptions& noise, std::uint64_t seed, PngEncoding png,
                                       const std::function<std::filesystem::path(std::size_t, int)>& image_path,
                                       const ProgressCallback& progress) {
   std::vector<FeatureTruth> truths(poses.size());
@@ -101,7 +103,7 @@ std::vector<FeatureTruth> renderItems(const Renderer& renderer, const std::vecto
   cv::parallel_for_(cv::Range(0, static_cast<int>(poses.size())), [&](const cv::Range& range) {
     for (int item = range.start; item < range.end; ++item) {
       const auto k = static_cast<std::size_t>(item);
-      const Rendering rendering = renderer.render(poses[k]);
+      const Rendering rendering = rods.empty() ? renderer.render(poses[k]) : renderer.render(poses[k], rods[k]);
       const cv::Mat sigma = noiseSigma(rendering.radiance, noise);
       for (int image = 0; image < images_per_item; ++image) {
         writePng(image_path(k, image),
@@ -339,7 +341,7 @@ SimulationResult simulateCalibration(const SimulationSpec& spec, const std::file
     return file + ".png";
   };
   const std::vector<FeatureTruth> truths = renderItems(
-      renderer, views, spec.images_per_view, spec.noise, spec.seed, spec.png,
+      renderer, views, {}, spec.images_per_view, spec.noise, spec.seed, spec.png,
       [&](std::size_t k, int image) { return output_dir / image_file(k, image); }, progress);
   std::size_t visible = 0, features = 0;
   for (std::size_t k = 0; k < views.size(); ++k) {
@@ -387,13 +389,15 @@ SimulationResult simulatePoses(const SimulationSpec& spec, const std::filesystem
          "sigma_rx_deg,sigma_ry_deg,sigma_rz_deg,rms_px\n";
   SimulationResult result;
   std::vector<Eigen::Isometry3d> poses;
+  std::vector<std::vector<Rod>> rods;
   for (const SimulatedPose& pose : spec.poses) {
     std::filesystem::create_directories(output_dir / "poses" / pose.id);
     poses.push_back(pose.camera_T_target);
+    rods.push_back(pose.rods);
   }
   // The robot is static while its images are taken: one render, independent noise each.
   const std::vector<FeatureTruth> truths = renderItems(
-      renderer, poses, spec.images_per_pose, spec.noise, spec.seed, spec.png,
+      renderer, poses, rods, spec.images_per_pose, spec.noise, spec.seed, spec.png,
       [&](std::size_t k, int image) {
         char name[32];
         std::snprintf(name, sizeof name, "img_%02d.png", image);

@@ -3,6 +3,7 @@
 // the mechanism's table entry says), close the loop; the truth scores only at the end.
 #include "demo_stages.hpp"
 
+#include "mire/datasets/campaign_legs.hpp"
 #include "mire/datasets/iso9283_test.hpp"
 #include "mire/mechanism/registry.hpp"
 #include "mire/support/progress.hpp"
@@ -18,6 +19,7 @@ datasets::MechanismImageCampaignSpec campaignSpec(const DemoOptions& options) {
   datasets::MechanismImageCampaignSpec spec = datasets::MechanismImageCampaignSpec::reference(options.mechanism);
   spec.seed = options.seed;
   spec.camera_on_effector = options.mounting == "camera-on-effector";
+  if (options.legs) spec.leg_radius_m = datasets::kReferenceLegRadiusM;
   if (options.quick) {
     spec.calibration_views = 15;
     spec.images_per_pose = 3;
@@ -86,6 +88,9 @@ DemoResults runDemoStages(const DemoOptions& options) {
   } else {
     identified = demo::modelStages(options, *campaign, results);
   }
+  if (options.legs)
+    stage("measure the legs, identify from the legs, the target and both",
+          [&] { results.legs = legsDemoStage(*campaign, camera, output); });
   if (identified)
     stage("close the loop (" + identified->label + " commands, ISO 9283 before / after)",
           [&] { results.closed_loop = closedLoopStage(options, *campaign, camera, target, *identified); });

@@ -32,26 +32,6 @@ std::vector<fs::path> listImages(const fs::path& dir) {
   return images;
 }
 
-// The image files of a pose folder (other files, e.g. notes.txt, ignored as in calibration
-// folders), each checked: not too large, not truncated, not blank (a blank image would be
-// counted as a view without the target).
-std::vector<fs::path> poseImages(const fs::path& folder) {
-  std::vector<fs::path> images;
-  for (const fs::path& file : metrology::listPoseImages(folder))
-    if (isImageFile(file)) images.push_back(file);
-  for (const fs::path& image : images) {
-    checkImageFile(image);
-    const cv::Mat reduced = cv::imread(image.string(), cv::IMREAD_REDUCED_GRAYSCALE_4);
-    if (reduced.empty()) continue;  // unreadable: the measurement names it
-    double low = 0.0, high = 0.0;
-    cv::minMaxLoc(reduced, &low, &high);
-    if (high - low < 1.0)
-      throw std::runtime_error("image '" + image.string() + "' is blank (every pixel " +
-                               std::to_string(static_cast<int>(low)) + ")");
-  }
-  return images;
-}
-
 constexpr int kMinImageSide = 32;  // px (doc/limits.md)
 
 struct ImageOutcome {
@@ -138,22 +118,44 @@ CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const
   return result;
 }
 
-std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera,
-                                                      const metrology::Target& target, const fs::path& folder,
-                                                      const metrology::MeasurementOptions& options, int threads) {
+std::vector<std::pair<std::string, fs::path>> poseFolders(const fs::path& folder) {
   if (!fs::is_directory(folder)) throw std::runtime_error(folder.string() + ": not a directory");
-  std::vector<PoseFolderMeasurement> poses;
+  std::vector<std::pair<std::string, fs::path>> poses;
   for (const auto& entry : fs::directory_iterator(folder)) {
     if (!entry.is_directory()) continue;
     const std::string id = entry.path().filename().string();
     if (id.empty() || id[0] == '.') continue;
     if (id.find_first_of(",\"") != std::string::npos)
       throw std::runtime_error(entry.path().string() + ": a pose id (folder name) must not contain ',' or '\"'");
-    poses.push_back({id, entry.path(), {}, 0});
+    poses.emplace_back(id, entry.path());
   }
   if (poses.empty()) throw std::runtime_error(folder.string() + ": no pose subfolders (one folder per pose expected)");
-  std::sort(poses.begin(), poses.end(),
-            [](const PoseFolderMeasurement& a, const PoseFolderMeasurement& b) { return a.pose_id < b.pose_id; });
+  std::sort(poses.begin(), poses.end());
+  return poses;
+}
+
+std::vector<fs::path> poseImages(const fs::path& folder) {
+  std::vector<fs::path> images;
+  for (const fs::path& file : metrology::listPoseImages(folder))
+    if (isImageFile(file)) images.push_back(file);
+  for (const fs::path& image : images) {
+    checkImageFile(image);
+    const cv::Mat reduced = cv::imread(image.string(), cv::IMREAD_REDUCED_GRAYSCALE_4);
+    if (reduced.empty()) continue;  // unreadable: the measurement names it
+    double low = 0.0, high = 0.0;
+    cv::minMaxLoc(reduced, &low, &high);
+    if (high - low < 1.0)
+      throw std::runtime_error("image '" + image.string() + "' is blank (every pixel " +
+                               std::to_string(static_cast<int>(low)) + ")");
+  }
+  return images;
+}
+
+std::vector<PoseFolderMeasurement> measurePoseFolders(const calibration::Camera& camera,
+                                                      const metrology::Target& target, const fs::path& folder,
+                                                      const metrology::MeasurementOptions& options, int threads) {
+  std::vector<PoseFolderMeasurement> poses;
+  for (const auto& [id, path] : poseFolders(folder)) poses.push_back({id, path, {}, 0});
 
   support::Progress progress("measuring poses", poses.size());
   parallelForEach(poses.size(), threads, [&](std::size_t i) {

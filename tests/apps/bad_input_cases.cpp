@@ -1104,6 +1104,51 @@ void class4Cases(std::vector<Case>& c) {
       1, {"decoded exactly", "another tag family"});
 }
 
+// ---- mire measure --legs: legs.yaml, the model, a leg the camera cannot see ----
+std::string measureLegs(Env e, const std::string& legs_yaml) {
+  // The nominal hexapod's joints at its reference pose, one row per pose folder of the fixture.
+  const mechanism::RegisteredModel model = mechanism::makeRegisteredModel("gough-stewart");
+  const Eigen::VectorXd geometric = model.nominal.values();
+  const Eigen::VectorXd q =
+      model.mechanism
+          ->inverseKinematics(geometric, model.mechanism->poseToTransform(model.mechanism->referencePose(geometric)))
+          .joints;
+  std::string joints = "pose_id";
+  for (const std::string& column : model.mechanism->jointColumnNames()) joints += "," + column;
+  for (const auto& entry : fs::directory_iterator(e.poses_dir())) {
+    joints += "\n" + entry.path().filename().string();
+    for (Eigen::Index i = 0; i < q.size(); ++i) joints += "," + std::to_string(q[i]);
+  }
+  return "measure --camera " + e.camera() + " --legs " + e.write("legs.yaml", legs_yaml) + " --joints " +
+         e.write("joints.csv", joints + "\n") + " --poses " + e.poses_dir() + " -o " + e.p("out/legs.csv");
+}
+
+void legMeasureCases(std::vector<Case>& c) {
+  const std::string placement = "base_T_camera:\n  t_mm: [0, 0, 1500]\n  r_deg: [180, 0, 0]\n";
+  add(c, "LegsYamlMissingRadius", [placement](Env e) { return measureLegs(e, "model: gough-stewart\n" + placement); },
+      1, {"legs.yaml", "missing key 'radius_mm'"});
+  add(c, "LegsYamlModelWithoutLegs",
+      [placement](Env e) { return measureLegs(e, "model: h4-12\nradius_mm: 8\n" + placement); }, 1,
+      {"legs.yaml:1", "'model'", "h4-12", "no observable legs"});
+  add(c, "LegsOutsideTheImage",
+      [](Env e) {
+        return measureLegs(
+            e, "model: gough-stewart\nradius_mm: 8\nbase_T_camera:\n  t_mm: [0, 0, 5000]\n  r_deg: [0, 0, 0]\n");
+      },
+      1, {"leg 1 not measured", "behind the camera", "no leg could be measured"});
+  add(c, "LegsWithTarget",
+      [placement](Env e) {
+        return measureLegs(e, "model: gough-stewart\nradius_mm: 8\n" + placement) + " --target " + e.target();
+      },
+      2, {"--legs measures the legs only"});
+  add(c, "LegsWithoutJoints",
+      [](Env e) {
+        return "measure --camera " + e.camera() + " --legs " + e.write("legs.yaml", "model: delta\n") + " --poses " +
+               e.poses_dir() + " -o " + e.p("out/legs.csv");
+      },
+      2, {"--legs needs --joints"});
+}
+
 std::vector<Case> makeCases() {
   std::vector<Case> cases;
   inputCases(cases);
@@ -1116,6 +1161,7 @@ std::vector<Case> makeCases() {
   simulateCampaignCases(cases);
   newerCommandCases(cases);
   class4Cases(cases);
+  legMeasureCases(cases);
   return cases;
 }
 

@@ -11,6 +11,7 @@
 //   <dir>/poses/<pose_id>/img_XX.png       81 (H4, hexapod) or 27 (Delta) poses × N images
 //   <dir>/joints.csv                       encoder readings (q<i>_rad or q<i>_m) at the poses
 //   <dir>/lines.csv                        encoder readings along two straight lines (V3)
+//   <dir>/legs.yaml                        with leg_radius_m: the legs drawn as rods (campaign_legs.hpp)
 // and, for scoring only (never read by the pipeline): <dir>/truth/ (true camera, true geometry and
 // mountings, true poses).
 #include <Eigen/Core>
@@ -64,6 +65,9 @@ struct MechanismImageCampaignSpec {
   // The camera on the effector, the target fixed (doc/mechanisms.md, "Camera on the effector"):
   // placed by eyeInHandMounting(); not the H4's.
   bool camera_on_effector = false;
+  // Set: the pose images show the true robot's legs as rods of this radius [m], and the campaign
+  // writes legs.yaml and truth/legs.csv (campaign_legs.hpp; the hexapod and the Delta, camera fixed).
+  std::optional<double> leg_radius_m;
   // The images are read back once by the pipeline: stored PNG, 10x cheaper to write and 7x
   // to read than compressed, for twice the disk space (png.hpp).
   PngEncoding png = PngEncoding::Stored;
@@ -92,6 +96,7 @@ struct MechanismImageCampaign {
   std::filesystem::path pose_images() const { return directory / "poses"; }
   std::filesystem::path joints_file() const { return directory / "joints.csv"; }
   std::filesystem::path lines_file() const { return directory / "lines.csv"; }
+  std::filesystem::path legs_file() const { return directory / "legs.yaml"; }
   // The true cTm at `pose_id` (scoring); std::out_of_range for an unknown id.
   Eigen::Isometry3d trueCameraTMarker(const std::string& pose_id) const;
 };
@@ -120,7 +125,8 @@ TrueRobot trueRobotOf(const MechanismImageCampaignSpec& spec);
 // Generates the campaign under `directory` (created; existing files are replaced atomically).
 // Throws std::runtime_error naming the pose, before writing anything, when a target feature
 // would leave the image (less than 10 px inside) at a protocol pose; std::invalid_argument for
-// the H4 with the camera on the effector. `progress` is called after each image written.
+// the H4 with the camera on the effector, and for legs (leg_radius_m) on another robot than the
+// hexapod and the Delta, or with the camera on the effector. `progress` is called after each image written.
 MechanismImageCampaign generateMechanismImageCampaign(const MechanismImageCampaignSpec& spec,
                                                       const std::filesystem::path& directory,
                                                       const ProgressCallback& progress = {});

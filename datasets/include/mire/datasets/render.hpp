@@ -2,7 +2,9 @@
 // Synthetic images of a planar target seen by a distorted camera, with their exact ground
 // truth (doc/simulation.md). Rendering is an exact per-pixel INVERSE mapping: pixel -> normalised ray
 // (exact undistortion) -> point (X, Y) on the target plane (homography [r1 r2 t]^-1) ->
-// albedo, averaged over n x n sub-samples per pixel (box-filter antialiasing).
+// albedo, averaged over n x n sub-samples per pixel (box-filter antialiasing). Rods (a robot's
+// legs, doc/legs.md) may stand in front of or behind the target: each sample keeps the nearest
+// surface its ray meets.
 // Frames and pixel convention: doc/conventions.md (cTm maps target M to camera C,
 // integer pixel coordinates at pixel centres).
 #include "mire/calibration/camera_model.hpp"
@@ -75,6 +77,18 @@ struct RenderOptions {
   // radius ((u - cx) / fx, (v - cy) / fy). Cos4: gain = cos^4 of the ray's angle to the axis.
   std::vector<double> vignetting_coefficients;
   std::uint64_t seed = 0;  // the cluttered background's shapes
+  // Rods: a matte grey lit from the camera, `rod_level` where the surface faces the camera,
+  // darkened by Lambert's cosine to (1 − rod_shading)·rod_level at the silhouette. Darker than
+  // the background and the paper, so that both silhouette edges contrast with both.
+  double rod_level = 80.0;
+  double rod_shading = 0.4;
+};
+
+// A rod: a finite cylinder with flat ends, its axis from `from` to `to` in the CAMERA frame [m].
+struct Rod {
+  Eigen::Vector3d from = Eigen::Vector3d::Zero();
+  Eigen::Vector3d to = Eigen::Vector3d::Zero();
+  double radius_m = 0.0;
 };
 
 // Sensor noise, added to a clean radiance image (so that the 10 images of one static pose
@@ -114,7 +128,9 @@ class Renderer {
   Renderer(Renderer&&) noexcept;
   Renderer& operator=(Renderer&&) noexcept;
 
-  Rendering render(const Eigen::Isometry3d& camera_T_target) const;
+  // The target, and in front of or behind it the rods (none: the target alone, the same bytes
+  // as before rods existed). Throws std::invalid_argument for a degenerate rod.
+  Rendering render(const Eigen::Isometry3d& camera_T_target, const std::vector<Rod>& rods = {}) const;
 
   const calibration::Camera& camera() const { return camera_; }
   const metrology::Target& target() const { return target_; }

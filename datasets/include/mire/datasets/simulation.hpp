@@ -57,6 +57,7 @@ struct SimulatedPose {
   Eigen::Isometry3d camera_T_target = Eigen::Isometry3d::Identity();
   bool has_effector = false;
   Eigen::Vector4d effector = Eigen::Vector4d::Zero();  // x, y, z (m), θ (rad) in frame B
+  std::vector<Rod> rods;  // seen with the target (a robot's legs, camera frame); none by default
 };
 
 // Generated poses: the effector visits a grid (size_m, counts per axis, centred on the

@@ -16,6 +16,7 @@
 
 #include "mire/mechanism/registry.hpp"
 #include "mire/pipeline/closed_loop.hpp"
+#include "mire/pipeline/demo_legs.hpp"
 #include "mire/pipeline/scored_stages.hpp"
 
 namespace mire::pipeline {
@@ -29,6 +30,7 @@ struct DemoOptions {
   // camera-fixed, or camera-on-effector (doc/demo-mechanisms.md; not with the paper's variants,
   // which assume the camera fixed, paper §4).
   std::string mounting = "camera-fixed";
+  bool legs = false;  // the legs drawn as rods, measured and identified from (demo_legs.hpp; hexapod, Delta)
   std::vector<std::string> command_line;  // as parsed (report.json); empty when run in-process
 };
 
@@ -131,7 +133,8 @@ struct DemoResults {
   // The ISO 9283 test of the true robot before / after compensation (closed_loop.hpp); not run
   // with the camera on the effector (its reading is the fixed camera's).
   std::optional<ClosedLoopTest> closed_loop;
-  std::vector<std::string> files;  // written, relative to the output folder (by the report)
+  std::optional<LegsDemoSection> legs;  // with DemoOptions::legs (legs.md)
+  std::vector<std::string> files;       // written, relative to the output folder (by the report)
 };
 
 // The paper's study runs on a family whose truth model takes the paper's variants (registry.hpp).

@@ -35,6 +35,16 @@ struct CalibrationFolder {
 CalibrationFolder detectCalibrationFolder(const metrology::Target& target, const std::filesystem::path& folder,
                                           int threads);
 
+// The pose subfolders of `folder` (id = the subfolder's name), in id order. Throws
+// std::runtime_error when `folder` is not a folder, holds no pose subfolder, or an id contains
+// ',' or '"'.
+std::vector<std::pair<std::string, std::filesystem::path>> poseFolders(const std::filesystem::path& folder);
+
+// The image files of a pose folder (other files, e.g. notes.txt, ignored as in calibration
+// folders), each checked: not too large, not truncated, not blank (a blank image would be
+// counted as a view without the target); throws std::runtime_error naming the image otherwise.
+std::vector<std::filesystem::path> poseImages(const std::filesystem::path& folder);
+
 struct PoseFolderMeasurement {
   std::string pose_id;  // the subfolder's name
   std::filesystem::path folder;
