@@ -83,8 +83,9 @@ struct Coverage {
     names = r.free_names;
     chi2_sum += r.chi2 / r.dof;
     ++runs;
-    const Eigen::MatrixXd bare = r.covariance - r.alignment_covariance;
-    const Eigen::MatrixXd robust = mech::sandwichCovariance(r, poses) + r.alignment_covariance;
+    const Eigen::MatrixXd bare = r.covariance - r.termCovariance(mech::CovarianceTerm::kAlignment);
+    const Eigen::MatrixXd robust =
+        mech::sandwichCovariance(r, poses) + r.termCovariance(mech::CovarianceTerm::kAlignment);
     for (const auto& [name, value] : normalisedErrors(r, c)) printed[name].push_back(value);
     for (const auto& [name, value] : normalisedErrors(r, c, &bare)) no_alignment[name].push_back(value);
     for (const auto& [name, value] : normalisedErrors(r, c, &robust)) sandwich[name].push_back(value);
@@ -138,7 +139,7 @@ void defectStudy(int campaigns) {
   const Campaign c0 = simulate(2004, 1, true);
   const auto full = mech::identifyH4Variant('D', {}, c0.poses);
   std::printf("   81 poses: chi2/dof %.2f, covariance: %s; outliers: %zu\n", full.chi2 / full.dof,
-              full.covariance_method.c_str(), full.outliers.size());
+              full.covarianceMethod().c_str(), full.outliers.size());
   // Spread over random 71-pose subsets, and over repeated campaigns of the same robot.
   std::map<std::string, std::vector<double>> subsets, repeats;
   std::mt19937_64 rng(5);

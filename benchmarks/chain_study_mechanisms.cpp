@@ -373,8 +373,8 @@ void scorePredictions(const datasets::MechanismImageCampaign& campaign, const st
 // The fit's own term of the σ² with the shared term (free parameter f): the rest of the
 // covariance once the axis-alignment and shared terms are taken out.
 double fitVariance(const mech::IdentificationResult& with_shared, Eigen::Index f) {
-  const double alignment2 = with_shared.alignment_covariance.size() ? with_shared.alignment_covariance(f, f) : 0.0;
-  const double shared2 = with_shared.shared_covariance.size() ? with_shared.shared_covariance(f, f) : 0.0;
+  const double alignment2 = with_shared.termCovariance(mech::CovarianceTerm::kAlignment)(f, f);
+  const double shared2 = with_shared.termCovariance(mech::CovarianceTerm::kShared)(f, f);
   return std::max(0.0, with_shared.covariance(f, f) - alignment2 - shared2);
 }
 
@@ -386,8 +386,8 @@ void recordSigmaComponents(const mech::IdentificationResult& with_shared, Study&
     const auto e = static_cast<Eigen::Index>(f);
     const std::string& name = with_shared.free_names[f];
     const mech::Unit unit = p[p.index(name)].unit;
-    const double alignment2 = with_shared.alignment_covariance.size() ? with_shared.alignment_covariance(e, e) : 0.0;
-    const double shared2 = with_shared.shared_covariance.size() ? with_shared.shared_covariance(e, e) : 0.0;
+    const double alignment2 = with_shared.termCovariance(mech::CovarianceTerm::kAlignment)(e, e);
+    const double shared2 = with_shared.termCovariance(mech::CovarianceTerm::kShared)(e, e);
     study.sigma_fit[name].push_back(mech::toDisplay(unit, std::sqrt(fitVariance(with_shared, e))));
     study.sigma_alignment[name].push_back(mech::toDisplay(unit, std::sqrt(alignment2)));
     study.sigma_shared[name].push_back(mech::toDisplay(unit, std::sqrt(shared2)));
@@ -412,11 +412,13 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
     study.z_before[name].push_back(error[f] / before.sigma[e]);
     study.z_after[name].push_back(error[f] / fits.after.sigma[e]);
     study.z_held[name].push_back(error[f] / fits.held.sigma[e]);
-    study.sigma_shared_held[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(fits.held.shared_covariance(f, f))));
+    study.sigma_shared_held[name].push_back(
+        mech::toDisplay(p[i].unit, std::sqrt(fits.held.termCovariance(mech::CovarianceTerm::kShared)(f, f))));
     const double corrected_error = fits.corrected.model.parameters[i].value - fits.truth.value(name);
     study.z_corrected[name].push_back(corrected_error / before.sigma[e]);
     study.z_corrected_fit[name].push_back(corrected_error / std::sqrt(fitVariance(fits.with_shared_unaligned, f)));
-    study.z_calibration_part[name].push_back((error[f] - corrected_error) / std::sqrt(fits.held.shared_covariance(f, f)));
+    study.z_calibration_part[name].push_back((error[f] - corrected_error) /
+                                             std::sqrt(fits.held.termCovariance(mech::CovarianceTerm::kShared)(f, f)));
     study.abs_error[name].push_back(std::abs(mech::toDisplay(p[i].unit, error[f])));
     const double modelled = fitVariance(fits.with_shared_unaligned, f);
     study.oracle_block_ratio[name].push_back(fits.oracle_block[f] / modelled);
@@ -429,8 +431,8 @@ void scoreIdentification(const ChainFits& fits, Study& study) {
   study.oracle_scale_slope.push_back(fits.oracle_scale_slope);
   recordSigmaComponents(fits.with_shared_unaligned, study);
   study.chi2_dof.push_back(before.chi2 / std::max(1, before.dof));
-  study.method_before.push_back(before.covariance_method);
-  study.method_after.push_back(fits.after.covariance_method);
+  study.method_before.push_back(before.covarianceMethod());
+  study.method_after.push_back(fits.after.covarianceMethod());
   study.ident_chi2_before.push_back(mahalanobis(error, before.covariance) / static_cast<double>(free));
   study.ident_chi2_after.push_back(mahalanobis(error, fits.after.covariance) / static_cast<double>(free));
   study.ident_chi2_held.push_back(mahalanobis(error, fits.held.covariance) / static_cast<double>(free));

@@ -276,17 +276,19 @@ void writeFitSummary(const IdentifyInputs& inputs, const pipeline::InitialModel&
   else if (!result.identifiability.combinations.empty())
     out << "  " << result.identifiability.combinations.size()
         << " unidentifiable directions: listed in the report (Identifiability)\n";
-  const bool from_residuals = result.covariance_method.rfind("residual sandwich", 0) == 0;
-  std::snprintf(
-      line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
-      !weighted                        ? ""
-      : from_residuals                 ? ": the fit's sigma term is taken from the residuals pose by pose"
-      : result.covariance_scale2 > 1.0 ? ": misfit (the model does not explain the measured poses to their covariances)"
-      : result.covariance_scale2 < 1.0 || chi2BelowItsSpread(result) ? ": the pose covariances overstate the scatter"
-                                                                     : ", consistent");
+  const bool from_residuals = result.covarianceMethod().rfind("residual sandwich", 0) == 0;
+  std::snprintf(line, sizeof line, "fit: chi2/dof %.3g (%d dof)%s\n", result.chi2 / std::max(1, result.dof), result.dof,
+                !weighted        ? ""
+                : from_residuals ? ": the fit's sigma term is taken from the residuals pose by pose"
+                : result.covarianceScale2() > 1.0
+                    ? ": misfit (the model does not explain the measured poses to their covariances)"
+                : result.covarianceScale2() < 1.0 || chi2BelowItsSpread(result)
+                    ? ": the pose covariances overstate the scatter"
+                    : ", consistent");
   out << line;
   std::snprintf(
-      line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covariance_method.c_str(), result.covariance_scale2,
+      line, sizeof line, "sigma: %s (covariance x %.3g)%s\n", result.covarianceMethod().c_str(),
+      result.covarianceScale2(),
       inputs.shared ? "; pose noise, model misfit and the camera calibration" : "; pose noise and model misfit");
   out << line;
   if (!result.outliers.empty()) {

@@ -206,7 +206,7 @@ void addFit(rp::HtmlReport& page, const IdentifyReportData& data) {
        {"free parameters", std::to_string(result.free_names.size())},
        {"\xCF\x87\xC2\xB2/dof", format("%.3g", result.chi2 / std::max(1, result.dof)) + " (" +
                                     std::to_string(result.dof) + " dof): " + chi2Reading(result)},
-       {"\xCF\x83 method", result.covariance_method + format(" (covariance \xC3\x97 %.3g)", result.covariance_scale2)},
+       {"\xCF\x83 method", result.covarianceMethod() + format(" (covariance \xC3\x97 %.3g)", result.covarianceScale2())},
        {"condition number", format("%.4g", id.condition_number) + " (" + id.scaling + "), rank " +
                                 std::to_string(id.rank) + " of " + std::to_string(id.parameter_names.size())},
        {"outlier poses", outliers.empty() ? "none" : outliers}});

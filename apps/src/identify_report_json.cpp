@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 namespace mire::app {
 namespace {
 
@@ -22,8 +24,8 @@ Json fitJson(const IdentifyReportData& data) {
   setNumber(fit, "chi2", r.chi2, "not computed");
   fit["dof"] = r.dof;
   setNumber(fit, "chi2_per_dof", r.chi2 / std::max(1, r.dof), "not computed");
-  fit["covariance_method"] = r.covariance_method;
-  setNumber(fit, "covariance_scale2", r.covariance_scale2, "not computed");
+  fit["covariance_method"] = r.covarianceMethod();
+  setNumber(fit, "covariance_scale2", r.covarianceScale2(), "not computed");
   setNumber(fit, "rms_joint_residual", r.rms_joint_residual, "not computed");
   fit["outliers"] = r.outliers;
   setNumber(fit, "v3_before_m", data.v3_before_m >= 0.0 ? data.v3_before_m : NAN,
@@ -51,6 +53,24 @@ Json covarianceOf(const mech::IdentificationResult& r) {
   std::vector<std::string> units;
   for (const std::string& name : r.free_names) units.push_back(mech::unitName(r.model.parameters.at(name).unit));
   return covarianceJson(r.free_names, units, r.covariance);
+}
+
+// Each term of the covariance (doc/uncertainty.md, "How the terms add up") with its σ per free
+// parameter: what each error source contributes (the σ add in quadrature to `covariance`'s).
+Json covarianceTermsJson(const mech::IdentificationResult& r) {
+  Json list = Json::array();
+  for (const mech::CovarianceTerm& term : r.covariance_terms) {
+    Json item{{"name", term.name}};
+    if (!term.method.empty()) item["method"] = term.method;
+    Json sigma;
+    for (std::size_t f = 0; f < r.free_names.size(); ++f) {
+      const auto k = static_cast<Eigen::Index>(f);
+      setNumber(sigma, r.free_names[f], std::sqrt(term.covariance(k, k)), "negative variance");
+    }
+    item["sigma"] = sigma;
+    list.push_back(item);
+  }
+  return list;
 }
 
 // Joint residuals q̄ − f per pose [joint units], before (initial model) and after.
@@ -115,6 +135,7 @@ void writeIdentifyReportJson(const std::filesystem::path& path, const IdentifyRe
   doc["fit"] = fitJson(data);
   doc["parameters"] = parametersJson(data);
   doc["covariance"] = covarianceOf(data.result);
+  doc["covariance_terms"] = covarianceTermsJson(data.result);
   doc["poses"] = posesJson(data);
   if (data.pose_covariance_file.empty()) {
     doc["pose_covariances_file"] = nullptr;

@@ -206,12 +206,11 @@ Eigen::Matrix3d meanOrientationCovariance(const std::vector<PoseObservation>& po
   return Jl_inverse * omega * Jl_inverse.transpose();
 }
 
-// The offset's rows and columns of the free-parameter covariance follow t → Q·t (t_EM, or t_EC
-// with the camera on the effector).
+// The offset's rows of every covariance term follow t → Q·t (t_EM, or t_EC with the camera on
+// the effector); the total and σ are summed again from the turned terms.
 void turnTargetOffsetCovariance(IdentificationResult& result, const Eigen::Matrix3d& Q,
                                 const std::vector<std::string>& offset) {
-  const ParameterSet& params = result.model.parameters;
-  const std::vector<std::string> free = params.freeNames();
+  const std::vector<std::string>& free = result.free_names;
   std::vector<Eigen::Index> rows;
   for (const std::string& name : offset)
     for (std::size_t f = 0; f < free.size(); ++f)
@@ -220,12 +219,12 @@ void turnTargetOffsetCovariance(IdentificationResult& result, const Eigen::Matri
   Eigen::MatrixXd P = Eigen::MatrixXd::Identity(result.covariance.rows(), result.covariance.cols());
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) P(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)]) = Q(i, j);
-  result.covariance = P * result.covariance * P.transpose();
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Index f = rows[static_cast<std::size_t>(i)];
-    result.sigma[static_cast<Eigen::Index>(params.index(free[static_cast<std::size_t>(f)]))] =
-        std::sqrt(result.covariance(f, f));
+  std::vector<CovarianceTerm> terms = result.covariance_terms;
+  for (CovarianceTerm& term : terms) {
+    term.covariance = P * term.covariance * P.transpose();
+    if (term.columns.size() > 0) term.columns = P * term.columns;
   }
+  setCovarianceTerms(result, std::move(terms));
 }
 
 }  // namespace

@@ -10,8 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <set>
 #include <stdexcept>
 
 #include "mire/support/yaml.hpp"
@@ -546,9 +544,9 @@ KeptSystem keptSystem(const SolutionJacobian& solution, const std::vector<bool>&
   return out;
 }
 
-// Covariance: (AᵀA)⁻¹ (weighted, absolute) or σ̂²(AᵀA)⁻¹; pseudo-inverse when deficient.
+// (AᵀA)⁻¹ (pseudo-inverse when deficient) from the SVD of A (or of R with RᵀR = AᵀA), and the
+// factor the fit puts on it: 1 (weighted, absolute) or σ̂²; `rows` = A's row count.
 // Returns whether AᵀA is rank deficient.
-// Same from the SVD of A (or of R with RᵀR = AᵀA); `rows` = A's row count.
 bool covarianceFromSvd(IdentificationResult& result, const Eigen::JacobiSVD<Eigen::MatrixXd>& svd, Eigen::Index rows,
                        double chi2_kept, const IdentificationOptions& options) {
   const int dof_kept = static_cast<int>(rows) - static_cast<int>(result.model.parameters.freeCount());
@@ -566,11 +564,9 @@ bool covarianceFromSvd(IdentificationResult& result, const Eigen::JacobiSVD<Eige
   }
   const Eigen::MatrixXd scaled_v = svd.matrixV() * inv_s2.asDiagonal();
   result.information_inverse = scaled_v.lazyProduct(svd.matrixV().transpose());
-  result.covariance_scale2 = !result.weighted          ? scale2
-                             : options.scale_on_misfit ? misfitScale2(chi2_kept, dof_kept, options.outlier_probability)
-                                                       : 1.0;
-  result.covariance_method = result.weighted && result.covariance_scale2 == 1.0 ? "measured" : "residual-scaled";
-  result.covariance = result.information_inverse * result.covariance_scale2;
+  result.misfit_scale2 = !result.weighted          ? scale2
+                         : options.scale_on_misfit ? misfitScale2(chi2_kept, dof_kept, options.outlier_probability)
+                                                   : 1.0;
   return deficient;
 }
 
@@ -583,8 +579,8 @@ bool covarianceOfKept(IdentificationResult& result, const Eigen::MatrixXd& A, do
   return covarianceFromSvd(result, svd, A.rows(), chi2_kept, options);
 }
 
-// The axis alignment was estimated from the same orientations: add its uncertainty,
-// Σξ += S·Σδ·Sᵀ with S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts).
+// The axis alignment was estimated from the same orientations: its uncertainty enters through
+// S = ∂ξ̂/∂δ = −(AᵀA)⁻¹Aᵀ·∂r/∂δ (central differences on the tilts; the alignment term S·Σδ·Sᵀ).
 // ∂r/∂δ of the kept rows (`rows`: the kept poses' rows, then zero rows for the priors); an
 // empty matrix when the alignment is not estimated (Full form) or exact.
 Eigen::MatrixXd alignmentResidualSensitivity(const IdentificationResult& result,
@@ -616,44 +612,16 @@ Eigen::MatrixXd alignmentResidualSensitivity(const IdentificationResult& result,
   return dr;
 }
 
-// Σξ += S·Σδ·Sᵀ with S = −(AᵀA)⁻¹·Aᵀ·∂r/∂δ, from Aᵀ·∂r/∂δ (empty: no alignment term).
-void addAlignmentCovariance(IdentificationResult& result, const Eigen::MatrixXd& At_dr) {
-  result.alignment_covariance = Eigen::MatrixXd::Zero(result.covariance.rows(), result.covariance.cols());
-  if (At_dr.size() == 0) return;
-  const Eigen::MatrixXd S = -result.information_inverse.lazyProduct(At_dr);
-  const Eigen::MatrixXd S_cov = S.lazyProduct(result.model.external.alignment().covariance);
-  result.alignment_covariance = S_cov.lazyProduct(S.transpose());
-  result.alignment_sensitivity = S;
-  result.covariance += result.alignment_covariance;
+// S = ∂ξ̂/∂δ = −(AᵀA)⁻¹·Aᵀ·∂r/∂δ, from Aᵀ·∂r/∂δ (empty: no alignment term).
+void setAlignmentSensitivity(IdentificationResult& result, const Eigen::MatrixXd& At_dr) {
+  if (At_dr.size() > 0) result.alignment_sensitivity = -result.information_inverse.lazyProduct(At_dr);
 }
 
-// The axis alignment was estimated from the same orientations: add its uncertainty
-// (central differences on the tilts).
-void addAlignmentCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                            const std::vector<bool>& keep, const Eigen::MatrixXd& A) {
+// The same from the kept system A (central differences on the tilts).
+void setAlignmentSensitivity(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                             const std::vector<bool>& keep, const Eigen::MatrixXd& A) {
   const Eigen::MatrixXd dr = alignmentResidualSensitivity(result, poses, keep, A.rows());
-  addAlignmentCovariance(result, dr.size() == 0 ? Eigen::MatrixXd() : Eigen::MatrixXd(A.transpose().lazyProduct(dr)));
-}
-
-// σ per parameter (tied ones share their leader's); ∞ for the members of an unidentifiable
-// combination when the system is deficient, 0 when fixed.
-void fillSigma(IdentificationResult& result, bool deficient) {
-  const ParameterSet& params = result.model.parameters;
-  const std::vector<std::size_t> free_indices = params.freeIndices();
-  std::set<std::string> undetermined;
-  for (const UnidentifiableCombination& c : result.identifiability.combinations)
-    for (const auto& [name, coefficient] : c.direction) undetermined.insert(name);
-  result.sigma = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(params.size()));
-  for (std::size_t i = 0; i < params.size(); ++i) {
-    const std::size_t leader = params.tieLeader(i);
-    for (std::size_t f = 0; f < free_indices.size(); ++f)
-      if (free_indices[f] == leader) {
-        const auto fi = static_cast<Eigen::Index>(f);
-        result.sigma[static_cast<Eigen::Index>(i)] = deficient && undetermined.count(params[leader].name)
-                                                         ? std::numeric_limits<double>::infinity()
-                                                         : std::sqrt(result.covariance(fi, fi));
-      }
-  }
+  if (dr.size() > 0) setAlignmentSensitivity(result, Eigen::MatrixXd(A.transpose().lazyProduct(dr)));
 }
 
 // Large problems (large_problem.hpp): the Jacobian at the solution is never stored N×P. A pass
@@ -696,8 +664,8 @@ void streamJacobian(StreamedSystem& out, const IdentificationResult& result, con
   }
 }
 
-// Outliers, covariance, alignment uncertainty and identifiability; returns whether the
-// system is rank deficient.
+// Outliers, (AᵀA)⁻¹, the alignment sensitivity and identifiability; returns whether the system
+// is rank deficient.
 bool postprocessStreamed(IdentificationResult& result, const std::vector<PoseObservation>& poses,
                          const Eigen::MatrixXd& expansion, const PriorRows& prior, const IdentificationOptions& options) {
   const int J = result.model.mechanism->jointCount();
@@ -713,7 +681,7 @@ bool postprocessStreamed(IdentificationResult& result, const std::vector<PoseObs
   system.information.add(prior.rows);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(system.information.result(), Eigen::ComputeThinV);
   bool deficient = covarianceFromSvd(result, svd, kept.rows + prior.rows.rows(), kept.chi2, options);
-  addAlignmentCovariance(result, system.At_dr);  // P×0 when there is no alignment term
+  setAlignmentSensitivity(result, system.At_dr);  // P×0 when there is no alignment term
   result.free_names = result.model.parameters.freeNames();
   if (options.compute_identifiability) {
     result.identifiability = analyzeJacobian(system.radians.result(), result.free_names, options.identifiability);
@@ -731,7 +699,7 @@ bool postprocessDirect(IdentificationResult& result, const std::vector<PoseObser
                                      result.model.parameters.freeCount(), result.outliers.size());
   const Eigen::MatrixXd& A = kept.A(solution);
   bool deficient = covarianceOfKept(result, A, kept.chi2, options);
-  addAlignmentCovariance(result, poses, keep, A);
+  setAlignmentSensitivity(result, poses, keep, A);
   result.free_names = result.model.parameters.freeNames();
   if (options.compute_identifiability) {
     result.identifiability = analyzeJacobian(solution.radians, result.free_names, options.identifiability);
@@ -786,7 +754,8 @@ void checkRobustFitKeptMostPoses(const IdentificationModel& initial, const Ident
 }  // namespace
 
 // Preprocess (checks, free set, weights) / minimise (Ceres) / postprocess (outliers,
-// covariance, alignment uncertainty, identifiability, σ), as Ceres cuts a solve.
+// covariance, alignment sensitivity, identifiability), as Ceres cuts a solve; then the fit's own
+// covariance terms (the fit's, the alignment's) summed into σ.
 IdentificationResult identify(const IdentificationModel& initial, const std::vector<PoseObservation>& poses,
                               const IdentificationOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
@@ -803,10 +772,10 @@ IdentificationResult identify(const IdentificationModel& initial, const std::vec
 
   const PriorRows prior = priorRows(result.model.parameters, options.priors);
   const auto rows = static_cast<Eigen::Index>(poses.size()) * initial.mechanism->jointCount();
-  const bool deficient = rows > detail::kLargeProblemRows
-                             ? postprocessStreamed(result, poses, expansions.all, prior, options)
-                             : postprocessDirect(result, poses, expansions.all, prior, options);
-  fillSigma(result, deficient);
+  result.rank_deficient = rows > detail::kLargeProblemRows
+                              ? postprocessStreamed(result, poses, expansions.all, prior, options)
+                              : postprocessDirect(result, poses, expansions.all, prior, options);
+  setCovarianceTerms(result, fitCovarianceTerms(result));
   result.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;
 }

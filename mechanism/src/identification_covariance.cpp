@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -160,10 +161,16 @@ Eigen::Vector4d tiltsBetween(const AxisAlignment& from, const AxisAlignment& to)
   return Eigen::Vector4d(c.x(), c.y(), m.x(), m.y());
 }
 
-// G·√Σ_k by central differences of the whole estimator along Σ_k's principal directions, into
-// result.shared_columns, and the alignment tilts' change along them (aligned forms).
-void refitSensitivity(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                      const SharedPoseTerm& shared, const Refit& refit) {
+CovarianceTerm namedTerm(const char* name) {
+  CovarianceTerm term;
+  term.name = name;
+  return term;
+}
+
+// The shared term by refits: G·√Σ_k by central differences of the whole estimator along Σ_k's
+// principal directions (its columns), and the alignment tilts' change along them (aligned forms).
+CovarianceTerm refitSharedTerm(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                               const SharedPoseTerm& shared, const Refit& refit) {
   // Σ_k = S C Sᵀ (S = diag σ_k, C the correlation), C = U Λ Uᵀ: the steps S u_i √λ_i are
   // well scaled whatever the units of k.
   const auto n = shared.covariance.rows();
@@ -194,8 +201,11 @@ void refitSensitivity(IdentificationResult& result, const std::vector<PoseObserv
     columns.col(i) = 0.5 * (values[0] - values[1]);
     if (aligned) tilts.col(i) = 0.5 * (tilt[0] - tilt[1]);
   }
-  result.shared_columns = columns;
-  result.shared_alignment_columns = tilts;
+  CovarianceTerm term = namedTerm(CovarianceTerm::kShared);
+  term.covariance = columns * columns.transpose();
+  term.columns = std::move(columns);
+  term.alignment_columns = std::move(tilts);
+  return term;
 }
 
 // The fit's own term when the pose covariances include the shared part D_j Σ_k D_jᵀ: the
@@ -257,47 +267,47 @@ FitTerm independentFitTerm(const IdentificationResult& result, const std::vector
 // Poses per free parameter from which the fit's term is taken from the residuals.
 constexpr int kResidualSandwichPosesPerParameter = 3;
 
-// Replaces the fit's term (H⁻¹ × covariance_scale2):
-//  * with at least 3 poses per free parameter, by the cluster-robust sandwich of the residuals
+// The fit's term when the shared term is added (in place of (AᵀA)⁻¹ × misfit_scale2):
+//  * with at least 3 poses per free parameter, the cluster-robust sandwich of the residuals
 //    (sandwichCovariance, one cluster per pose): it holds the pose errors as they are, the
 //    detector's systematic feature error included, where the modelled independent part
 //    Σ_j − D_j Σ_k D_jᵀ misses it — on rendered H4 chains the modelled term left σ up to 2.2×
 //    too small, the residual term brought 16 of 19 parameters into [0.8, 1.25]
 //    (doc/studies/2026-11-24-chain-study-h4.md);
-//  * with fewer poses (the sandwich would rest on too few residual degrees of freedom), by the
+//  * with fewer poses (the sandwich would rest on too few residual degrees of freedom), the
 //    modelled sandwich above, scaled when χ² lies outside the band around its expected value
 //    (only when the fit was scaled at all).
-void replaceFitTerm(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                    const SharedPoseTerm& shared) {
-  if (!result.weighted || result.whitening.size() < poses.size()) return;
+CovarianceTerm fitTermWithShared(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                 const SharedPoseTerm& shared) {
+  CovarianceTerm term = measuredFitTerm(result);
+  if (!result.weighted || result.whitening.size() < poses.size()) return term;
   const auto used = std::count_if(result.poses.begin(), result.poses.end(), [](const auto& p) { return p.used; });
   if (used >= kResidualSandwichPosesPerParameter * result.information_inverse.rows()) {
-    result.covariance += sandwichCovariance(result, poses) - result.information_inverse * result.covariance_scale2;
-    result.covariance_scale2 = 1.0;
-    result.covariance_method = "residual sandwich";
-    return;
+    term.covariance = sandwichCovariance(result, poses);
+    term.scale2 = 1.0;
+    term.method = "residual sandwich";
+    return term;
   }
   const FitTerm fit = independentFitTerm(result, poses, shared);
-  if (fit.dof < 1 || !(fit.expected_chi2 > 0.0)) return;
+  if (fit.dof < 1 || !(fit.expected_chi2 > 0.0)) return term;
   const double scale2 =
-      result.covariance_scale2 == 1.0 ? 1.0 : misfitScale2(fit.chi2 * fit.dof / fit.expected_chi2, fit.dof, 1e-3);
-  result.covariance += fit.covariance * scale2 - result.information_inverse * result.covariance_scale2;
-  result.covariance_scale2 = scale2;
-  result.covariance_method = scale2 == 1.0 ? "measured" : "residual-scaled";
+      result.misfit_scale2 == 1.0 ? 1.0 : misfitScale2(fit.chi2 * fit.dof / fit.expected_chi2, fit.dof, 1e-3);
+  term.covariance = fit.covariance * scale2;
+  term.scale2 = scale2;
+  term.method = scale2 == 1.0 ? "measured" : "residual-scaled";
+  return term;
 }
 
-// The axis-alignment term (identification.cpp) takes the tilts' covariance from the full pose
+// The axis-alignment term (fitCovarianceTerms) takes the tilts' covariance from the full pose
 // covariances, as if their shared part D_j Σ_k D_jᵀ were independent per pose. The refits above
-// re-estimate the alignment from the shifted orientations, so they already carry that part,
-// as shared: the tilts' covariance is recomputed from the independent part Σ_j − D_j Σ_k D_jᵀ
-// alone (doc/uncertainty.md, "The axis-alignment term"), and the model's alignment carries it.
-void replaceAlignmentTerm(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                          const SharedPoseTerm& shared) {
-  const Eigen::MatrixXd& S = result.alignment_sensitivity;
-  if (S.size() == 0 || result.alignment_covariance.size() == 0) return;
+// re-estimate the alignment from the shifted orientations, so they already carry that part, as
+// shared: with them, the tilts' covariance is recomputed from the independent part
+// Σ_j − D_j Σ_k D_jᵀ alone (doc/uncertainty.md, "The axis-alignment term").
+Eigen::Matrix4d independentTiltCovariance(const IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                                          const SharedPoseTerm& shared) {
   std::vector<PoseObservation> independent = poses;
   for (PoseObservation& p : independent) {
-    if (!p.covariance) return;
+    if (!p.covariance) return result.model.external.alignment().covariance;
     *p.covariance -= shared.poseCovariance(p.id);
   }
   AxisAlignment alignment = estimateAxisAlignment(independent);
@@ -306,46 +316,63 @@ void replaceAlignmentTerm(IdentificationResult& result, const std::vector<PoseOb
     const Eigen::Matrix4d G = Eigen::Vector4d(1.0, -1.0, 1.0, -1.0).asDiagonal();
     alignment.covariance = G * alignment.covariance * G;
   }
-  const Eigen::MatrixXd term = S * alignment.covariance * S.transpose();
-  result.covariance += term - result.alignment_covariance;
-  result.alignment_covariance = term;
-  // The model carries the same tilt covariance: predictions (predictionModelFrom) take
-  // Cov(ξ, δ) = S·Σδ from it, and with the full-covariance Σδ the joint matrix of (ξ, δ) is not
-  // positive semi-definite (negative variances of the H4's camera-frame positions).
-  AxisAlignment held = result.model.external.alignment();
-  held.covariance = alignment.covariance;
-  result.model.external = ExternalParameterization(result.model.external.form(), held);
+  return alignment.covariance;
+}
+
+// S·Σδ·Sᵀ with its columns for predictions (none when the alignment is not estimated).
+std::optional<CovarianceTerm> alignmentTerm(const IdentificationResult& result, const Eigen::MatrixXd& tilt_covariance) {
+  const Eigen::MatrixXd& S = result.alignment_sensitivity;
+  if (S.size() == 0) return std::nullopt;
+  CovarianceTerm term = namedTerm(CovarianceTerm::kAlignment);
+  term.covariance = S.lazyProduct(tilt_covariance).lazyProduct(S.transpose());
+  term.columns = S;
+  term.alignment_columns = Eigen::MatrixXd::Identity(4, 4);
+  term.source_covariance = tilt_covariance;
+  return term;
 }
 
 }  // namespace
 
-void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
-                             const SharedPoseTerm& shared, const Refit& refit) {
-  if (shared.empty() || result.information_inverse.size() == 0) return;
-  const IdentificationModel& model = result.model;
+CovarianceTerm measuredFitTerm(const IdentificationResult& fit) {
+  CovarianceTerm term = namedTerm(CovarianceTerm::kFit);
+  term.method = fit.weighted && fit.misfit_scale2 == 1.0 ? "measured" : "residual-scaled";
+  term.scale2 = fit.misfit_scale2;
+  term.covariance = fit.information_inverse * fit.misfit_scale2;
+  return term;
+}
+
+std::vector<CovarianceTerm> fitCovarianceTerms(const IdentificationResult& fit) {
+  std::vector<CovarianceTerm> terms{measuredFitTerm(fit)};
+  if (auto alignment = alignmentTerm(fit, fit.model.external.alignment().covariance))
+    terms.push_back(std::move(*alignment));
+  return terms;
+}
+
+std::vector<CovarianceTerm> covarianceTermsWithShared(const IdentificationResult& fit,
+                                                      const std::vector<PoseObservation>& poses,
+                                                      const SharedPoseTerm& shared, const Refit& refit) {
   for (const PoseObservation& p : poses)
     if (!shared.sensitivity.count(p.id))
       throw std::runtime_error("pose '" + p.id + "' has no sensitivity in the shared-term file");
+  std::vector<CovarianceTerm> terms{fitTermWithShared(fit, poses, shared)};
+  if (fit.alignment_sensitivity.size() > 0)
+    terms.push_back(*alignmentTerm(
+        fit, refit ? independentTiltCovariance(fit, poses, shared) : fit.model.external.alignment().covariance));
   if (refit) {
-    refitSensitivity(result, poses, shared, refit);
-    result.shared_covariance = result.shared_columns * result.shared_columns.transpose();
-    replaceAlignmentTerm(result, poses, shared);
+    terms.push_back(refitSharedTerm(fit, poses, shared, refit));
   } else {
-    const Eigen::MatrixXd G = analyticSensitivity(result, poses, shared);
-    result.shared_covariance = G * shared.covariance * G.transpose();
+    const Eigen::MatrixXd G = analyticSensitivity(fit, poses, shared);
+    CovarianceTerm term = namedTerm(CovarianceTerm::kShared);
+    term.covariance = G * shared.covariance * G.transpose();
+    terms.push_back(std::move(term));
   }
-  replaceFitTerm(result, poses, shared);
-  result.covariance += result.shared_covariance;
-  result.covariance_method += " + shared calibration term";
-  const std::vector<std::size_t> free_indices = model.parameters.freeIndices();
-  for (std::size_t i = 0; i < model.parameters.size(); ++i) {
-    const auto s = static_cast<Eigen::Index>(i);
-    if (!std::isfinite(result.sigma[s]) || result.sigma[s] == 0.0) continue;
-    const std::size_t leader = model.parameters.tieLeader(i);
-    for (std::size_t f = 0; f < free_indices.size(); ++f)
-      if (free_indices[f] == leader)
-        result.sigma[s] = std::sqrt(result.covariance(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(f)));
-  }
+  return terms;
+}
+
+void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
+                             const SharedPoseTerm& shared, const Refit& refit) {
+  if (shared.empty() || result.information_inverse.size() == 0) return;
+  setCovarianceTerms(result, covarianceTermsWithShared(result, poses, shared, refit));
 }
 
 }  // namespace mire::mechanism

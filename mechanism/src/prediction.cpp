@@ -259,28 +259,29 @@ PredictionModel predictionModelFrom(const std::string& model_name, const Identif
     return m;
   }
   // Aligned forms: the mounting also depends on the estimated axis alignment δ, whose
-  // uncertainty is already folded into the parameters (Σξ = Σ₀ + S·Σδ·Sᵀ). The mounting then
-  // varies with (ξ, δ) jointly: Cov(ξ, δ) = S·Σδ, Cov(δ) = Σδ, and ∂full/∂δ by central
-  // differences of the tilted alignment — leaving it out overstates the σ of the predictions
-  // (the parameters' compensation of the alignment error would count as an error).
-  const AxisAlignment& alignment = id.external.alignment();
-  if (id.external.form() == map.full.form() || result.alignment_sensitivity.rows() != T.cols() ||
-      alignment.covariance.isZero()) {
+  // uncertainty is one of the parameters' covariance terms (S·Σδ·Sᵀ). The mounting then varies
+  // with (ξ, δ) jointly: the alignment term and the calibration's shared term (refits,
+  // identification_covariance.cpp) move both, X Σ Xᵀ for ξ with Cov(ξ, δ) = X Σ Δᵀ, and go through
+  // T·X + Td·Δ, with ∂full/∂δ by central differences of the tilted alignment; the other terms move ξ
+  // alone. Leaving δ out overstates the σ of the predictions (the parameters' compensation of the
+  // alignment error would count as an error).
+  const CovarianceTerm* alignment = result.term(CovarianceTerm::kAlignment);
+  if (id.external.form() == map.full.form() || !alignment || alignment->columns.rows() != T.cols() ||
+      alignment->source_covariance.isZero()) {
     m.covariance = T * result.covariance * T.transpose();
     return m;
   }
   const Eigen::MatrixXd Td = alignmentJacobian(id, map, rows);
-  const Eigen::MatrixXd cross = result.alignment_sensitivity * alignment.covariance;  // Cov(ξ, δ)
-  // The calibration's shared term moves ξ and δ together (refits, identification_covariance.cpp):
-  // its columns go through both Jacobians; the rest of Σξ pairs with δ as above.
-  const bool shared = result.shared_alignment_columns.rows() == 4 &&
-                      result.shared_alignment_columns.cols() == result.shared_columns.cols();
-  const Eigen::MatrixXd own = shared ? Eigen::MatrixXd(result.covariance - result.shared_covariance) : result.covariance;
-  m.covariance = T * own * T.transpose() + Td * alignment.covariance * Td.transpose() + T * cross * Td.transpose() +
-                 Td * cross.transpose() * T.transpose();
-  if (shared) {
-    const Eigen::MatrixXd columns = T * result.shared_columns + Td * result.shared_alignment_columns;
-    m.covariance += columns * columns.transpose();
+  m.covariance = Eigen::MatrixXd::Zero(T.rows(), T.rows());
+  for (const CovarianceTerm& term : result.covariance_terms) {
+    if (term.alignment_columns.rows() != 4 || term.alignment_columns.cols() != term.columns.cols()) {
+      m.covariance += T * term.covariance * T.transpose();
+      continue;
+    }
+    const Eigen::MatrixXd columns = T * term.columns + Td * term.alignment_columns;
+    m.covariance += term.source_covariance.size()
+                        ? Eigen::MatrixXd(columns * term.source_covariance * columns.transpose())
+                        : Eigen::MatrixXd(columns * columns.transpose());
   }
   return m;
 }

@@ -132,7 +132,7 @@ DemoModelScore identifyModel(const std::string& name, const datasets::MechanismI
   score.rms_joint_before = mech::jointResidualCriteria(initial.model, poses).v2_rad;
   score.rms_joint_after = result.rms_joint_residual;
   score.chi2_per_dof = result.chi2 / std::max(1, result.dof);
-  score.sigma_method = result.covariance_method;
+  score.sigma_method = result.covarianceMethod();
   score.has_truth = described || name == campaign.robot.geometry_model.name;
   scoreParameters(result, score.has_truth ? std::optional(truthInGauge(campaign, initial, poses)) : std::nullopt, score);
   const Eigen::VectorXd nominal = initial.model.geometricValues(), identified = result.model.geometricValues();

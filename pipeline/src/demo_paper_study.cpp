@@ -80,7 +80,7 @@ void scoreIdentified(const datasets::MechanismImageCampaign& campaign, const mec
                                   mechanism::unitName(unit), p[i].value, sigma, true_value});
   }
   results.identified_covariance = result.covariance;
-  results.sigma_method = result.covariance_method;
+  results.sigma_method = result.covarianceMethod();
   results.chi2_per_dof = result.chi2 / std::max(1, result.dof);
   results.outlier_count = result.outliers.size();
 }

@@ -125,20 +125,29 @@ void bindResult(py::module_& m) {
       .def_readonly("residual", &PR::residual)
       .def_readonly("chi2", &PR::chi2)
       .def_readonly("outlier", &PR::outlier);
+  using CT = mech::CovarianceTerm;
+  py::class_<CT>(m, "CovarianceTerm")
+      .def_readonly("name", &CT::name)
+      .def_readonly("method", &CT::method)
+      .def_readonly("scale2", &CT::scale2)
+      .def_readonly("covariance", &CT::covariance);
   using R = mech::IdentificationResult;
   py::class_<R>(m, "IdentificationResult")
       .def_readwrite("model", &R::model)
       .def_readonly("free_names", &R::free_names)
       .def_readonly("covariance", &R::covariance)
-      .def_readonly("alignment_covariance", &R::alignment_covariance)
+      .def_property_readonly("alignment_covariance",
+                             [](const R& r) { return r.termCovariance(mech::CovarianceTerm::kAlignment); })
+      .def_readonly("covariance_terms", &R::covariance_terms, "the named terms summed into `covariance`")
       .def_readonly("sigma", &R::sigma)
       .def("sigmaOf", &R::sigmaOf)
       .def_readonly("weighted", &R::weighted)
       .def_readonly("chi2", &R::chi2)
       .def_readonly("dof", &R::dof)
       .def_readonly("residual_scale", &R::residual_scale)
-      .def_readonly("covariance_method", &R::covariance_method)
-      .def_readonly("covariance_scale2", &R::covariance_scale2)
+      .def_property_readonly("covariance_method", &R::covarianceMethod)
+      .def_property_readonly("covariance_scale2", &R::covarianceScale2)
+      .def_readonly("misfit_scale2", &R::misfit_scale2)
       .def_readonly("rms_joint_residual", &R::rms_joint_residual)
       .def_readonly("poses", &R::poses)
       .def_readonly("outliers", &R::outliers)

@@ -144,6 +144,15 @@ void checkIdentify(const fs::path& demo, const fs::path& out) {
   std::vector<double> sigma;
   for (const Json& name : doc.at("covariance").at("names")) sigma.push_back(sigma_of.at(name));
   expectCovariance(doc["covariance"], sigma, "identify");
+  // The named terms' σ add in quadrature to each parameter's (doc/uncertainty.md).
+  const Json& terms = doc.at("covariance_terms");
+  ASSERT_FALSE(terms.empty());
+  EXPECT_EQ(terms[0].at("name"), "fit");
+  for (const auto& [name, s] : sigma_of) {
+    double sum2 = 0.0;
+    for (const Json& term : terms) sum2 += std::pow(term.at("sigma").at(name).get<double>(), 2);
+    EXPECT_NEAR(std::sqrt(sum2), s, 1e-9 * s) << name;
+  }
   EXPECT_EQ(doc.at("poses").size(), 81u);
   EXPECT_GT(doc.at("fit").at("v3_after_m").get<double>(), 0.0);
   EXPECT_EQ(doc.at("pose_covariances_file"), (demo / "poses_covariance.csv").string());

@@ -110,7 +110,7 @@ TEST(IdentificationSigma, ExactModelCoverageOver40Campaigns) {
       continue;  // a few robots with 5° encoder offsets cannot be initialised from the nominal
     }
     names = r.free_names;
-    EXPECT_EQ(r.covariance_method == "measured" || r.covariance_method == "residual-scaled", true);
+    EXPECT_EQ(r.covarianceMethod() == "measured" || r.covarianceMethod() == "residual-scaled", true);
     for (const auto& [name, value] : normalisedErrors(r, c)) z[name].push_back(value);
   }
   ASSERT_EQ(names.size(), 19u);
@@ -127,11 +127,11 @@ TEST(IdentificationSigma, MisfitIsReportedAsMisfitAndInjectedOutliersAreNamed) {
   const Campaign c = simulate(2004, 1, true);
   const auto r = mech::identifyH4Variant('D', {}, c.poses);
   const double chi2_dof = r.chi2 / r.dof;
-  std::printf("unmodelled defects: chi2/dof %.2f, sigma %s, %zu outliers\n", chi2_dof, r.covariance_method.c_str(),
+  std::printf("unmodelled defects: chi2/dof %.2f, sigma %s, %zu outliers\n", chi2_dof, r.covarianceMethod().c_str(),
               r.outliers.size());
   EXPECT_GT(chi2_dof, 1.5);
-  EXPECT_EQ(r.covariance_method, "residual-scaled");
-  EXPECT_NEAR(r.covariance_scale2, chi2_dof, 1e-9);
+  EXPECT_EQ(r.covarianceMethod(), "residual-scaled");
+  EXPECT_NEAR(r.covarianceScale2(), chi2_dof, 1e-9);
   EXPECT_TRUE(r.outliers.empty());
   // The printed σ against a model-free estimate: the delete-10 jackknife of 71-pose subsets.
   std::map<std::string, std::vector<double>> subsets;
@@ -191,7 +191,7 @@ TEST(IdentificationSigma, SharedTermPropagationRestoresCoverage) {
       return mech::identifyH4Variant('D', {}, shifted, options);
     });
     // 81 poses, 19 free parameters: the fit's term from the residuals (doc/uncertainty.md).
-    EXPECT_EQ(r.covariance_method, "residual sandwich + shared calibration term");
+    EXPECT_EQ(r.covarianceMethod(), "residual sandwich + shared calibration term");
     names = r.free_names;
     for (const auto& [name, value] : normalisedErrors(r, c)) with[name].push_back(value);
     for (const auto& [name, value] : normalisedErrors(naive, c)) without[name].push_back(value);
@@ -212,8 +212,8 @@ TEST(IdentificationSigma, SharedTermPropagationRestoresCoverage) {
 
 // What `mire fkm` propagates after `mire identify` with the shared term: the parameters'
 // covariance and the axis alignment's, jointly. The alignment term folded into the parameters
-// is the independent part's (replaceAlignmentTerm), so the alignment's own covariance must be
-// the same; with the full one the joint matrix was not positive semi-definite and the
+// is the independent part's (covarianceTermsWithShared), so the alignment's own covariance must
+// be the same; with the full one the joint matrix was not positive semi-definite and the
 // camera-frame tx, ty variances of the H4's predictions came out negative (σ NaN).
 TEST(IdentificationSigma, PredictionCovarianceWithTheSharedTermIsPositive) {
   const Campaign base = simulate(2004, 1, false);
@@ -233,6 +233,51 @@ TEST(IdentificationSigma, PredictionCovarianceWithTheSharedTermIsPositive) {
     const mech::PosePrediction predicted = mech::predictPose(model, pose.joints);
     ASSERT_TRUE(predicted.converged) << pose.id;
     EXPECT_GT(predicted.cTm_covariance.diagonal().minCoeff(), 0.0) << pose.id;
+  }
+}
+
+// The shared-term stage reads the fit and leaves it as identify() solved it; the uncertainty is
+// its list of named terms, and the covariance and σ are their sum (doc/uncertainty.md, "How the
+// terms add up").
+TEST(IdentificationSigma, SharedTermStageKeepsTheFitAndSumsNamedTerms) {
+  const Campaign base = simulate(2004, 1, false);
+  const mech::SharedPoseTerm shared = makeSharedTerm(base.poses);
+  Campaign c = simulate(2004, 2100, false);
+  for (auto& p : c.poses) *p.covariance += shared.poseCovariance(p.id);
+  mech::IdentificationOptions options;
+  options.compute_identifiability = false;
+  const auto fit = mech::identifyH4Variant('D', {}, c.poses, options);
+  const auto namesOf = [](const mech::IdentificationResult& r) {
+    std::vector<std::string> names;
+    for (const auto& term : r.covariance_terms) names.push_back(term.name);
+    return names;
+  };
+  EXPECT_EQ(namesOf(fit), (std::vector<std::string>{"fit", "alignment"}));
+  EXPECT_EQ(fit.covarianceMethod(), fit.term("fit")->method);  // no shared term yet
+  auto r = fit;
+  mech::addSharedTermCovariance(r, c.poses, shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+    return mech::identifyH4Variant('D', {}, shifted, options);
+  });
+  EXPECT_EQ(namesOf(r), (std::vector<std::string>{"fit", "alignment", "shared calibration"}));
+  EXPECT_EQ(r.covarianceMethod(), "residual sandwich + shared calibration term");
+  // The fit is untouched: values, (AᵀA)⁻¹, the alignment's sensitivity and its own covariance.
+  EXPECT_EQ(r.model.parameters.values(), fit.model.parameters.values());
+  EXPECT_EQ(r.information_inverse, fit.information_inverse);
+  EXPECT_EQ(r.alignment_sensitivity, fit.alignment_sensitivity);
+  EXPECT_EQ(r.model.external.alignment().covariance, fit.model.external.alignment().covariance);
+  // Each term as its definition gives it, and the total their sum.
+  const Eigen::MatrixXd sandwich = mech::sandwichCovariance(fit, c.poses);
+  EXPECT_EQ(r.term("fit")->covariance, sandwich);
+  const mech::CovarianceTerm& calibration = *r.term("shared calibration");
+  const Eigen::MatrixXd from_columns = calibration.columns * calibration.columns.transpose();
+  EXPECT_EQ(calibration.covariance, from_columns);
+  // The alignment term's Σδ is the independent part's: smaller than the whole covariances' one.
+  EXPECT_LT(r.term("alignment")->source_covariance.trace(), fit.term("alignment")->source_covariance.trace());
+  const Eigen::MatrixXd sum = r.term("fit")->covariance + r.term("alignment")->covariance + calibration.covariance;
+  EXPECT_LT((r.covariance - sum).cwiseAbs().maxCoeff(), 1e-12 * sum.cwiseAbs().maxCoeff());
+  for (std::size_t f = 0; f < r.free_names.size(); ++f) {
+    const auto k = static_cast<Eigen::Index>(f);
+    EXPECT_DOUBLE_EQ(r.sigmaOf(r.free_names[f]), std::sqrt(sum(k, k))) << r.free_names[f];
   }
 }
 

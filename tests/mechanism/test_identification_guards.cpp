@@ -45,8 +45,8 @@ TEST(IdentificationGuards, RobustFitWithEveryPoseMisweightedIsResidualScaled) {
   IdentificationOptions options;
   options.loss = RobustLoss::Huber;
   const IdentificationResult result = identify(initialModel(robot, poses), poses, options);
-  EXPECT_EQ(result.covariance_method.rfind("residual-scaled", 0), 0u) << result.covariance_method;
-  EXPECT_GT(result.covariance_scale2, 1e9);
+  EXPECT_EQ(result.covarianceMethod().rfind("residual-scaled", 0), 0u) << result.covarianceMethod();
+  EXPECT_GT(result.covarianceScale2(), 1e9);
   EXPECT_LT(result.outliers.size(), poses.size() / 10);
   EXPECT_TRUE(result.sigma.allFinite());
   EXPECT_GT(result.sigma.minCoeff(), -1e-300);

@@ -58,14 +58,15 @@ void checkAgainstDirectFormulas(const mm::IdentificationResult& result, const st
   const Eigen::MatrixXd information_inverse = directInformationInverse(A);
   EXPECT_LT(relativeDifference(result.information_inverse, information_inverse), 1e-9);
   // σ² = (AᵀA)⁻¹·scale² + the alignment term, per free parameter.
-  const Eigen::MatrixXd covariance = information_inverse * result.covariance_scale2 + result.alignment_covariance;
+  const Eigen::MatrixXd covariance =
+      information_inverse * result.covarianceScale2() + result.termCovariance(mm::CovarianceTerm::kAlignment);
   ASSERT_EQ(static_cast<Eigen::Index>(names.size()), covariance.rows());
   for (std::size_t k = 0; k < names.size(); ++k) {
     const double expected = std::sqrt(covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)));
     EXPECT_NEAR(result.sigmaOf(names[k]), expected, 1e-9 * expected) << names[k];
   }
   // The alignment term is there (variant D estimates the axis alignment).
-  EXPECT_GT(result.alignment_covariance.diagonal().maxCoeff(), 0.0);
+  EXPECT_GT(result.termCovariance(mm::CovarianceTerm::kAlignment).diagonal().maxCoeff(), 0.0);
 
   // Identifiability (every pose): column norms and singular values of the column-scaled J.
   const Eigen::VectorXd norms = J.colwise().norm().transpose();

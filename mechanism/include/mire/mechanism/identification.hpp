@@ -95,42 +95,49 @@ struct PoseResidual {
   bool used = true;  // in the covariance (false: an outlier left out under a robust loss)
 };
 
+// One named part of the estimate's covariance (doc/uncertainty.md, "How the terms add up"); the
+// covariance of an identification is the sum of its terms, taken once (setCovarianceTerms()).
+struct CovarianceTerm {
+  static constexpr const char* kFit = "fit";              // the pose errors that vary from pose to pose
+  static constexpr const char* kAlignment = "alignment";  // the estimated rotation axis (aligned forms)
+  // The error every pose shares: the camera's parameters and, when `mire measure` found one, the
+  // detector's shared bias modes (the shared-term file's columns, identification_covariance.hpp).
+  static constexpr const char* kShared = "shared calibration";
+  std::string name;
+  // The fit's: how its term is taken ("measured", "residual-scaled", "residual sandwich") and the
+  // factor applied to (AᵀA)⁻¹ (1 unless residual-scaled).
+  std::string method;
+  double scale2 = 1.0;
+  Eigen::MatrixXd covariance;  // of the free parameters, SI
+  // A term that also moves the estimated axis alignment δ (aligned forms; else empty):
+  // covariance = X Σ Xᵀ, Cov(ξ, δ) = X Σ Δᵀ, Cov(δ) = Δ Σ Δᵀ (Σ = I when empty), so that predictions
+  // through the aligned mounting carry ξ and δ jointly (prediction.cpp). The alignment term: X =
+  // ∂ξ̂/∂δ, Δ = I, Σ = Σδ; the shared term by refits: X = G·√Σ_k, Δ the tilts' change, Σ = I.
+  Eigen::MatrixXd columns, alignment_columns, source_covariance;
+};
+
 struct IdentificationResult {
+  // ---- The fit, as identify() solved it; the covariance stage reads it and does not change it ----
   IdentificationModel model;            // identified values (fixed ones unchanged)
   std::vector<std::string> free_names;  // the unknowns (tie leaders), covariance order
-  Eigen::MatrixXd covariance;           // of the free parameters, SI
-  // The part of `covariance` due to the estimated rotation-axis alignment (aligned forms:
-  // AxisAlignment::covariance propagated through the solution's sensitivity to the tilts).
-  Eigen::MatrixXd alignment_covariance;
-  // S = ∂ξ̂/∂δ (free parameters × 4 tilts; empty for the full form): the estimate's
-  // sensitivity to the alignment, so that predictions through the aligned mounting can carry
-  // the alignment's own uncertainty jointly with the parameters' (prediction.cpp).
-  Eigen::MatrixXd alignment_sensitivity;
-  Eigen::VectorXd sigma;                          // per parameter in model.parameters order; 0 if fixed
-  double sigmaOf(const std::string& name) const;  // throws for an unknown name
-
-  bool weighted = false;  // residuals whitened by the pose covariances
-  double chi2 = 0.0;      // Σ whitened residual² (without priors)
-  int dof = 0;            // residual count − free parameter count (+ prior count)
+  bool weighted = false;                // residuals whitened by the pose covariances
+  double chi2 = 0.0;                    // Σ whitened residual² (without priors)
+  int dof = 0;                          // residual count − free parameter count (+ prior count)
   // Unweighted: σ̂ = √(χ²_rad/dof) [rad], covariance = σ̂²(JᵀJ)⁻¹.
   // Weighted: √(χ²/dof) (≈ 1 when the pose covariances are right); covariance = (JᵀWJ)⁻¹,
   // not rescaled (the measured covariances set the scale).
   double residual_scale = 0.0;
   double rms_joint_residual = 0.0;  // [rad], unweighted, over all joints of all poses
-  // Covariance stage (identification_covariance.hpp, doc/uncertainty.md): which σ is printed.
-  // "measured" (weighted, χ² consistent), "residual-scaled" (× covariance_scale2 = χ²/dof: the
-  // misfit of a weighted fit, or an unweighted fit), plus "+ shared" once the calibration's
-  // shared term is added (shared_covariance).
-  std::string covariance_method;
-  double covariance_scale2 = 1.0;
+  // The factor the fit alone puts on (AᵀA)⁻¹: χ²/dof when unweighted or when the misfit test
+  // rejects the measured pose covariances (doc/uncertainty.md), else 1.
+  double misfit_scale2 = 1.0;
   double outlier_scale2 = 1.0;             // scale² of the outlier test (achieved, robust)
   Eigen::MatrixXd information_inverse;     // (AᵀA)⁻¹ of the whitened problem, unscaled
   std::vector<Eigen::MatrixXd> whitening;  // W_j of every pose (4 × 4 for the H4)
-  Eigen::MatrixXd shared_covariance;       // G Σ_k Gᵀ when added (else empty)
-  // With the shared term by refits: its columns G·√Σ_k (free parameters × n, shared_covariance =
-  // columns·columnsᵀ) and the same directions' change of the alignment tilts (4 × n; empty for the
-  // full form), so that predictions carry the calibration's error through both jointly.
-  Eigen::MatrixXd shared_columns, shared_alignment_columns;
+  // S = ∂ξ̂/∂δ (free parameters × 4 tilts; empty for the full form): the estimate's sensitivity to
+  // the estimated rotation-axis alignment (the alignment term's columns).
+  Eigen::MatrixXd alignment_sensitivity;
+  bool rank_deficient = false;  // AᵀA singular: the unidentifiable combinations' members get σ = ∞
   std::vector<PoseResidual> poses;
   std::vector<std::string> outliers;  // pose ids
 
@@ -139,7 +146,23 @@ struct IdentificationResult {
   int iterations = 0;
   double solve_seconds = 0.0;
   std::string solver_report;  // Ceres brief report
+
+  // ---- The uncertainty: named terms, summed once (setCovarianceTerms()) ----
+  std::vector<CovarianceTerm> covariance_terms;  // the fit's first
+  // The sum of the terms (of the free parameters, SI) and σ per parameter in model.parameters
+  // order (0 if fixed, ∞ in an unidentifiable combination); kept as fields for their many readers.
+  Eigen::MatrixXd covariance;
+  Eigen::VectorXd sigma;
+  double sigmaOf(const std::string& name) const;                  // throws for an unknown name
+  const CovarianceTerm* term(const std::string& name) const;      // nullptr when absent
+  Eigen::MatrixXd termCovariance(const std::string& name) const;  // zero when absent
+  // What the printed σ is: the fit term's method, "+ shared calibration term" with that term.
+  std::string covarianceMethod() const;
+  double covarianceScale2() const;  // the fit term's factor
 };
+
+// Sets the result's terms and, from them once, its total covariance and σ.
+void setCovarianceTerms(IdentificationResult& result, std::vector<CovarianceTerm> terms);
 
 // A robust fit that gave up most poses (identify()): the poses and joints do not describe one
 // robot of the model. Its own type so that a command can name the files it read them from.

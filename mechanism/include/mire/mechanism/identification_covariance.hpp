@@ -55,15 +55,31 @@ struct SharedPoseTerm {
 // metrology/shared_term_csv.hpp); throws std::runtime_error naming the file, line and problem.
 SharedPoseTerm readSharedTermCsv(const std::filesystem::path& path);
 
-// Adds G Σ_k Gᵀ to result.covariance (and result.shared_covariance, result.sigma). `poses` are
-// those given to identify().
-//  * Without `refit`: G = −(AᵀA)⁻¹ Aᵀ ∂r_w/∂k at the solution, the external axis alignment
-//    held at its estimate.
-//  * With `refit` (the whole estimator, initialisation included, run on perturbed poses): G by
-//    central differences of the estimate along each principal direction u_i of Σ_k, ±√λ_i —
-//    this also carries the shared error through the axis alignment estimated from the same
-//    orientations (2n refits).
+// The fit's term as the fit alone gives it: (AᵀA)⁻¹ × misfit_scale2, "measured" or "residual-scaled".
+CovarianceTerm measuredFitTerm(const IdentificationResult& fit);
+
+// The terms of a fit without the shared term (identify()): measuredFitTerm(), then the alignment's,
+// S·Σδ·Sᵀ with the model's Σδ (aligned forms).
+std::vector<CovarianceTerm> fitCovarianceTerms(const IdentificationResult& fit);
+
+// The terms with the error shared by every pose (doc/uncertainty.md), of the fit `fit` of `poses`:
+//  * "fit": with 3 poses per free parameter, the residual sandwich (sandwichCovariance()); else
+//    the modelled independent part H⁻¹ − H⁻¹BH⁻¹, scaled on misfit against its expected χ²;
+//  * "alignment": S·Σδ·Sᵀ, Σδ from the independent part Σ_j − D_j Σ_k D_jᵀ with `refit` (which
+//    carries the shared part), else the model's;
+//  * "shared calibration": G Σ_k Gᵀ. Without `refit`: G = −(AᵀA)⁻¹ Aᵀ ∂r_w/∂k at the solution,
+//    the external axis alignment held at its estimate. With `refit` (the whole estimator,
+//    initialisation included, run on perturbed poses): G by central differences of the estimate
+//    along each principal direction u_i of Σ_k, ±√λ_i — this also carries the shared error
+//    through the axis alignment estimated from the same orientations (2n refits).
+// Throws std::runtime_error for a pose without a sensitivity in `shared`.
 using Refit = std::function<IdentificationResult(const std::vector<PoseObservation>&)>;
+std::vector<CovarianceTerm> covarianceTermsWithShared(const IdentificationResult& fit,
+                                                      const std::vector<PoseObservation>& poses,
+                                                      const SharedPoseTerm& shared, const Refit& refit = {});
+
+// setCovarianceTerms(result, covarianceTermsWithShared(result, …)); no change without a shared
+// term or without the fit's information matrix.
 void addSharedTermCovariance(IdentificationResult& result, const std::vector<PoseObservation>& poses,
                              const SharedPoseTerm& shared, const Refit& refit = {});
 
