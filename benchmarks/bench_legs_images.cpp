@@ -1,5 +1,5 @@
 // The legs measured in rendered images (doc/legs.md "Measuring a leg";
-// doc/studies/2026-11-27-legs-images.md): campaigns of `mire simulate campaign --legs` (the true
+// doc/studies/2026-11-27-legs-measured.md): campaigns of `mire simulate campaign --legs` (the true
 // robot exactly of its model, few images per pose), every leg's axis measured as `mire measure
 // --legs` does, against the true axes: error/σ of the 4 δ components; then, for the hexapod, the
 // identification from the legs alone: the base joints in the camera frame against the truth, in σ.

@@ -344,7 +344,7 @@ LegContours measureLegContours(const EdgeImage& image, const calibration::Camera
     std::vector<Edge> kept;
     for (const Edge& edge : chosen[k]) {
       Vector2d normalized;
-      if (camera.unproject(edge.pixel, &normalized) && std::abs(residual(fit->line, normalized)) < 3.0 / camera.fx()) {
+      if (camera.unproject(edge.pixel, &normalized) && std::abs(residual(fit->line, normalized)) < 1.0 / camera.fx()) {
         kept.push_back(edge);
         fit->inliers_px.push_back(edge.pixel);
       }

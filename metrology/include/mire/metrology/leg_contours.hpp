@@ -1,8 +1,8 @@
 #pragma once
 // A leg's two straight contours in one image (doc/legs.md, "Measuring a leg"): sub-pixel edge
-// points along the normals of the predicted contours, on the rod's middle part, then a robust line
+// points along the normals of the predicted contours, away from the rod's ends, then a robust line
 // fit per contour in normalised coordinates (after undistortion) with its covariance from the
-// edge points' scatter.
+// edge points' scatter, moved onto the shaded rod's silhouette.
 #include "mire/calibration/camera_model.hpp"
 #include "mire/metrology/cylinder_axis.hpp"
 
@@ -50,8 +50,9 @@ struct LegContours {
 
 // The contours of the rod of `radius` [m] whose axis runs from `from` to `to` (camera frame, m, the
 // predicted joint centres): the search follows the predicted contours (cylinderContours, projected
-// with the lens distortion) within ±search_px. The edge polarity (rod darker or brighter than what
-// is behind it) is the one whose two contours agree with the predicted width.
+// with the lens distortion) within ±search_px; facing edge pairs must keep the predicted width, and
+// the edge polarity (rod darker or brighter than what is behind it) is the one with more such
+// pairs. Each fitted line is then moved onto the silhouette (doc/legs.md, "Measuring a leg").
 LegContours measureLegContours(const EdgeImage& image, const calibration::Camera& camera, const Eigen::Vector3d& from,
                                const Eigen::Vector3d& to, double radius, const LegContourOptions& options = {});
 
