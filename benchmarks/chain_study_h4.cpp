@@ -231,15 +231,16 @@ void identify(const datasets::MechanismImageCampaign& campaign, const fs::path& 
     study.z_corrected_unscaled[name].push_back(corrected_error / std::sqrt(unscaled2));
     study.abs_error[name].push_back(std::abs(mech::toDisplay(p[i].unit, error[f])));
     study.unit[name] = mech::displayUnitName(p[i].unit);
-    const double alignment2 = after.alignment_covariance.size() ? after.alignment_covariance(f, f) : 0.0;
-    const double fit2 = after.covariance(f, f) - alignment2 - after.shared_covariance(f, f);
+    const double alignment2 = after.termCovariance(mech::CovarianceTerm::kAlignment)(f, f);
+    const double fit2 = after.covariance(f, f) - alignment2 - after.termCovariance(mech::CovarianceTerm::kShared)(f, f);
     study.sigma_fit[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(std::max(0.0, fit2))));
     study.sigma_alignment[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(std::max(0.0, alignment2))));
-    study.sigma_shared[name].push_back(mech::toDisplay(p[i].unit, std::sqrt(after.shared_covariance(f, f))));
+    study.sigma_shared[name].push_back(
+        mech::toDisplay(p[i].unit, std::sqrt(after.termCovariance(mech::CovarianceTerm::kShared)(f, f))));
   }
   study.names = before.free_names;
   study.chi2_dof.push_back(before.chi2 / std::max(1, before.dof));
-  study.method.push_back(before.covariance_method);
+  study.method.push_back(before.covarianceMethod());
   study.ident_chi2_before.push_back(mahalanobis(error, before.covariance) / static_cast<double>(free));
   study.ident_chi2_after.push_back(mahalanobis(error, after.covariance) / static_cast<double>(free));
   study.value_shift.push_back(shift);

@@ -34,7 +34,8 @@ int printDemo(const DemoResults& results, const std::filesystem::path& output) {
               << " mm; square side RMS " << m.square_rms_before_mm << " mm -> " << m.square_rms_after_mm << " mm\n";
   std::cout << "  pose precision (median σ): " << results.measurement.median_sigma_mm.transpose() << " mm, "
             << results.measurement.median_sigma_deg.transpose() << " deg\n";
-  if (results.legs) std::cout << pipeline::legsDemoSummary(*results.legs) << "  (" << (output / "legs.md").string() << ")\n";
+  if (results.legs)
+    std::cout << pipeline::legsDemoSummary(*results.legs) << "  (" << (output / "legs.md").string() << ")\n";
   return static_cast<int>(kOk);
 }
 

@@ -3,6 +3,7 @@
 
 #include "mire/mechanism/delta.hpp"
 #include "mire/mechanism/legs_csv.hpp"
+#include "mire/mechanism/registry.hpp"
 #include "mire/support/yaml.hpp"
 
 #include <random>
@@ -55,7 +56,12 @@ bool campaignDrawsLegs(const std::string& mechanism) {
 
 std::string legsModel(const TrueRobot& robot) {
   requireLegs(robot);
-  return isDelta(robot) ? "delta" : robot.geometry_model.name;
+  // The truth model when it has legs (the hexapod's), else the simplest of the family's models that
+  // has (the Delta's `delta`: its `delta-legs` truth holds R - r, not where the forearms are).
+  if (robot.mechanism().legCount() > 0) return robot.geometry_model.name;
+  for (const std::string& name : mechanism::mechanismFamily(mechanism::modelInfo(robot.geometry_model.name).family).models)
+    if (mechanism::makeRegisteredModel(name).mechanism->legCount() > 0) return name;
+  throw std::invalid_argument("legs as rods: no model of " + robot.title() + "'s family has legs");
 }
 
 std::vector<LegSegment> trueLegSegments(const TrueRobot& robot, const Eigen::VectorXd& X) {

@@ -30,20 +30,21 @@ struct Fit {
   int dof = 0;
 };
 
-// The legs' lengths the truth has in the model's own terms: hexapod ρ0_i; the Delta's single L and
-// l against the mean of the true per-leg L_i, l_i.
-std::vector<std::pair<std::string, double>> trueLengths(const datasets::TrueRobot& robot, const std::string& model) {
+// The legs' lengths in the model's own terms (the hexapod's ρ0_i, the Delta's L and l) against the
+// truth's: the same parameter, or the mean of the true robot's per-leg values (the Delta's L_i, l_i).
+std::vector<std::pair<std::string, double>> trueLengths(const datasets::TrueRobot& robot,
+                                                        const mech::ParameterSet& model) {
   std::vector<std::pair<std::string, double>> lengths;
-  if (model == "delta") {
-    for (const char* name : {"L", "l"}) {
-      double mean = 0.0;
-      for (int i = 1; i <= 3; ++i) mean += robot.geometry.value(name + std::to_string(i)) / 3.0;
-      lengths.emplace_back(name, mean);
+  for (const std::string name : {"L", "l", "rho01", "rho02", "rho03", "rho04", "rho05", "rho06"}) {
+    if (!model.contains(name)) continue;
+    if (robot.geometry.contains(name)) {
+      lengths.emplace_back(name, robot.geometry.value(name));
+      continue;
     }
-    return lengths;
+    double mean = 0.0;
+    for (int i = 1; i <= 3; ++i) mean += robot.geometry.value(name + std::to_string(i)) / 3.0;
+    lengths.emplace_back(name, mean);
   }
-  for (int i = 1; i <= 6; ++i)
-    lengths.emplace_back("rho0" + std::to_string(i), robot.geometry.value("rho0" + std::to_string(i)));
   return lengths;
 }
 
@@ -67,7 +68,7 @@ LegsDemoRow score(const std::string& observations, const Fit& fit, const dataset
   row.free_parameters = static_cast<int>(fit.free_parameters);
   row.chi2_per_dof = fit.chi2 / std::max(1, fit.dof);
   double sum = 0.0;
-  const auto lengths = trueLengths(campaign.robot, model_name);
+  const auto lengths = trueLengths(campaign.robot, fit.identified.parameters);
   for (const auto& [name, truth] : lengths) {
     const std::size_t i = fit.identified.parameters.index(name);
     const double error = fit.identified.parameters[i].value - truth;
@@ -114,8 +115,7 @@ std::vector<std::string> measureCampaignLegs(const datasets::MechanismImageCampa
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));  // all cores
   std::vector<mech::LegObservation> legs;
   std::vector<std::string> unmeasured;
-  for (const PoseLegs& pose :
-       measureLegFolders(camera, spec, joints, campaign.pose_images(), threads)) {
+  for (const PoseLegs& pose : measureLegFolders(camera, spec, joints, campaign.pose_images(), threads)) {
     legs.insert(legs.end(), pose.legs.begin(), pose.legs.end());
     for (const std::string& problem : pose.problems) unmeasured.push_back(pose.pose_id + ": " + problem);
   }
@@ -124,7 +124,7 @@ std::vector<std::string> measureCampaignLegs(const datasets::MechanismImageCampa
 }
 
 LegsDemoSection identifyFromLegs(const datasets::MechanismImageCampaign& campaign, const PoseSet& data,
-                            const std::filesystem::path& legs_csv, const std::string& legs_source) {
+                                 const std::filesystem::path& legs_csv, const std::string& legs_source) {
   LegsDemoSection section;
   section.model = datasets::legsModel(campaign.robot);
   section.legs = legs_source;
@@ -166,9 +166,9 @@ std::string legsDemoMarkdown(const LegsDemoSection& section) {
   out << "## Legs: identified from the legs, the target, both\n\n"
       << "Model `" << section.model << "`; " << section.leg_lines << " leg lines: " << section.legs << "; "
       << section.unmeasured.size() << " legs or poses not measured (listed below the table).\n"
-      << "Lengths: "
-      << (section.model == "delta" ? "L and l against the mean of the true legs' L_i, l_i" : "rho01..rho06")
-      << ". V3 and the positioning test (a " << (section.rows.empty() ? 0.0 : section.rows.front().square_side_mm)
+      << "Lengths: the model's leg lengths (hexapod rho0i, Delta L and l) against the truth's (the mean of its "
+         "per-leg values where the model has one length for all legs). V3 and the positioning test (a "
+      << (section.rows.empty() ? 0.0 : section.rows.front().square_side_mm)
       << " mm square, side errors RMS) with the nominal, then the identified geometry.\n\n"
       << "| observations | free | χ²/dof | lengths: max \\|error\\| (mm), error/σ RMS | V3 (mm) | square (mm) |\n"
       << "| --- | --- | --- | --- | --- | --- |\n";
