@@ -64,6 +64,13 @@ std::string summaryOf(const pipeline::LegIdentification& run, mech::Observations
                 mech::observationsName(observations).c_str(), r.bTe.size(), r.leg_rows, r.target_rows,
                 r.chi2 / std::max(1, r.dof), r.dof, r.converged ? "" : "; the solver did not report convergence");
   out << line;
+  if (r.covariance_scale2 != 1.0) {
+    std::snprintf(line, sizeof line,
+                  "warning: the observations' covariances do not explain the residuals (chi2/dof %.3f outside its "
+                  "0.999 band): sigma scaled by %.3g (doc/legs.md)\n",
+                  r.chi2 / std::max(1, r.dof), std::sqrt(r.covariance_scale2));
+    out << line;
+  }
   std::snprintf(line, sizeof line, "identifiability: rank %d of %zu free parameters, condition number %.4g\n",
                 r.identifiability.rank, r.free_names.size(), r.identifiability.condition_number);
   out << line;

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "leg_identification_cost.hpp"
+#include "mire/mechanism/identification_covariance.hpp"
 
 namespace mire::mechanism {
 
@@ -271,7 +272,8 @@ LegIdentificationResult identifyWithLegs(const IdentificationModel& initial, con
   Eigen::VectorXd inv = Eigen::VectorXd::Zero(s.size());
   for (Eigen::Index k = 0; k < s.size(); ++k)
     if (s[k] > cutoff) inv[k] = 1.0 / s[k];
-  result.covariance = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+  if (options.scale_on_misfit) result.covariance_scale2 = misfitScale2(result.chi2, result.dof, 1e-3);
+  result.covariance = result.covariance_scale2 * eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
   result.free_names = params.freeNames();
   fillSigma(result, result.covariance);
   if (options.compute_identifiability) {

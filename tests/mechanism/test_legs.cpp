@@ -39,7 +39,9 @@ Eigen::Matrix4d legCovariance(const support::Line3d& line, double scale = 1.0) {
   return scale * scale * sigma;
 }
 
-std::vector<LegObservation> simulateLegs(const datasets::Campaign& c, unsigned seed, std::size_t count) {
+// Lines drawn from `legCovariance` × noise_scale², stated with `legCovariance` (noise_scale 1: right).
+std::vector<LegObservation> simulateLegs(const datasets::Campaign& c, unsigned seed, std::size_t count,
+                                         double noise_scale = 1.0) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal;
   const Mechanism& m = *c.model.mechanism;
@@ -50,7 +52,7 @@ std::vector<LegObservation> simulateLegs(const datasets::Campaign& c, unsigned s
     for (int i = 0; i < m.legCount(); ++i) {
       const LegSegment& s = segments[static_cast<std::size_t>(i)];
       const support::Line3d truth = support::Line3d::throughPoints(cTb * s.from, cTb * s.to);
-      const Eigen::Matrix4d sigma = legCovariance(truth);
+      const Eigen::Matrix4d sigma = legCovariance(truth, noise_scale);
       const Eigen::Vector4d z(normal(rng), normal(rng), normal(rng), normal(rng));
       const support::Line3d measured = support::perturbLine(truth, Eigen::LLT<Eigen::Matrix4d>(sigma).matrixL() * z);
       out.push_back({c.poses[j].id, i, measured, legCovariance(measured)});
@@ -169,6 +171,33 @@ TEST(LegIdentification, HexapodLegsOnlyBaseJointsWithinTheirSigma) {
   EXPECT_GE(sd, 0.8);
   EXPECT_LE(sd, 1.25);
   EXPECT_LE(outside, 2);  // 360 values: 1 expected beyond 3σ
+}
+
+// Lines whose errors are 4 times what their covariances say: the χ² test rejects the fit and the
+// covariance is scaled by χ²/dof (about 16), as identify() does for target poses (doc/legs.md).
+TEST(LegIdentification, MisfitScalesTheCovarianceByTheResiduals) {
+  constexpr std::size_t kPoses = 30;
+  const datasets::Campaign c = datasets::simulateCampaign(makeRegisteredModel("gough-stewart"), 600, 0.2e-3,
+                                                          0.03 * datasets::kCampaignDeg, 0, kPoses);
+  const std::vector<PoseObservation> poses(c.poses.begin(), c.poses.end());
+  const auto fit = [&](double noise_scale, bool scale_on_misfit) {
+    const std::vector<LegObservation> legs = simulateLegs(c, 677, kPoses, noise_scale);
+    const IdentificationModel model = makeLegsInitialModel(c.model.mechanism, c.model.nominal, legs);
+    LegIdentificationOptions options;
+    options.observations = Observations::Legs;
+    options.fix = legsOnlyGauge(model);
+    options.scale_on_misfit = scale_on_misfit;
+    return identifyWithLegs(model, poses, legs, options);
+  };
+  EXPECT_EQ(fit(1.0, true).covariance_scale2, 1.0);
+  const LegIdentificationResult scaled = fit(4.0, true), unscaled = fit(4.0, false);
+  EXPECT_NEAR(scaled.covariance_scale2, scaled.chi2 / scaled.dof, 1e-12);
+  EXPECT_GT(scaled.covariance_scale2, 16.0 * 0.8);
+  EXPECT_LT(scaled.covariance_scale2, 16.0 * 1.25);
+  EXPECT_EQ(unscaled.covariance_scale2, 1.0);
+  for (Eigen::Index f = 0; f < scaled.covariance.rows(); ++f)
+    EXPECT_NEAR(scaled.covariance(f, f) / unscaled.covariance(f, f), scaled.covariance_scale2, 1e-6 * scaled.covariance_scale2)
+        << scaled.free_names[static_cast<std::size_t>(f)];
 }
 
 // Both observations against the target alone on the same poses: the free parameters' σ and the

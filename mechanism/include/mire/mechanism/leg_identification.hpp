@@ -37,6 +37,9 @@ struct LegIdentificationOptions {
   // Encoder noise in the joints' unit: small, so that the joints tie each X_j to the geometry.
   double joint_sigma = 1e-6;
   int max_iterations = 200;
+  // As identify() (doc/uncertainty.md): scale the covariance by χ²/dof when the χ² test at 1e-3
+  // (two-sided) rejects the observations' covariances, so that a misfit widens σ.
+  bool scale_on_misfit = true;
   bool compute_identifiability = true;
   IdentifiabilityOptions identifiability;
 };
@@ -50,6 +53,7 @@ struct LegIdentificationResult {
   std::vector<Eigen::Isometry3d> bTe;  // identified effector pose per calibration pose
   double chi2 = 0.0;                   // Σ whitened residual²
   int dof = 0;
+  double covariance_scale2 = 1.0;  // applied to `covariance` (scale_on_misfit; 1: the χ² test passed)
   int leg_rows = 0, target_rows = 0, joint_rows = 0;
   IdentifiabilityReport identifiability;  // of the free parameters with the poses marginalised
   bool converged = false;
