@@ -46,7 +46,7 @@ struct MechanismImageCampaignSpec {
   NoiseOptions noise;
   std::uint64_t seed = 2004;
   // The true robot's draw; unset: `seed`. Set, it keeps one robot while `seed` renews the
-  // images and encoder noise (benchmarks/bench_chain.cpp, bench_chain_mechanisms.cpp).
+  // images and encoder noise (benchmarks/bench_chain.cpp).
   std::optional<std::uint64_t> robot_seed;
   // The H4's manufacturing errors and unmodelled defects (h4_true_robot.hpp); reference("h4")
   // makes them as large as the paper's robot's.
