@@ -1,6 +1,8 @@
 // The legs section of the mechanism demo (demo_legs.hpp, doc/demo-mechanisms.md "The legs").
 #include "mire/pipeline/demo_legs.hpp"
 
+#include "demo_stages.hpp"
+
 #include "mire/datasets/campaign_legs.hpp"
 #include "mire/mechanism/evaluation.hpp"
 #include "mire/mechanism/io.hpp"
@@ -48,19 +50,6 @@ std::vector<std::pair<std::string, double>> trueLengths(const datasets::TrueRobo
   return lengths;
 }
 
-double straightnessMm(const mech::Mechanism& model, const Eigen::VectorXd& geometric,
-                      const std::vector<std::vector<Eigen::VectorXd>>& lines) {
-  const mech::StraightnessResult v3 = mech::straightnessCriterion(model, geometric, lines);
-  return v3.ok ? 1e3 * v3.v3_m : std::nan("");
-}
-
-double squareRmsMm(const datasets::TrueRobot& robot, const mech::Mechanism& model, const Eigen::VectorXd& geometric,
-                   double side) {
-  double sum = 0.0;
-  for (const double error : datasets::positioningTestSides(robot, model, geometric, side)) sum += error * error;
-  return 1e3 * std::sqrt(sum / 4.0);
-}
-
 LegsDemoRow score(const std::string& observations, const Fit& fit, const datasets::MechanismImageCampaign& campaign,
                   const PoseSet& data, const std::string& model_name) {
   LegsDemoRow row;
@@ -82,12 +71,12 @@ LegsDemoRow score(const std::string& observations, const Fit& fit, const dataset
   const Eigen::VectorXd nominal = mech::makeRegisteredModel(model_name).nominal.values();
   const Eigen::VectorXd identified = fit.identified.geometricValues();
   const auto lines = data.lineJoints();
-  row.v3_before_mm = straightnessMm(model, nominal, lines);
-  row.v3_after_mm = straightnessMm(model, identified, lines);
-  const double side = 0.1 * std::min(1.0, datasets::protocolScale(model, nominal, model.referencePose(nominal)));
+  row.v3_before_mm = 1e3 * demo::straightnessOf(model, nominal, lines);
+  row.v3_after_mm = 1e3 * demo::straightnessOf(model, identified, lines);
+  const double side = demo::squareSide(model, nominal);
   row.square_side_mm = 1e3 * side;
-  row.square_rms_before_mm = squareRmsMm(campaign.robot, model, nominal, side);
-  row.square_rms_after_mm = squareRmsMm(campaign.robot, model, identified, side);
+  row.square_rms_before_mm = demo::rms(demo::squareSides(campaign.robot, model, nominal, side));
+  row.square_rms_after_mm = demo::rms(demo::squareSides(campaign.robot, model, identified, side));
   return row;
 }
 

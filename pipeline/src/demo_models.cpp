@@ -28,6 +28,29 @@ namespace mire::pipeline::demo {
 namespace fs = std::filesystem;
 namespace mech = mire::mechanism;
 
+double squareSide(const mech::Mechanism& model, const Eigen::VectorXd& geometric) {
+  return 0.1 * std::min(1.0, datasets::protocolScale(model, geometric, model.referencePose(geometric)));
+}
+
+std::array<double, 4> squareSides(const datasets::TrueRobot& robot, const mech::Mechanism& model,
+                                  const Eigen::VectorXd& geometric, double side) {
+  std::array<double, 4> sides_mm = datasets::positioningTestSides(robot, model, geometric, side);
+  for (double& error : sides_mm) error *= 1e3;
+  return sides_mm;
+}
+
+double rms(const std::array<double, 4>& values) {
+  double sum = 0.0;
+  for (const double v : values) sum += v * v;
+  return std::sqrt(sum / 4.0);
+}
+
+double straightnessOf(const mech::Mechanism& model, const Eigen::VectorXd& geometric,
+                      const std::vector<std::vector<Eigen::VectorXd>>& lines) {
+  const mech::StraightnessResult v3 = mech::straightnessCriterion(model, geometric, lines);
+  return v3.ok ? v3.v3_m : std::nan("");
+}
+
 namespace {
 
 // Every free parameter with its σ and (when the truth has the model's parameters) error/σ
@@ -51,31 +74,6 @@ void scoreParameters(const mech::IdentificationResult& result, const std::option
     score.error_over_sigma_max = std::max(score.error_over_sigma_max, std::abs(z));
   }
   score.error_over_sigma_rms = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(1, result.free_names.size())));
-}
-
-// The positioning test in mm (datasets::positioningTestSides): a 100 mm square, scaled down with
-// the protocol on a smaller robot.
-double squareSide(const mech::Mechanism& model, const Eigen::VectorXd& geometric) {
-  return 0.1 * std::min(1.0, datasets::protocolScale(model, geometric, model.referencePose(geometric)));
-}
-
-std::array<double, 4> squareSides(const datasets::TrueRobot& robot, const mech::Mechanism& model,
-                                  const Eigen::VectorXd& geometric, double side) {
-  std::array<double, 4> sides_mm = datasets::positioningTestSides(robot, model, geometric, side);
-  for (double& error : sides_mm) error *= 1e3;
-  return sides_mm;
-}
-
-double rms(const std::array<double, 4>& values) {
-  double sum = 0.0;
-  for (const double v : values) sum += v * v;
-  return std::sqrt(sum / 4.0);
-}
-
-double straightnessOf(const mech::Mechanism& model, const Eigen::VectorXd& geometric,
-                      const std::vector<std::vector<Eigen::VectorXd>>& lines) {
-  const mech::StraightnessResult v3 = mech::straightnessCriterion(model, geometric, lines);
-  return v3.ok ? v3.v3_m : std::nan("");
 }
 
 // The true robot's own straightness along the recorded (noisy) readings: its FKM.

@@ -7,6 +7,7 @@
 #include "mire/pipeline/demo.hpp"
 #include "mire/pipeline/pose_set.hpp"
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -41,6 +42,17 @@ struct IdentifiedController {
   Eigen::VectorXd nominal;
   std::string label;
 };
+
+// A geometry scored on the campaign (demo_models.cpp): the positioning test's square side [m] (a
+// 100 mm square, scaled down with the protocol on a smaller robot), the side errors [mm] of that
+// square commanded through the model and reached by the true robot (datasets::positioningTestSides)
+// and their RMS; V3 along the recorded lines [m] (paper eq. 29; NaN when the model's FKM fails).
+double squareSide(const mechanism::Mechanism& model, const Eigen::VectorXd& geometric);
+std::array<double, 4> squareSides(const datasets::TrueRobot& robot, const mechanism::Mechanism& model,
+                                  const Eigen::VectorXd& geometric, double side);
+double rms(const std::array<double, 4>& values);
+double straightnessOf(const mechanism::Mechanism& model, const Eigen::VectorXd& geometric,
+                      const std::vector<std::vector<Eigen::VectorXd>>& lines);
 
 // The paper's letters the family's models take (A–D from model 12, E–H from model 31: Table 2).
 std::string variantLetters(const std::string& family);
