@@ -210,26 +210,38 @@ TEST(IdentificationSigma, SharedTermPropagationRestoresCoverage) {
   EXPECT_GT(worst_without, 1.5);  // treating the poses as independent is overconfident
 }
 
+// An H4 campaign whose pose covariances include the calibration's shared part (what `mire measure`
+// writes), identified as variant D, and the shared-term stage with its refits (as `mire identify`).
+struct SharedTermCase {
+  SharedTermCase() {
+    for (auto& p : campaign.poses) *p.covariance += shared.poseCovariance(p.id);
+    options.compute_identifiability = false;
+  }
+  mech::IdentificationResult fit() const { return mech::identifyH4Variant('D', {}, campaign.poses, options); }
+  void addSharedTerm(mech::IdentificationResult& r) const {
+    mech::addSharedTermCovariance(r, campaign.poses, shared, [&](const std::vector<mech::PoseObservation>& shifted) {
+      return mech::identifyH4Variant('D', {}, shifted, options);
+    });
+  }
+
+  const mech::SharedPoseTerm shared = makeSharedTerm(simulate(2004, 1, false).poses);
+  Campaign campaign = simulate(2004, 2100, false);
+  mech::IdentificationOptions options;
+};
+
 // What `mire fkm` propagates after `mire identify` with the shared term: the parameters'
 // covariance and the axis alignment's, jointly. The alignment term folded into the parameters
 // is the independent part's (covarianceTermsWithShared), so the alignment's own covariance must
 // be the same; with the full one the joint matrix was not positive semi-definite and the
 // camera-frame tx, ty variances of the H4's predictions came out negative (σ NaN).
 TEST(IdentificationSigma, PredictionCovarianceWithTheSharedTermIsPositive) {
-  const Campaign base = simulate(2004, 1, false);
-  const mech::SharedPoseTerm shared = makeSharedTerm(base.poses);
-  Campaign c = simulate(2004, 2100, false);
-  for (auto& p : c.poses) *p.covariance += shared.poseCovariance(p.id);
-  mech::IdentificationOptions options;
-  options.compute_identifiability = false;
-  auto r = mech::identifyH4Variant('D', {}, c.poses, options);
-  mech::addSharedTermCovariance(r, c.poses, shared, [&](const std::vector<mech::PoseObservation>& shifted) {
-    return mech::identifyH4Variant('D', {}, shifted, options);
-  });
+  const SharedTermCase c;
+  auto r = c.fit();
+  c.addSharedTerm(r);
   const mech::PredictionModel model = mech::predictionModelFrom("h4-12", r);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(model.covariance);
   EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * eigen.eigenvalues().maxCoeff());
-  for (const auto& pose : c.poses) {
+  for (const auto& pose : c.campaign.poses) {
     const mech::PosePrediction predicted = mech::predictPose(model, pose.joints);
     ASSERT_TRUE(predicted.converged) << pose.id;
     EXPECT_GT(predicted.cTm_covariance.diagonal().minCoeff(), 0.0) << pose.id;
@@ -240,13 +252,8 @@ TEST(IdentificationSigma, PredictionCovarianceWithTheSharedTermIsPositive) {
 // its list of named terms, and the covariance and σ are their sum (doc/uncertainty.md, "How the
 // terms add up").
 TEST(IdentificationSigma, SharedTermStageKeepsTheFitAndSumsNamedTerms) {
-  const Campaign base = simulate(2004, 1, false);
-  const mech::SharedPoseTerm shared = makeSharedTerm(base.poses);
-  Campaign c = simulate(2004, 2100, false);
-  for (auto& p : c.poses) *p.covariance += shared.poseCovariance(p.id);
-  mech::IdentificationOptions options;
-  options.compute_identifiability = false;
-  const auto fit = mech::identifyH4Variant('D', {}, c.poses, options);
+  const SharedTermCase c;
+  const auto fit = c.fit();
   const auto namesOf = [](const mech::IdentificationResult& r) {
     std::vector<std::string> names;
     for (const auto& term : r.covariance_terms) names.push_back(term.name);
@@ -255,9 +262,7 @@ TEST(IdentificationSigma, SharedTermStageKeepsTheFitAndSumsNamedTerms) {
   EXPECT_EQ(namesOf(fit), (std::vector<std::string>{"fit", "alignment"}));
   EXPECT_EQ(fit.covarianceMethod(), fit.term("fit")->method);  // no shared term yet
   auto r = fit;
-  mech::addSharedTermCovariance(r, c.poses, shared, [&](const std::vector<mech::PoseObservation>& shifted) {
-    return mech::identifyH4Variant('D', {}, shifted, options);
-  });
+  c.addSharedTerm(r);
   EXPECT_EQ(namesOf(r), (std::vector<std::string>{"fit", "alignment", "shared calibration"}));
   EXPECT_EQ(r.covarianceMethod(), "residual sandwich + shared calibration term");
   // The fit is untouched: values, (AᵀA)⁻¹, the alignment's sensitivity and its own covariance.
@@ -266,7 +271,7 @@ TEST(IdentificationSigma, SharedTermStageKeepsTheFitAndSumsNamedTerms) {
   EXPECT_EQ(r.alignment_sensitivity, fit.alignment_sensitivity);
   EXPECT_EQ(r.model.external.alignment().covariance, fit.model.external.alignment().covariance);
   // Each term as its definition gives it, and the total their sum.
-  const Eigen::MatrixXd sandwich = mech::sandwichCovariance(fit, c.poses);
+  const Eigen::MatrixXd sandwich = mech::sandwichCovariance(fit, c.campaign.poses);
   EXPECT_EQ(r.term("fit")->covariance, sandwich);
   const mech::CovarianceTerm& calibration = *r.term("shared calibration");
   const Eigen::MatrixXd from_columns = calibration.columns * calibration.columns.transpose();
